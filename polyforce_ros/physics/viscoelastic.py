@@ -1,0 +1,386 @@
+"""Linear viscoelastic sensor models (seed 000, section IV) and their forward/backward runs.
+
+Convention (as in seed 000): the sensor "deformation" gamma is measured as the
+bridge voltage, so stiffnesses are in N/V and viscosities in N*s/V. Force is in
+newtons, compression positive.
+
+Each model is a frozen dataclass of its mechanical parameters and exposes
+
+* ``creep_compliance(t_s)``  J(t) in V/N: deformation per newton of a unit force step;
+* ``relaxation()``           G(t) in N/V as exponentials, derived like eq. 7-8:
+                             the roots of the relaxation ODE's characteristic
+                             polynomial give the rates, the initial conditions
+                             G(0) and G'(0) (plus G(inf)) give the coefficients;
+* ``compliance()``           the creep compliance as a Prony series, which drives
+                             forward simulation.
+
+``simulate_deformation`` runs a model forward (force -> volts) and
+``compensate`` / :class:`StreamingCompensator` run it backward (volts -> force)
+with the Boltzmann-superposition law of eq. 10-12. Both rest on
+:mod:`polyforce_ros.physics.expconv`, exact for piecewise-linear signals and
+stable for any record length. The sensor is taken to be unloaded and relaxed
+before the first sample.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+from typing import ClassVar
+
+import numpy as np
+
+from .expconv import ExpConvState, exp_convolve
+
+
+@dataclass(frozen=True)
+class CreepCompliance:
+    """J(t) = j0 + sum_k c_k (1 - exp(-t / tau_k)) + fluidity * t   [V/N].
+
+    j0_v_per_n: instantaneous compliance; c_v_per_n / tau_s: retarded
+    (Kelvin) compliances and their retardation times; fluidity_v_per_n_s:
+    1/eta of a free dashpot (unbounded creep), 0 for a solid.
+    """
+
+    j0_v_per_n: float
+    c_v_per_n: tuple[float, ...] = ()
+    tau_s: tuple[float, ...] = ()
+    fluidity_v_per_n_s: float = 0.0
+
+    def __call__(self, t_s):
+        t = np.asarray(t_s, dtype=float)
+        j = self.j0_v_per_n + self.fluidity_v_per_n_s * t
+        for c, tau in zip(self.c_v_per_n, self.tau_s):
+            j = j - c * np.expm1(-t / tau)
+        return j
+
+
+@dataclass(frozen=True)
+class RelaxationModulus:
+    """G(t) = g_inf + sum_k a_k exp(-r_k t) + eta_impulse * delta(t)   [N/V].
+
+    eta_impulse_n_s_per_v is non-zero only for a model without instantaneous
+    elasticity (Kelvin-Voigt), whose inverse needs the deformation rate.
+    """
+
+    g_inf_n_per_v: float
+    a_n_per_v: tuple[float, ...] = ()
+    r_per_s: tuple[float, ...] = ()
+    eta_impulse_n_s_per_v: float = 0.0
+
+    @property
+    def g0_n_per_v(self) -> float:
+        """G(0+), the instantaneous stiffness in N/V."""
+        return self.g_inf_n_per_v + float(sum(self.a_n_per_v))
+
+    def __call__(self, t_s):
+        t = np.asarray(t_s, dtype=float)
+        g = np.full_like(t, self.g_inf_n_per_v)
+        for a, r in zip(self.a_n_per_v, self.r_per_s):
+            g = g + a * np.exp(-r * t)
+        return g
+
+
+def _relaxation_from_ode(char_poly, g0, g0_dot, g_inf=0.0) -> tuple[tuple, tuple]:
+    """Rates and coefficients of G(t) = g_inf + sum a_k exp(-r_k t).
+
+    char_poly: coefficients (highest power first) of the polynomial whose roots
+    are the rates r_k (eq. 8 for Burgers). The coefficients solve the initial
+    conditions G(0) = g0 and, for two rates, G'(0) = g0_dot.
+    """
+    rates = np.sort(np.real(np.roots(char_poly)))
+    if rates.size == 1:
+        return (g0 - g_inf,), (float(rates[0]),)
+    vander = np.vstack([np.ones_like(rates), -rates])
+    coeffs = np.linalg.solve(vander, [g0 - g_inf, g0_dot])
+    return tuple(float(a) for a in coeffs), tuple(float(r) for r in rates)
+
+
+@dataclass(frozen=True)
+class ViscoelasticModel:
+    """Base class: subclasses list their parameters as dataclass fields (all > 0)."""
+
+    kind: ClassVar[str] = ""
+
+    def __post_init__(self):
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if not isinstance(value, (int, float)) or isinstance(value, bool):
+                raise TypeError(f"{self.kind}: {f.name} must be a number, got {value!r}")
+            if not (math.isfinite(value) and value > 0.0):
+                raise ValueError(f"{self.kind}: {f.name} must be finite and > 0, got {value!r}")
+
+    @classmethod
+    def parameter_names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
+
+    def as_dict(self) -> dict[str, float]:
+        return {name: float(getattr(self, name)) for name in self.parameter_names()}
+
+    def as_vector(self) -> np.ndarray:
+        return np.array([getattr(self, n) for n in self.parameter_names()], dtype=float)
+
+    @classmethod
+    def from_vector(cls, values):
+        return cls(*(float(v) for v in values))
+
+    # Subclasses implement these two.
+    def compliance(self) -> CreepCompliance:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def relaxation(self) -> RelaxationModulus:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def creep_compliance(self, t_s):
+        """J(t) in V/N (eq. 4 for Burgers)."""
+        return self.compliance()(t_s)
+
+    def static_gain_v_per_n(self) -> float:
+        """The elastic (non-flowing) gain 1/k1 + 1/k2 + ... in V/N.
+
+        For Burgers this is the paper's static gain k_s = 0.31 V/N (the inverse
+        of the static stiffness k1 k2 / (k1 + k2)); the free dashpot is left
+        out because its creep is unbounded.
+        """
+        c = self.compliance()
+        return c.j0_v_per_n + float(sum(c.c_v_per_n))
+
+
+@dataclass(frozen=True)
+class Maxwell(ViscoelasticModel):
+    """Spring k in series with dashpot eta (fluid)."""
+
+    kind: ClassVar[str] = "maxwell"
+    k_n_per_v: float
+    eta_n_s_per_v: float
+
+    def compliance(self):
+        return CreepCompliance(1.0 / self.k_n_per_v, fluidity_v_per_n_s=1.0 / self.eta_n_s_per_v)
+
+    def relaxation(self):
+        # eta/k F' + F = eta gamma'  ->  root r = k/eta, G(0) = k, G(inf) = 0.
+        a, r = _relaxation_from_ode([self.eta_n_s_per_v / self.k_n_per_v, -1.0], self.k_n_per_v, None)
+        return RelaxationModulus(0.0, a, r)
+
+
+@dataclass(frozen=True)
+class KelvinVoigt(ViscoelasticModel):
+    """Spring k in parallel with dashpot eta (no instantaneous elasticity)."""
+
+    kind: ClassVar[str] = "kelvin"
+    k_n_per_v: float
+    eta_n_s_per_v: float
+
+    def compliance(self):
+        return CreepCompliance(0.0, (1.0 / self.k_n_per_v,), (self.eta_n_s_per_v / self.k_n_per_v,))
+
+    def relaxation(self):
+        # F = k gamma + eta gamma': G(t) = k + eta delta(t), no exponential term.
+        return RelaxationModulus(self.k_n_per_v, eta_impulse_n_s_per_v=self.eta_n_s_per_v)
+
+
+@dataclass(frozen=True)
+class Zener(ViscoelasticModel):
+    """Spring k1 in series with a Kelvin element (k2, eta2): the standard linear solid."""
+
+    kind: ClassVar[str] = "zener"
+    k1_n_per_v: float
+    k2_n_per_v: float
+    eta2_n_s_per_v: float
+
+    def compliance(self):
+        return CreepCompliance(
+            1.0 / self.k1_n_per_v, (1.0 / self.k2_n_per_v,), (self.eta2_n_s_per_v / self.k2_n_per_v,)
+        )
+
+    def relaxation(self):
+        k1, k2, eta2 = self.k1_n_per_v, self.k2_n_per_v, self.eta2_n_s_per_v
+        # (eta2/k1) F' + (1 + k2/k1) F = k2 gamma + eta2 gamma' with gamma fixed:
+        # root r = (k1 + k2)/eta2, G(0) = k1, G(inf) = k1 k2/(k1 + k2).
+        g_inf = k1 * k2 / (k1 + k2)
+        a, r = _relaxation_from_ode([eta2 / k1, -(1.0 + k2 / k1)], k1, None, g_inf)
+        return RelaxationModulus(g_inf, a, r)
+
+
+@dataclass(frozen=True)
+class Burgers(ViscoelasticModel):
+    """Maxwell element (k1, eta1) in series with a Kelvin element (k2, eta2); eq. 2-4."""
+
+    kind: ClassVar[str] = "burgers"
+    k1_n_per_v: float
+    k2_n_per_v: float
+    eta1_n_s_per_v: float
+    eta2_n_s_per_v: float
+
+    def compliance(self):
+        return CreepCompliance(
+            1.0 / self.k1_n_per_v,
+            (1.0 / self.k2_n_per_v,),
+            (self.eta2_n_s_per_v / self.k2_n_per_v,),
+            1.0 / self.eta1_n_s_per_v,
+        )
+
+    def retardation_time_s(self) -> float:
+        """lambda = eta2 / k2 (8.51 s for eq. 5)."""
+        return self.eta2_n_s_per_v / self.k2_n_per_v
+
+    def relaxation(self):
+        k1, k2 = self.k1_n_per_v, self.k2_n_per_v
+        eta1, eta2 = self.eta1_n_s_per_v, self.eta2_n_s_per_v
+        # Eq. 8: (eta2/k1) r^2 - (1 + k2/k1 + eta2/eta1) r + k2/eta1 = 0,
+        # G(0) = k1, G'(0) = -k1^2 (1/eta1 + 1/eta2), G(inf) = 0.
+        poly = [eta2 / k1, -(1.0 + k2 / k1 + eta2 / eta1), k2 / eta1]
+        a, r = _relaxation_from_ode(poly, k1, -k1 * k1 * (1.0 / eta1 + 1.0 / eta2))
+        return RelaxationModulus(0.0, a, r)
+
+
+MODEL_TYPES: dict[str, type[ViscoelasticModel]] = {
+    cls.kind: cls for cls in (Maxwell, KelvinVoigt, Zener, Burgers)
+}
+
+#: Seed 000, eq. 5: the Burgers parameters identified from the 5 N creep test.
+PAPER_BURGERS = Burgers(k1_n_per_v=4.8, k2_n_per_v=10.0, eta1_n_s_per_v=4627.94, eta2_n_s_per_v=85.12)
+
+
+def simulate_deformation(model: ViscoelasticModel, t_s, force_n, state=None):
+    """Forward run: deformation (bridge volts above offset) for a sampled force history.
+
+    gamma(t) = j0 F(t) + sum_k c_k x_k(t) + fluidity * int F dt, where each
+    Kelvin state obeys tau_k x_k' + x_k = F. Exact for force varying linearly
+    between samples; any (non-decreasing) spacing.
+
+    Parameters
+    ----------
+    t_s, force_n : (n,) arrays, seconds and newtons.
+    state : :class:`ForwardState`, optional
+        Carries the element states across calls (block-wise simulation); a
+        relaxed, unloaded sensor when omitted. Updated in place.
+
+    Returns
+    -------
+    (n,) array of volts.
+    """
+    t = np.asarray(t_s, dtype=float)
+    f = np.asarray(force_n, dtype=float)
+    comp = model.compliance()
+    st = state if state is not None else ForwardState(model)
+    rates = st.rates_per_s
+    if st.t_prev_s is None:
+        y = exp_convolve(t, f, rates, y0=st.y)
+    else:
+        y = exp_convolve(t, f, rates, y0=st.y, u_prev=st.f_prev_n, t_prev_s=st.t_prev_s)
+    gamma = comp.j0_v_per_n * f
+    for k, (c, tau) in enumerate(zip(comp.c_v_per_n, comp.tau_s)):
+        gamma = gamma + (c / tau) * y[:, k]
+    if comp.fluidity_v_per_n_s:
+        gamma = gamma + comp.fluidity_v_per_n_s * y[:, -1]
+    if t.size:
+        st.y = y[-1].copy()
+        st.t_prev_s, st.f_prev_n = float(t[-1]), float(f[-1])
+    return gamma
+
+
+class ForwardState:
+    """Element states of a forward simulation, for simulating in blocks."""
+
+    def __init__(self, model: ViscoelasticModel):
+        comp = model.compliance()
+        rates = [1.0 / tau for tau in comp.tau_s]
+        if comp.fluidity_v_per_n_s:
+            rates.append(0.0)  # the free dashpot integrates the force
+        self.rates_per_s = np.array(rates, dtype=float)
+        self.y = np.zeros(len(rates))
+        self.t_prev_s = None
+        self.f_prev_n = 0.0
+
+
+def compensate(model: ViscoelasticModel, t_s, deformation_v, state=None):
+    """Backward run, batch: force in N from deformation (volts above offset).
+
+    Boltzmann superposition in the derivative-free form of eq. 10-11:
+    F(t) = G(0) gamma(t) - sum_k a_k r_k int exp(-r_k (t - s)) gamma(s) ds,
+    evaluated exactly for gamma linear between samples (see expconv). For a
+    Kelvin-Voigt model the impulsive term eta * dgamma/dt is added as the slope
+    over the last interval (this differentiates noise; prefer a model with
+    instantaneous elasticity).
+
+    state : :class:`BackwardState`, optional
+        Carries the history across calls (block-wise compensation of long
+        records); a relaxed, unloaded sensor when omitted. Updated in place.
+    """
+    t = np.asarray(t_s, dtype=float)
+    g = np.asarray(deformation_v, dtype=float)
+    rel = model.relaxation()
+    st = state if state is not None else BackwardState(model)
+    force = rel.g0_n_per_v * g
+    if t.size == 0:
+        return force
+    if rel.r_per_s:
+        if st.t_prev_s is None:
+            y = exp_convolve(t, g, rel.r_per_s, y0=st.y)
+        else:
+            y = exp_convolve(t, g, rel.r_per_s, y0=st.y, u_prev=st.g_prev_v, t_prev_s=st.t_prev_s)
+        for k, (a, r) in enumerate(zip(rel.a_n_per_v, rel.r_per_s)):
+            force = force - (a * r) * y[:, k]
+        st.y = y[-1].copy()
+    if rel.eta_impulse_n_s_per_v:
+        t_all = t if st.t_prev_s is None else np.concatenate(([st.t_prev_s], t))
+        g_all = g if st.t_prev_s is None else np.concatenate(([st.g_prev_v], g))
+        dt, dg = np.diff(t_all), np.diff(g_all)
+        slope = np.where(dt > 0, dg / np.where(dt > 0, dt, 1.0), 0.0)
+        if st.t_prev_s is None:
+            slope = np.concatenate(([0.0], slope))
+        force = force + rel.eta_impulse_n_s_per_v * slope
+    st.t_prev_s, st.g_prev_v = float(t[-1]), float(g[-1])
+    return force
+
+
+class BackwardState:
+    """History of a batch compensation, for compensating in blocks."""
+
+    def __init__(self, model: ViscoelasticModel):
+        self.y = np.zeros(len(model.relaxation().r_per_s))
+        self.t_prev_s = None
+        self.g_prev_v = 0.0
+
+
+class StreamingCompensator:
+    """Backward run, one sample at a time, O(1) work and memory per sample.
+
+    Gives the same result as :func:`compensate` on the same samples (to float64
+    rounding). ``step`` returns the force in N, or ``None`` for a sample that
+    cannot be used (stamp earlier than the previous one; the state is left
+    untouched). A duplicate stamp is processed as a zero-length step: the
+    history integral does not change and the instantaneous term follows the
+    new value.
+    """
+
+    def __init__(self, model: ViscoelasticModel):
+        self.model = model
+        rel = model.relaxation()
+        self._g0 = rel.g0_n_per_v
+        self._ar = [a * r for a, r in zip(rel.a_n_per_v, rel.r_per_s)]
+        self._eta = rel.eta_impulse_n_s_per_v
+        self._conv = ExpConvState(rel.r_per_s)
+        self._prev = None  # (t_s, gamma_v) for the Kelvin-Voigt slope
+
+    def reset(self):
+        """Forget the deformation history (sensor assumed relaxed and unloaded)."""
+        self._conv.reset()
+        self._prev = None
+
+    @property
+    def last_time_s(self):
+        return self._conv.t_prev_s if self._ar else (self._prev[0] if self._prev else None)
+
+    def step(self, t_s: float, deformation_v: float):
+        if self._prev is not None and t_s < self._prev[0]:
+            return None
+        y = self._conv.update(t_s, deformation_v)
+        force = self._g0 * deformation_v
+        for ar, yk in zip(self._ar, y):
+            force -= ar * yk
+        if self._eta:
+            if self._prev is not None and t_s > self._prev[0]:
+                force += self._eta * (deformation_v - self._prev[1]) / (t_s - self._prev[0])
+        self._prev = (t_s, deformation_v)
+        return force

@@ -1,0 +1,54 @@
+"""The embedded sensor simulator: applied force -> bridge voltage as an ADC would read it."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..physics.viscoelastic import PAPER_BURGERS, ForwardState, ViscoelasticModel, simulate_deformation
+
+
+@dataclass
+class BridgeSimulator:
+    """A polymer force sensor with a Wheatstone bridge and an ADC.
+
+    voltage = quantise(offset_v + gamma(F) + noise), gamma from the truth
+    ``model`` (the paper's Burgers parameters by default).
+
+    offset_v: bridge output at zero force (V); noise_std_v: white noise (V, 1 sigma);
+    adc_bits / adc_range_v: quantiser (0 bits disables it); seed: noise seed.
+    ``simulate`` can be called block after block: the element states carry over.
+    """
+
+    model: ViscoelasticModel = PAPER_BURGERS
+    offset_v: float = 0.05
+    noise_std_v: float = 1e-3
+    adc_bits: int = 16
+    adc_range_v: tuple = (-5.0, 5.0)
+    seed: int = 0
+    _state: ForwardState = field(init=False, repr=False)
+    _rng: np.random.Generator = field(init=False, repr=False)
+
+    def __post_init__(self):
+        self.reset()
+
+    def reset(self):
+        """Sensor relaxed and unloaded, noise sequence restarted."""
+        self._state = ForwardState(self.model)
+        self._rng = np.random.default_rng(self.seed)
+
+    @property
+    def lsb_v(self) -> float:
+        lo, hi = self.adc_range_v
+        return (hi - lo) / (2**self.adc_bits) if self.adc_bits else 0.0
+
+    def simulate(self, t_s, force_n):
+        """Bridge voltage (V) for the force samples; continues from the previous block."""
+        gamma = simulate_deformation(self.model, t_s, force_n, state=self._state)
+        v = self.offset_v + gamma
+        if self.noise_std_v:
+            v = v + self._rng.normal(0.0, self.noise_std_v, size=v.shape)
+        if self.adc_bits:
+            lo, hi = self.adc_range_v
+            v = np.clip(np.round((v - lo) / self.lsb_v) * self.lsb_v + lo, lo, hi - self.lsb_v)
+        return v

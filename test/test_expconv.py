@@ -1,0 +1,82 @@
+"""The shared recursion: exact for piecewise-linear input, stable, batch == streaming."""
+import math
+
+import numpy as np
+import pytest
+
+from polyforce_ros.physics.expconv import ExpConvState, exp_convolve, step_weights, step_weights_scalar
+
+
+def exact_linear(t, a, b, r):
+    """int_0^t exp(-r (t-s)) (a + b s) ds, closed form."""
+    if r == 0:
+        return a * t + 0.5 * b * t * t
+    rt = r * t
+    # Written with expm1 in combined form: the textbook t/r - (1 - e^-rt)/r^2 cancels badly.
+    return -a * np.expm1(-rt) / r + b * (rt + np.expm1(-rt)) / r**2
+
+
+@pytest.mark.parametrize("r", [0.0, 7e-4, 0.173, 5.0, 300.0])
+def test_exact_for_linear_input_on_irregular_grid(r):
+    rng = np.random.default_rng(1)
+    t = np.concatenate(([0.0], np.cumsum(rng.exponential(0.01, 2000))))
+    u = 0.3 + 2.0 * t
+    y = exp_convolve(t, u, [r])[:, 0]
+    np.testing.assert_allclose(y, exact_linear(t, 0.3, 2.0, r), rtol=1e-11, atol=1e-13)
+
+
+def test_weights_continuous_across_series_threshold():
+    z = np.array([1e-2 * (1 - 1e-9), 1e-2 * (1 + 1e-9)])
+    e, a, b = step_weights(z)
+    assert abs(a[0] - a[1]) < 1e-10 and abs(b[0] - b[1]) < 1e-10
+    for zi in (0.0, 1e-8, 5e-3, 0.02, 3.0, 800.0):
+        np.testing.assert_allclose(step_weights_scalar(zi), step_weights(zi), rtol=1e-14, atol=1e-300)
+    # Trapezoid limit and the sum rule alpha + beta = (1 - e^-z)/z.
+    assert step_weights(0.0)[1:] == (0.5, 0.5)
+    e, a, b = step_weights(0.37)
+    assert math.isclose(a + b, (1 - math.exp(-0.37)) / 0.37, rel_tol=1e-14)
+
+
+def test_uniform_and_irregular_paths_agree():
+    t = np.arange(0, 50, 1e-3)
+    u = np.sin(t) + 0.1 * np.cos(17 * t)
+    uniform = exp_convolve(t, u, [0.0, 0.173, 2.0])
+    jitter = t + np.concatenate(([0.0], np.full(t.size - 1, 1e-15)))  # breaks exact uniformity
+    jitter[1::2] += 1e-9
+    irregular = exp_convolve(jitter, u, [0.0, 0.173, 2.0])
+    np.testing.assert_allclose(irregular, uniform, rtol=0, atol=1e-8)
+
+
+def test_streaming_matches_batch_with_gap_and_duplicates():
+    rng = np.random.default_rng(2)
+    t = np.cumsum(rng.uniform(0.0005, 0.0015, 5000))
+    t[2000:] += 10.0  # a 10 s gap
+    t[3000] = t[2999]  # a duplicate stamp
+    u = rng.normal(size=t.size)
+    rates = [7e-4, 0.173, 40.0]
+    batch = exp_convolve(t, u, rates)
+    state = ExpConvState(rates)
+    stream = np.array([list(state.update(ti, ui)) for ti, ui in zip(t, u)])
+    np.testing.assert_allclose(stream, batch, rtol=1e-10, atol=1e-12)
+
+
+def test_state_rejects_time_going_backwards_and_keeps_state():
+    state = ExpConvState([0.5])
+    state.update(0.0, 1.0)
+    before = list(state.update(1.0, 1.0))
+    assert state.update(0.5, 100.0) is None
+    assert state.y == before and state.t_prev_s == 1.0
+    with pytest.raises(ValueError, match="non-decreasing"):
+        exp_convolve([0.0, 1.0, 0.5], [1.0, 1.0, 1.0], [0.5])
+
+
+def test_no_overflow_far_beyond_paper_recursion_limit():
+    # The literal recursion of eq. 12 needs exp(r t) and overflows past 709 / r seconds.
+    r = 0.173
+    t_start = 10 * 709 / r  # ~11 h
+    with pytest.raises(OverflowError):
+        math.exp(r * t_start)
+    t = t_start + np.arange(0, 100, 1e-3)
+    y = exp_convolve(t, np.ones_like(t), [r])[:, 0]
+    assert np.all(np.isfinite(y))
+    np.testing.assert_allclose(y, (1 - np.exp(-r * (t - t[0]))) / r, rtol=1e-10)

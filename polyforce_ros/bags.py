@@ -1,0 +1,499 @@
+"""rosbag2-compatible MCAP bags: writing, and fast reading of the topic contract into numpy.
+
+Writing follows rosbag2's MCAP storage: profile ``ros2``, schemas named
+``pkg/msg/Type`` with encoding ``ros2msg`` (the .msg text followed by every
+dependency, each after a line of 80 ``=`` and ``MSG: pkg/Type``), messages in
+``cdr``, chunked with message indexes, chunk indexes and statistics.
+
+Reading does not build one Python object per message: records are scanned
+linearly (so a truncated file still yields everything before the cut), chunks
+are decompressed whole, and for each topic the messages whose CDR layout is
+identical (same frame_id, joint names and array sizes: the normal case) are
+decoded together as numpy arrays. Messages with other layouts are decoded one
+by one with the same code path, so nothing is dropped for being unusual.
+
+Problems that lose data (truncation, a corrupt chunk) are reported in
+``BagData.warnings``; problems that make the bag unusable for the request (not
+an MCAP file, a missing topic, the wrong type on a topic) raise
+:class:`BagError` with the reason.
+"""
+from __future__ import annotations
+
+import os
+import re
+import struct
+import sys
+import zlib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+NS = "/polyforce"
+BRIDGE_VOLTAGE = f"{NS}/bridge_voltage"
+WRENCH = f"{NS}/wrench"
+REFERENCE_FORCE = f"{NS}/reference_force"
+TEMPERATURE = f"{NS}/temperature"
+
+JOINT_STATE = "sensor_msgs/msg/JointState"
+WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
+TEMPERATURE_MSG = "sensor_msgs/msg/Temperature"
+FLOAT64 = "std_msgs/msg/Float64"
+
+#: The bag contract: topic -> message type.
+CONTRACT = {
+    BRIDGE_VOLTAGE: JOINT_STATE,
+    REFERENCE_FORCE: WRENCH_STAMPED,
+    WRENCH: WRENCH_STAMPED,
+    TEMPERATURE: TEMPERATURE_MSG,
+}
+
+_MAGIC = b"\x89MCAP0\r\n"
+_PRIMITIVES = {
+    "bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16",
+    "int32", "uint32", "int64", "uint64", "string", "wstring",
+}
+
+
+class BagError(ValueError):
+    """The bag cannot serve the request; the message says why."""
+
+
+# ----------------------------------------------------------------------------- schemas
+def _share_dirs():
+    prefixes = [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
+    prefixes.append(sys.prefix)
+    return [Path(p) / "share" for p in prefixes]
+
+
+def _msg_text(pkg, name):
+    for share in _share_dirs():
+        path = share / pkg / "msg" / f"{name}.msg"
+        if path.is_file():
+            return path.read_text()
+    raise BagError(f"message definition {pkg}/msg/{name} not found (is AMENT_PREFIX_PATH set?)")
+
+
+def _dependencies(pkg, text):
+    deps = []
+    for line in text.splitlines():
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        tokens = line.split()
+        if len(tokens) > 1 and "=" in tokens[1]:
+            continue  # a constant
+        ftype = re.sub(r"(\[.*\]|<=\d+)", "", tokens[0])
+        if ftype in _PRIMITIVES:
+            continue
+        if ftype == "Header":
+            deps.append(("std_msgs", "Header"))
+        elif "/" in ftype:
+            dpkg, dname = ftype.split("/")[0], ftype.split("/")[-1]
+            deps.append((dpkg, dname))
+        else:
+            deps.append((pkg, ftype))
+    return deps
+
+
+def schema_text(type_name: str) -> str:
+    """ros2msg schema text of ``pkg/msg/Type`` with all dependencies appended."""
+    pkg, _, name = type_name.split("/")
+    main = _msg_text(pkg, name)
+    parts, seen, todo = [main.rstrip("\n")], {(pkg, name)}, list(_dependencies(pkg, main))
+    while todo:
+        dep = todo.pop(0)
+        if dep in seen:
+            continue
+        seen.add(dep)
+        text = _msg_text(*dep)
+        parts.append("=" * 80 + f"\nMSG: {dep[0]}/{dep[1]}\n" + text.rstrip("\n"))
+        todo.extend(_dependencies(dep[0], text))
+    return "\n".join(parts) + "\n"
+
+
+# ----------------------------------------------------------------------------- CDR layouts
+def _align(pos, n):
+    return (pos + n - 1) & ~(n - 1)
+
+
+def _layout(type_name, payload):
+    """Offsets (in the CDR payload after the 4-byte encapsulation header) of one message.
+
+    Returns ``(fields, length_fields)``: ``fields`` maps value names to
+    ``(offset, numpy dtype)``; ``length_fields`` lists offsets of the uint32
+    length/count words that determine the layout (equal words in equal
+    places => identical layout).
+    """
+    u32 = struct.Struct("<I").unpack_from
+    fields, lengths = {}, []
+    pos = 0
+    if type_name in (JOINT_STATE, WRENCH_STAMPED, TEMPERATURE_MSG):
+        fields["sec"], fields["nanosec"] = (0, "<i4"), (4, "<u4")
+        lengths.append(8)
+        pos = 12 + u32(payload, 8)[0]  # frame_id string incl. NUL
+    if type_name == JOINT_STATE:
+        pos = _align(pos, 4)
+        lengths.append(pos)
+        n_names = u32(payload, pos)[0]
+        pos += 4
+        for _ in range(n_names):
+            pos = _align(pos, 4)
+            lengths.append(pos)
+            pos += 4 + u32(payload, pos)[0]
+        for arr in ("position", "velocity", "effort"):
+            pos = _align(pos, 4)
+            lengths.append(pos)
+            count = u32(payload, pos)[0]
+            pos += 4
+            if count:
+                pos = _align(pos, 8)
+                if arr == "position":
+                    fields["position"] = (pos, "<f8")
+                pos += 8 * count
+    elif type_name == WRENCH_STAMPED:
+        pos = _align(pos, 8)
+        for i, name in enumerate(("force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z")):
+            fields[name] = (pos + 8 * i, "<f8")
+        pos += 48
+    elif type_name == TEMPERATURE_MSG:
+        pos = _align(pos, 8)
+        fields["temperature"], fields["variance"] = (pos, "<f8"), (pos + 8, "<f8")
+        pos += 16
+    elif type_name == FLOAT64:
+        fields["data"] = (0, "<f8")
+        pos = 8
+    else:
+        raise BagError(f"no decoder for message type {type_name}")
+    if pos > len(payload):
+        raise BagError(f"{type_name} message shorter than its layout ({len(payload)} < {pos} bytes)")
+    return fields, lengths
+
+
+def _decode_group(type_name, buf, starts, size):
+    """Decode messages of one layout: ``buf[starts[i]: starts[i] + size]`` are CDR messages."""
+    first = memoryview(buf)[starts[0] + 4 : starts[0] + size]
+    fields, lengths = _layout(type_name, first)
+    arr = np.frombuffer(buf, dtype=np.uint8)
+    out = {}
+    # Same layout check: every length word equals the first message's.
+    same = np.ones(starts.size, dtype=bool)
+    for off in lengths:
+        idx = starts[:, None] + 4 + off + np.arange(4)
+        words = arr[idx].view("<u4").ravel()
+        same &= words == words[0]
+    for name, (off, dtype) in fields.items():
+        width = np.dtype(dtype).itemsize
+        idx = starts[:, None] + 4 + off + np.arange(width)
+        out[name] = arr[idx].view(dtype).ravel()
+    return out, same
+
+
+@dataclass
+class TopicData:
+    """One topic's messages as arrays, in log-time order.
+
+    ``stamp_ns``: header stamps (ns, int64; log time for header-less types);
+    ``log_time_ns``: when the recorder got each message; ``fields``: decoded
+    values (``position`` for JointState, ``force_x`` ... ``torque_z`` for
+    WrenchStamped, ``temperature``/``variance``, ``data`` for Float64).
+    """
+
+    topic: str
+    type_name: str
+    log_time_ns: np.ndarray
+    stamp_ns: np.ndarray
+    fields: dict
+
+    def __len__(self):
+        return int(self.log_time_ns.size)
+
+    @property
+    def t_s(self) -> np.ndarray:
+        """Header stamps in seconds (float64)."""
+        return self.stamp_ns.astype(np.float64) * 1e-9
+
+
+@dataclass
+class BagData:
+    topics: dict = field(default_factory=dict)
+    types: dict = field(default_factory=dict)  # every topic in the bag -> type
+    warnings: list = field(default_factory=list)
+
+    def __getitem__(self, topic) -> TopicData:
+        return self.topics[topic]
+
+
+# ----------------------------------------------------------------------------- reading
+_REC = struct.Struct("<BQ")
+
+
+def _decompress(compression, data, size):
+    if compression == "":
+        return data
+    if compression == "zstd":
+        import zstandard
+
+        return zstandard.ZstdDecompressor().decompress(data, max_output_size=size)
+    if compression == "lz4":
+        import lz4.frame
+
+        return lz4.frame.decompress(data)
+    raise BagError(f"unsupported chunk compression {compression!r}")
+
+
+def _string(buf, pos):
+    n = struct.unpack_from("<I", buf, pos)[0]
+    return bytes(buf[pos + 4 : pos + 4 + n]).decode(), pos + 4 + n
+
+
+def read_bag(path, topics=None, expected_types=None) -> BagData:
+    """Read topics of an MCAP bag into arrays.
+
+    topics: iterable of topic names to decode (default: every topic of a known
+    type). A requested topic that is absent raises :class:`BagError` listing
+    what the bag holds. expected_types: ``{topic: type}`` to enforce (default:
+    the bag contract for contract topics).
+    """
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise BagError(f"cannot read bag {path}: {exc.strerror}") from exc
+    if not raw.startswith(_MAGIC):
+        raise BagError(f"{path} is not an MCAP file (bad magic bytes)")
+    expected = dict(CONTRACT)
+    expected.update(expected_types or {})
+    schemas, channels, warnings = {}, {}, []
+    # Per channel: list of (buffer, record starts array, data offsets, lengths).
+    pieces = {}
+
+    def scan(buf, base, in_chunk):
+        pos, n = 0, len(buf)
+        msg_pos, msg_len = [], []
+        while pos + 9 <= n:
+            op, length = _REC.unpack_from(buf, pos)
+            body = pos + 9
+            if body + length > n:
+                if not in_chunk:
+                    warnings.append(f"bag truncated at byte {base + pos}: read what came before it")
+                else:
+                    warnings.append(f"chunk at byte {base} is cut short: its last messages are lost")
+                break
+            if op == 5:  # Message
+                msg_pos.append(body)
+                msg_len.append(length)
+            elif op == 3:  # Schema
+                sid = struct.unpack_from("<H", buf, body)[0]
+                name, p = _string(buf, body + 2)
+                schemas[sid] = name
+            elif op == 4:  # Channel
+                cid, sid = struct.unpack_from("<HH", buf, body)
+                topic, p = _string(buf, body + 4)
+                channels[cid] = (topic, sid)
+            elif op == 6 and not in_chunk:  # Chunk
+                _read_chunk(buf, body, length, base + pos)
+            elif op == 2:  # Footer
+                break
+            pos = body + length
+        if msg_pos:
+            starts = np.asarray(msg_pos, dtype=np.int64)
+            lens = np.asarray(msg_len, dtype=np.int64)
+            arr = np.frombuffer(buf, dtype=np.uint8) if not isinstance(buf, np.ndarray) else buf
+            cids = arr[starts[:, None] + np.arange(2)].view("<u2").ravel()
+            for cid in np.unique(cids):
+                sel = cids == cid
+                pieces.setdefault(int(cid), []).append((buf, starts[sel], lens[sel]))
+        return pos
+
+    def _read_chunk(buf, body, length, at):
+        try:
+            _start, _end, size, crc = struct.unpack_from("<QQQI", buf, body)
+            compression, p = _string(buf, body + 28)
+            rec_len = struct.unpack_from("<Q", buf, p)[0]
+            data = bytes(buf[p + 8 : p + 8 + rec_len])
+            inner = _decompress(compression, data, size)
+            if len(inner) != size or (crc and zlib.crc32(inner) != crc):
+                raise ValueError("size or CRC mismatch")
+        except BagError:
+            raise
+        except Exception as exc:  # noqa: BLE001 - any decoding failure means a corrupt chunk
+            warnings.append(f"corrupt chunk at byte {at} ({exc}); its messages are lost, the rest is read")
+            return
+        scan(inner, at, in_chunk=True)
+
+    scan(memoryview(raw)[8:], 8, in_chunk=False)
+    types = {topic: schemas.get(sid, "") for topic, sid in channels.values()}
+    result = BagData(types=types, warnings=warnings)
+    wanted = list(types) if topics is None else list(topics)
+    for topic in wanted:
+        if topic not in types:
+            raise BagError(f"{path}: topic {topic} not in bag; it holds {sorted(types) or 'no topics'}")
+        if topic in expected and types[topic] != expected[topic]:
+            raise BagError(f"{path}: topic {topic} has type {types[topic]}, expected {expected[topic]}")
+    for cid, (topic, sid) in channels.items():
+        if topic not in wanted:
+            continue
+        type_name = schemas.get(sid, "")
+        try:
+            result.topics[topic] = _decode_topic(topic, type_name, pieces.get(cid, []))
+        except BagError:
+            if topics is None:
+                continue  # a type we cannot decode, not asked for by name
+            raise
+    return result
+
+
+def _decode_topic(topic, type_name, pieces):
+    logs, stamps, values = [], [], {}
+    for buf, starts, lens in pieces:
+        arr = np.frombuffer(buf, dtype=np.uint8)
+        log = arr[starts[:, None] + 6 + np.arange(8)].view("<u8").ravel().astype(np.int64)
+        data_starts = starts + 22
+        sizes = lens - 22
+        todo = np.ones(starts.size, dtype=bool)
+        while todo.any():
+            i0 = int(np.flatnonzero(todo)[0])
+            group = todo & (sizes == sizes[i0])
+            idx = np.flatnonzero(group)
+            # the group's first message defines the layout; others must match it
+            order = np.concatenate(([i0], idx[idx != i0]))
+            decoded, same = _decode_group(type_name, buf, data_starts[order], int(sizes[i0]))
+            ok = order[same]
+            todo[ok] = False
+            logs.append(log[ok])
+            sec = decoded.pop("sec", None)
+            if sec is not None:
+                stamps.append(sec[same].astype(np.int64) * 1_000_000_000 + decoded.pop("nanosec")[same].astype(np.int64))
+            else:
+                stamps.append(log[ok])
+            for name, column in decoded.items():
+                values.setdefault(name, []).append(column[same])
+    if not logs:
+        empty = np.zeros(0, dtype=np.int64)
+        return TopicData(topic, type_name, empty, empty, {})
+    log = np.concatenate(logs)
+    order = np.argsort(log, kind="stable")
+    fields = {k: np.concatenate(v)[order] for k, v in values.items() if sum(map(len, v)) == log.size}
+    return TopicData(topic, type_name, log[order], np.concatenate(stamps)[order], fields)
+
+
+# ----------------------------------------------------------------------------- writing
+class BagWriter:
+    """Write a rosbag2-compatible MCAP file.
+
+    ``write(topic, type_name, msg, log_time_ns)`` writes one ROS message;
+    ``write_series(...)`` writes a whole array of scalar samples of a contract
+    type with bulk CDR encoding. Use as a context manager.
+    """
+
+    def __init__(self, path, chunk_size=1 << 20):
+        from mcap.writer import CompressionType, Writer
+
+        self.path = Path(path)
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        self._fh = open(self.path, "wb")
+        self._writer = Writer(self._fh, chunk_size=chunk_size, compression=CompressionType.ZSTD)
+        self._writer.start(profile="ros2", library="polyforce_ros")
+        self._schemas, self._channels, self._seq = {}, {}, {}
+
+    def _channel(self, topic, type_name):
+        if topic in self._channels:
+            cid, known = self._channels[topic]
+            if known != type_name:
+                raise BagError(f"topic {topic} already written with type {known}")
+            return cid
+        if type_name not in self._schemas:
+            self._schemas[type_name] = self._writer.register_schema(
+                name=type_name, encoding="ros2msg", data=schema_text(type_name).encode()
+            )
+        cid = self._writer.register_channel(
+            topic=topic, message_encoding="cdr", schema_id=self._schemas[type_name],
+            metadata={"offered_qos_profiles": ""},
+        )
+        self._channels[topic] = (cid, type_name)
+        self._seq[cid] = 0
+        return cid
+
+    def write_serialized(self, topic, type_name, data: bytes, log_time_ns: int):
+        cid = self._channel(topic, type_name)
+        self._seq[cid] += 1
+        self._writer.add_message(channel_id=cid, log_time=int(log_time_ns), data=data,
+                                 publish_time=int(log_time_ns), sequence=self._seq[cid])
+
+    def write(self, topic, type_name, msg, log_time_ns: int):
+        from rclpy.serialization import serialize_message
+
+        self.write_serialized(topic, type_name, serialize_message(msg), log_time_ns)
+
+    def write_series(self, topic, type_name, stamp_ns, values, frame_id="polyforce_sensor", joint_name="sarrus_axial",
+                     log_time_ns=None):
+        """Write one message per sample: JointState position, WrenchStamped force.z,
+        Temperature temperature or Float64 data = ``values[i]``, header stamp ``stamp_ns[i]``."""
+        stamp_ns = np.asarray(stamp_ns, dtype=np.int64)
+        values = np.asarray(values, dtype=np.float64)
+        log_time_ns = stamp_ns if log_time_ns is None else np.asarray(log_time_ns, dtype=np.int64)
+        if stamp_ns.size == 0:
+            self._channel(topic, type_name)
+            return
+        template = serialize_template(type_name, frame_id, joint_name)
+        fields, _ = _layout(type_name, memoryview(template)[4:])
+        n, size = stamp_ns.size, len(template)
+        block = np.tile(np.frombuffer(template, dtype=np.uint8), (n, 1))
+        if "sec" in fields:
+            block[:, 4:8] = (stamp_ns // 1_000_000_000).astype("<i4").view(np.uint8).reshape(n, 4)
+            block[:, 8:12] = (stamp_ns % 1_000_000_000).astype("<u4").view(np.uint8).reshape(n, 4)
+        key = {JOINT_STATE: "position", WRENCH_STAMPED: "force_z", TEMPERATURE_MSG: "temperature", FLOAT64: "data"}[type_name]
+        off = 4 + fields[key][0]
+        block[:, off : off + 8] = values.astype("<f8").view(np.uint8).reshape(n, 8)
+        raw = block.tobytes()
+        for i in range(n):
+            self.write_serialized(topic, type_name, raw[i * size : (i + 1) * size], log_time_ns[i])
+
+    def close(self):
+        if self._fh.closed:
+            return
+        self._writer.finish()
+        self._fh.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def serialize_template(type_name, frame_id="polyforce_sensor", joint_name="sarrus_axial") -> bytes:
+    """CDR bytes of one message of a contract type with zero stamp and value."""
+    from rclpy.serialization import serialize_message
+
+    return serialize_message(make_message(type_name, 0, 0.0, frame_id, joint_name))
+
+
+def make_message(type_name, stamp_ns: int, value: float, frame_id="polyforce_sensor", joint_name="sarrus_axial"):
+    """A contract message carrying one scalar (see :meth:`BagWriter.write_series`)."""
+    if type_name == FLOAT64:
+        from std_msgs.msg import Float64
+
+        return Float64(data=float(value))
+    from builtin_interfaces.msg import Time
+
+    stamp = Time(sec=int(stamp_ns // 1_000_000_000), nanosec=int(stamp_ns % 1_000_000_000))
+    if type_name == JOINT_STATE:
+        from sensor_msgs.msg import JointState
+
+        msg = JointState(name=[joint_name], position=[float(value)])
+    elif type_name == WRENCH_STAMPED:
+        from geometry_msgs.msg import WrenchStamped
+
+        msg = WrenchStamped()
+        msg.wrench.force.z = float(value)
+    elif type_name == TEMPERATURE_MSG:
+        from sensor_msgs.msg import Temperature
+
+        msg = Temperature(temperature=float(value))
+    else:
+        raise BagError(f"no contract message of type {type_name}")
+    msg.header.stamp = stamp
+    msg.header.frame_id = frame_id
+    return msg

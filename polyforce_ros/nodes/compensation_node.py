@@ -1,0 +1,258 @@
+"""compensation_node: raw bridge voltage -> compensated axial force for the haptic master.
+
+Subscribes ``bridge_voltage`` (sensor_msgs/JointState, position[0] in V, stamped
+at acquisition) and ``bridge_voltage_scalar`` (std_msgs/Float64, stamped on
+arrival); publishes ``wrench`` (geometry_msgs/WrenchStamped, force.z in N,
+compression positive, stamped like the raw sample). Services ``~/tare`` and
+``~/reset`` (std_srvs/Trigger). Diagnostics on /diagnostics.
+
+Safety rules (the haptic master renders whatever arrives and holds it):
+* a sample that is NaN/inf or beyond ``input_limit_v`` is dropped and counted;
+* a stamp earlier than or equal to the previous one is dropped and counted
+  (no two wrenches with one stamp, no history rewritten);
+* a gap longer than ``gap_warn_s`` is integrated as a linear change of the
+  bridge output across it (the compensator's exact assumption) and counted;
+* the force is clamped to +-``force_limit_n`` (counted, WARN);
+* no valid input for ``stale_timeout_s`` -> zero wrench, ERROR, until input returns;
+* shutdown -> a final zero wrench.
+"""
+from __future__ import annotations
+
+import math
+import os
+import time
+from collections import deque
+
+from geometry_msgs.msg import WrenchStamped
+from rclpy.node import Node
+from rcl_interfaces.msg import SetParametersResult
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64
+from std_srvs.srv import Trigger
+
+from ..model_file import default_model_path, load_model
+from ..physics.chain import ModelError
+from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run, stamp_to_ns
+
+
+class CompensationNode(Node):
+    def __init__(self, **kwargs):
+        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
+        super().__init__("compensation_node", **kwargs)
+        declare(self, "model_file", "", "Sensor model YAML; empty = the shipped paper model (seed 000 eq. 5)")
+        declare(self, "force_limit_n", 12.0, "Output clamp: |force.z| never exceeds this (N)", 0.1, 1000.0)
+        declare(self, "input_limit_v", 10.0, "Samples with |voltage| above this are dropped (V)", 0.001, 1000.0)
+        declare(self, "stale_timeout_s", 0.1, "No valid input for this long -> zero wrench and ERROR (s)", 0.002, 60.0)
+        declare(self, "gap_warn_s", 0.05, "Stamp gaps longer than this are counted as gaps (s)", 0.0001, 3600.0)
+        declare(self, "tare_window", 200, "Samples averaged by ~/tare", 1, 100000)
+        declare(self, "joint_name", "", "Joint to read from JointState; empty = position[0]")
+        declare(self, "frame_id", "", "Frame of the wrench; empty = the frame of the input")
+        declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
+        declare(self, "model_check_period_s", 1.0, "How often the model file is checked for changes (s)", 0.1, 60.0, read_only=True)
+        declare_qos(self)
+        self.diag = Diagnostics(self, "polyforce_ros: compensation")
+        self.counts = dict(samples=0, published=0, nonfinite=0, out_of_range=0, backwards=0, duplicate=0, gaps=0,
+                           clamped=0, stale_events=0, bad_joint=0, model_reloads=0)
+        self._recent_v = deque(maxlen=int(self.get_parameter("tare_window").value))
+        self._tare_offset_v = None
+        self._epoch_ns = None
+        self._last_stamp_ns = None
+        self._last_rx = None  # monotonic time of the last valid sample
+        self._stale = True
+        self._model_error = ""
+        self._model_path, self._model_mtime = None, None
+        self._load_model(self.get_parameter("model_file").value)  # raises on a bad file at start-up
+        qos = data_qos(self)
+        self.pub = self.create_publisher(WrenchStamped, "wrench", qos)
+        self.create_subscription(JointState, "bridge_voltage", self._on_joint_state, qos)
+        self.create_subscription(Float64, "bridge_voltage_scalar", self._on_scalar, qos)
+        self.create_service(Trigger, "~/tare", self._on_tare)
+        self.create_service(Trigger, "~/reset", self._on_reset)
+        self.add_on_set_parameters_callback(self._on_set_parameters)
+        timeout = self.get_parameter("stale_timeout_s").value
+        self._watchdog = self.create_timer(min(0.02, timeout / 4), self._check_stale)
+        self.create_timer(self.get_parameter("diagnostics_period_s").value, self._publish_diagnostics)
+        self.create_timer(self.get_parameter("model_check_period_s").value, self._check_model_file)
+        self.get_logger().info(f"compensating with {self._model_path} ({self.model.chain.viscoelastic})")
+
+    # ------------------------------------------------------------------ model
+    def _load_model(self, path_param):
+        path = path_param or str(default_model_path())
+        model = load_model(path)
+        self.model, self._model_path = model, path
+        self._model_mtime = _mtime(path)
+        self._stream = model.chain.streaming()
+        if self._tare_offset_v is not None:
+            model.chain.offset.voltage_v = self._tare_offset_v
+        self._last_stamp_ns = None  # the history belongs to the old model
+
+    def _check_model_file(self):
+        mtime = _mtime(self._model_path)
+        if mtime is None or mtime == self._model_mtime:
+            return
+        try:
+            self._load_model(self.get_parameter("model_file").value)
+            self.counts["model_reloads"] += 1
+            self._model_error = ""
+            self.get_logger().info(f"model file changed, reloaded {self._model_path}")
+        except ModelError as exc:
+            self._model_mtime = mtime  # report once per change
+            self._model_error = str(exc)
+            self.get_logger().error(f"model file changed but is invalid, keeping the previous model: {exc}")
+
+    def _on_set_parameters(self, params):
+        for p in params:
+            if p.name == "model_file":
+                try:
+                    self._load_model(p.value)
+                except ModelError as exc:
+                    return SetParametersResult(successful=False, reason=str(exc))
+                self.counts["model_reloads"] += 1
+                self._model_error = ""
+                self.get_logger().info(f"model set to {self._model_path}")
+            elif p.name == "tare_window":
+                self._recent_v = deque(self._recent_v, maxlen=int(p.value))
+        return SetParametersResult(successful=True)
+
+    # ------------------------------------------------------------------ input
+    def _on_joint_state(self, msg: JointState):
+        joint = self.get_parameter("joint_name").value
+        if joint:
+            try:
+                index = list(msg.name).index(joint)
+            except ValueError:
+                self.counts["bad_joint"] += 1
+                return
+        else:
+            index = 0
+        if len(msg.position) <= index:
+            self.counts["bad_joint"] += 1
+            return
+        self._process(stamp_to_ns(msg.header.stamp), msg.position[index], msg.header.frame_id)
+
+    def _on_scalar(self, msg: Float64):
+        self._process(self.get_clock().now().nanoseconds, msg.data, "")
+
+    def _process(self, stamp_ns, voltage_v, frame_id):
+        self.counts["samples"] += 1
+        if not math.isfinite(voltage_v):
+            self.counts["nonfinite"] += 1
+            return
+        if abs(voltage_v) > self.get_parameter("input_limit_v").value:
+            self.counts["out_of_range"] += 1
+            return
+        last = self._last_stamp_ns
+        if last is not None:
+            if stamp_ns < last:
+                self.counts["backwards"] += 1
+                return
+            if stamp_ns == last:
+                self.counts["duplicate"] += 1
+                return
+            if (stamp_ns - last) * 1e-9 > self.get_parameter("gap_warn_s").value:
+                self.counts["gaps"] += 1
+        else:
+            self._stream.reset()
+            if self._epoch_ns is None:
+                self._epoch_ns = stamp_ns
+        self._last_stamp_ns = stamp_ns
+        self._recent_v.append(voltage_v)
+        self._last_rx = time.monotonic()
+        self._stale = False
+        force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v)
+        if force is None or not math.isfinite(force):
+            # Cannot happen for finite input; if it did, the state is unusable.
+            self._stream.reset()
+            self._last_stamp_ns = None
+            force = 0.0
+        limit = self.get_parameter("force_limit_n").value
+        if abs(force) > limit:
+            self.counts["clamped"] += 1
+            force = math.copysign(limit, force)
+        self._publish(stamp_ns, force, frame_id)
+
+    def _publish(self, stamp_ns, force_n, frame_id=""):
+        msg = WrenchStamped()
+        ns_to_stamp(stamp_ns, msg.header.stamp)
+        msg.header.frame_id = self.get_parameter("frame_id").value or frame_id
+        msg.wrench.force.z = float(force_n)
+        self.pub.publish(msg)
+        self.counts["published"] += 1
+
+    # ------------------------------------------------------------------ safety
+    def _check_stale(self):
+        timeout = self.get_parameter("stale_timeout_s").value
+        if self._last_rx is not None and time.monotonic() - self._last_rx <= timeout:
+            return
+        if not self._stale:
+            self.counts["stale_events"] += 1
+            self.get_logger().error(f"no valid input for {timeout:.3f} s: publishing zero force")
+        self._stale = True
+        self._publish(self.get_clock().now().nanoseconds, 0.0)
+
+    def publish_zero(self, wait_s=0.0):
+        """A zero wrench now; on shutdown, wait up to ``wait_s`` for subscribers to acknowledge it."""
+        self._publish(self.get_clock().now().nanoseconds, 0.0)
+        if wait_s > 0:
+            from rclpy.duration import Duration
+
+            self.pub.wait_for_all_acked(Duration(nanoseconds=int(wait_s * 1e9)))
+
+    # ------------------------------------------------------------------ services
+    def _on_tare(self, request, response):
+        if not self._recent_v:
+            response.success, response.message = False, "no valid samples received yet; nothing to tare"
+            return response
+        offset = sum(self._recent_v) / len(self._recent_v)
+        self._tare_offset_v = offset
+        self.model.chain.offset.voltage_v = offset
+        self._stream.reset()
+        self._last_stamp_ns = None
+        response.success = True
+        response.message = f"tared: bridge offset {offset:.6f} V from {len(self._recent_v)} samples; history cleared"
+        self.get_logger().info(response.message)
+        return response
+
+    def _on_reset(self, request, response):
+        self._stream.reset()
+        self._last_stamp_ns = None
+        response.success, response.message = True, "compensator history cleared"
+        self.get_logger().info(response.message)
+        return response
+
+    # ------------------------------------------------------------------ diagnostics
+    def _publish_diagnostics(self):
+        c = self.counts
+        if self._stale:
+            level, message = ERROR, "no valid input: publishing zero force"
+        elif self._model_error:
+            level, message = WARN, f"model file invalid, previous model kept: {self._model_error}"
+        elif c["clamped"] or c["nonfinite"] or c["out_of_range"] or c["backwards"] or c["duplicate"] or c["gaps"]:
+            level, message = WARN, "running; bad or clamped samples seen (see counters)"
+        else:
+            level, message = OK, "running"
+        values = dict(c, model_file=self._model_path, model=self.model.chain.viscoelastic,
+                      offset_v=self.model.chain.offset.voltage_v, tared=self._tare_offset_v is not None)
+        return self.diag.publish(level, message, values)
+
+    def destroy_node(self):
+        try:
+            self.publish_zero(wait_s=0.5)
+        except Exception:  # noqa: BLE001 - context may already be gone; nothing else to do
+            pass
+        super().destroy_node()
+
+
+def _mtime(path):
+    try:
+        return os.stat(path).st_mtime_ns
+    except OSError:
+        return None
+
+
+def main(args=None):
+    return run(CompensationNode, args)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,124 @@
+"""MCAP bags: rosbag2 conventions, bulk reading, and what happens to broken files."""
+import numpy as np
+import pytest
+from mcap.reader import make_reader
+from mcap_ros2.reader import read_ros2_messages
+
+from polyforce_ros.bags import (
+    BRIDGE_VOLTAGE, JOINT_STATE, REFERENCE_FORCE, TEMPERATURE, TEMPERATURE_MSG, WRENCH_STAMPED,
+    BagError, BagWriter, make_message, read_bag,
+)
+
+T0 = 1_700_000_000_123_456_789
+
+
+def write_sample(path, n=5000, chunk_size=1 << 14):
+    stamps = T0 + np.arange(n, dtype=np.int64) * 1_000_000
+    rng = np.random.default_rng(0)
+    volts, force = rng.normal(size=n), rng.normal(size=n)
+    with BagWriter(path, chunk_size=chunk_size) as w:
+        w.write_series(BRIDGE_VOLTAGE, JOINT_STATE, stamps, volts)
+        w.write_series(REFERENCE_FORCE, WRENCH_STAMPED, stamps, force)
+        w.write_series(TEMPERATURE, TEMPERATURE_MSG, stamps[::100], np.full(n // 100, 24.5))
+    return stamps, volts, force
+
+
+def test_round_trip_is_exact(tmp_path):
+    path = tmp_path / "b.mcap"
+    stamps, volts, force = write_sample(path)
+    bag = read_bag(path)
+    assert bag.warnings == []
+    np.testing.assert_array_equal(bag[BRIDGE_VOLTAGE].stamp_ns, stamps)
+    np.testing.assert_array_equal(bag[BRIDGE_VOLTAGE].fields["position"], volts)
+    np.testing.assert_array_equal(bag[REFERENCE_FORCE].fields["force_z"], force)
+    np.testing.assert_array_equal(bag[TEMPERATURE].fields["temperature"], 24.5)
+
+
+def test_rosbag2_conventions_and_interop(tmp_path):
+    path = tmp_path / "b.mcap"
+    stamps, volts, _ = write_sample(path)
+    with open(path, "rb") as fh:
+        reader = make_reader(fh)
+        header, summary = reader.get_header(), reader.get_summary()
+    assert header.profile == "ros2"
+    assert {s.name for s in summary.schemas.values()} == {JOINT_STATE, WRENCH_STAMPED, TEMPERATURE_MSG}
+    assert {s.encoding for s in summary.schemas.values()} == {"ros2msg"}
+    assert {c.message_encoding for c in summary.channels.values()} == {"cdr"}
+    assert summary.statistics.message_count == 2 * 5000 + 50
+    assert summary.chunk_indexes and all(ci.message_index_offsets for ci in summary.chunk_indexes)
+    schema = next(s for s in summary.schemas.values() if s.name == JOINT_STATE).data.decode()
+    assert "=" * 80 + "\nMSG: std_msgs/Header" in schema and "MSG: builtin_interfaces/Time" in schema
+    # The reference reader decodes what we wrote.
+    first = next(iter(read_ros2_messages(str(path), topics=[BRIDGE_VOLTAGE])))
+    assert list(first.ros_msg.position) == [volts[0]] and first.ros_msg.name == ["sarrus_axial"]
+    assert first.ros_msg.header.stamp.sec * 10**9 + first.ros_msg.header.stamp.nanosec == stamps[0]
+
+
+def test_messages_of_different_layouts_on_one_topic(tmp_path):
+    path = tmp_path / "mixed.mcap"
+    frames = ["a", "frame_b", "", "a_much_longer_frame_name"] * 25
+    with BagWriter(path) as w:
+        for i, frame in enumerate(frames):
+            msg = make_message(JOINT_STATE, T0 + i * 1000, float(i), frame_id=frame)
+            if i % 7 == 0:
+                msg.velocity = [1.0, 2.0]
+            w.write(BRIDGE_VOLTAGE, JOINT_STATE, msg, T0 + i * 1000)
+    data = read_bag(path)[BRIDGE_VOLTAGE]
+    np.testing.assert_array_equal(data.fields["position"], np.arange(100.0))
+    np.testing.assert_array_equal(data.stamp_ns, T0 + np.arange(100) * 1000)
+
+
+def test_truncated_bag_reads_what_came_before_the_cut(tmp_path):
+    path = tmp_path / "b.mcap"
+    stamps, volts, _ = write_sample(path)
+    raw = path.read_bytes()
+    for cut in (len(raw) // 5, len(raw) // 2, len(raw) - 100):
+        cut_path = tmp_path / f"cut{cut}.mcap"
+        cut_path.write_bytes(raw[:cut])
+        bag = read_bag(cut_path, topics=[BRIDGE_VOLTAGE])
+        got = bag[BRIDGE_VOLTAGE]
+        assert len(got) > 0
+        np.testing.assert_array_equal(got.fields["position"], volts[: len(got)])  # a clean prefix
+        if cut < len(raw) - 1000:
+            assert any("truncated" in w for w in bag.warnings), bag.warnings
+    with pytest.raises(BagError, match="not an MCAP"):
+        (tmp_path / "tiny.mcap").write_bytes(raw[:5])
+        read_bag(tmp_path / "tiny.mcap")
+
+
+def test_corrupt_chunk_is_skipped_with_a_warning(tmp_path):
+    path = tmp_path / "b.mcap"
+    write_sample(path)
+    raw = bytearray(path.read_bytes())
+    with open(path, "rb") as fh:
+        chunks = make_reader(fh).get_summary().chunk_indexes
+    target = chunks[len(chunks) // 2]
+    mid = target.chunk_start_offset + target.chunk_length // 2
+    raw[mid : mid + 64] = bytes(64)
+    bad = tmp_path / "bad.mcap"
+    bad.write_bytes(bytes(raw))
+    bag = read_bag(bad, topics=[BRIDGE_VOLTAGE])
+    assert any("corrupt chunk" in w for w in bag.warnings)
+    assert 0 < len(bag[BRIDGE_VOLTAGE]) < 5000
+
+
+def test_missing_topic_and_wrong_type_are_clear_errors(tmp_path):
+    path = tmp_path / "b.mcap"
+    with BagWriter(path) as w:
+        w.write_series(REFERENCE_FORCE, WRENCH_STAMPED, [T0], [1.0])
+        w.write_series(BRIDGE_VOLTAGE, WRENCH_STAMPED, [T0], [1.0])  # wrong type on the topic
+    with pytest.raises(BagError, match="topic /polyforce/temperature not in bag"):
+        read_bag(path, topics=[TEMPERATURE])
+    with pytest.raises(BagError, match="has type geometry_msgs/msg/WrenchStamped, expected sensor_msgs/msg/JointState"):
+        read_bag(path, topics=[BRIDGE_VOLTAGE])
+    with pytest.raises(BagError, match="cannot read bag"):
+        read_bag(tmp_path / "absent.mcap")
+
+
+def test_empty_bag(tmp_path):
+    path = tmp_path / "empty.mcap"
+    with BagWriter(path):
+        pass
+    assert read_bag(path).topics == {}
+    with pytest.raises(BagError, match="no topics"):
+        read_bag(path, topics=[BRIDGE_VOLTAGE])

@@ -1,0 +1,242 @@
+"""driver_node: raw bridge voltage from the embedded simulator or a serial ADC.
+
+Publishes ``bridge_voltage`` (sensor_msgs/JointState: name = [joint_name],
+position = [volts], header.stamp = acquisition time, frame_id = sensor frame).
+The ``sim`` backend also publishes the ground-truth applied force on
+``reference_force`` (WrenchStamped force.z, N) and ``temperature``
+(sensor_msgs/Temperature, degC). Diagnostics on /diagnostics.
+
+Backends
+* ``sim`` (default): a sensor with the Burgers truth of ``truth_model_file``
+  driven by a force profile, with noise and ADC quantisation. Sample k is
+  stamped ``start + k / rate_hz`` and published once that time has passed, so
+  the rate is exact however the timer jitters.
+* ``serial``: frames of :mod:`polyforce_ros.serial_protocol` from a
+  microcontroller; counts are scaled to volts by parameters; stamps map the
+  device clock onto host time; the port is reopened after it disappears.
+"""
+from __future__ import annotations
+
+
+import numpy as np
+from geometry_msgs.msg import WrenchStamped
+from rclpy.node import Node
+from sensor_msgs.msg import JointState, Temperature
+
+from ..model_file import default_model_path, load_model
+from ..serial_protocol import DeviceClock, FrameParser
+from ..sim import profiles
+from ..sim.sensor import BridgeSimulator
+from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run
+
+#: Samples simulated ahead per block (1 s at 1 kHz): small enough not to stall the executor.
+SIM_BLOCK = 1000
+#: At most this many samples are published per timer tick (a long stall is caught up gradually).
+MAX_BURST = 250
+
+
+class DriverNode(Node):
+    def __init__(self, **kwargs):
+        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
+        super().__init__("driver_node", **kwargs)
+        backend = declare(self, "backend", "sim", "Data source: 'sim' (embedded simulator) or 'serial' (ADC)", read_only=True)
+        declare(self, "rate_hz", 1000.0, "Sample rate of the simulator (Hz)", 1.0, 20000.0, read_only=True)
+        declare(self, "joint_name", "sarrus_axial", "JointState name of the sensor's prismatic joint", read_only=True)
+        declare(self, "frame_id", "polyforce_sensor", "Frame of the sensor", read_only=True)
+        declare(self, "publish_period_s", 0.002, "Timer period; samples due are published each tick (s)", 0.0005, 0.1, read_only=True)
+        declare(self, "profile", "needle_insertion", f"Simulated force profile: {', '.join(profiles.PROFILE_NAMES)}, okamura", read_only=True)
+        declare(self, "loop", True, "Restart the profile when it ends (else stop publishing)", read_only=True)
+        declare(self, "truth_model_file", "", "Model YAML of the simulated sensor; empty = shipped paper model", read_only=True)
+        declare(self, "noise_std_v", 1e-3, "Simulated bridge noise, 1 sigma (V)", 0.0, 1.0, read_only=True)
+        declare(self, "adc_bits", 16, "Simulated ADC resolution (bits, 0 = none)", 0, 32, read_only=True)
+        declare(self, "offset_v", 0.05, "Simulated bridge output at zero force (V)", -5.0, 5.0, read_only=True)
+        declare(self, "temperature_c", 24.0, "Simulated temperature (degC)", -40.0, 125.0, read_only=True)
+        declare(self, "seed", 0, "Noise and profile seed", 0, 2**31 - 1, read_only=True)
+        declare(self, "port", "/dev/ttyACM0", "Serial device of the ADC", read_only=True)
+        declare(self, "baud", 921600, "Serial baud rate", 1200, 12000000, read_only=True)
+        declare(self, "volts_per_count", 10.0 / 2**24, "ADC scale (V per count)", 1e-12, 1.0, read_only=True)
+        declare(self, "volts_offset", 0.0, "Volts added after scaling (V)", -100.0, 100.0, read_only=True)
+        declare(self, "reconnect_period_s", 0.5, "Delay between attempts to reopen the port (s)", 0.01, 60.0, read_only=True)
+        declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
+        declare_qos(self)
+        qos = data_qos(self)
+        self.pub_raw = self.create_publisher(JointState, "bridge_voltage", qos)
+        self.diag = Diagnostics(self, f"polyforce_ros: driver ({backend})")
+        self.published = 0
+        self.done = False
+        if backend == "sim":
+            self._init_sim(qos)
+        elif backend == "serial":
+            self._init_serial()
+        else:
+            raise ValueError(f"backend must be 'sim' or 'serial', got {backend!r}")
+        self.create_timer(self.get_parameter("diagnostics_period_s").value, self._publish_diagnostics)
+
+    def _param(self, name):
+        return self.get_parameter(name).value
+
+    def _raw_message(self, stamp_ns, volts):
+        msg = JointState(name=[self._param("joint_name")], position=[float(volts)])
+        ns_to_stamp(stamp_ns, msg.header.stamp)
+        msg.header.frame_id = self._param("frame_id")
+        return msg
+
+    # ------------------------------------------------------------------ simulator
+    def _init_sim(self, qos):
+        self.pub_ref = self.create_publisher(WrenchStamped, "reference_force", qos)
+        self.pub_temp = self.create_publisher(Temperature, "temperature", 10)
+        path = self._param("truth_model_file") or str(default_model_path())
+        truth = load_model(path).chain.viscoelastic
+        self.rate_hz = float(self._param("rate_hz"))
+        self.sim = BridgeSimulator(model=truth, offset_v=self._param("offset_v"), noise_std_v=self._param("noise_std_v"),
+                                   adc_bits=self._param("adc_bits"), seed=self._param("seed"))
+        self.profile_t, self.profile_f = profiles.make_profile(self._param("profile"), rate_hz=self.rate_hz, seed=self._param("seed"))
+        self.period_n = self.profile_t.size
+        self._buf_f, self._buf_v, self._buf_first = np.zeros(0), np.zeros(0), 0
+        self.start_ns = None
+        self.create_timer(self._param("publish_period_s"), self._sim_tick)
+        self.get_logger().info(f"sim backend: profile {self._param('profile')} ({self.period_n / self.rate_hz:.1f} s), "
+                               f"{self.rate_hz:.0f} Hz, truth {truth}")
+
+    def _simulate_until(self, k_end):
+        """Make sure samples [.., k_end) are simulated (blocks of SIM_BLOCK, state carried)."""
+        while self._buf_first + self._buf_v.size < k_end:
+            k0 = self._buf_first + self._buf_v.size
+            ks = np.arange(k0, k0 + SIM_BLOCK)
+            f = self.profile_f[ks % self.period_n]
+            v = self.sim.simulate(ks / self.rate_hz, f)
+            drop = max(0, self._buf_v.size - 4 * SIM_BLOCK)  # keep the buffer short
+            self._buf_f = np.concatenate((self._buf_f[drop:], f))
+            self._buf_v = np.concatenate((self._buf_v[drop:], v))
+            self._buf_first += drop
+
+    def _sim_tick(self):
+        now = self.get_clock().now().nanoseconds
+        if self.start_ns is None:
+            self.start_ns = now
+        due = int((now - self.start_ns) * self.rate_hz / 1e9) + 1
+        if not self._param("loop"):
+            due = min(due, self.period_n)
+            if self.published >= self.period_n:
+                self.done = True
+                return
+        end = min(due, self.published + MAX_BURST)
+        if end <= self.published:
+            return
+        self._simulate_until(end)
+        temp_every = max(1, int(self.rate_hz / 10))
+        for k in range(self.published, end):
+            stamp = self.start_ns + int(round(k * 1e9 / self.rate_hz))
+            i = k - self._buf_first
+            self.pub_raw.publish(self._raw_message(stamp, self._buf_v[i]))
+            ref = WrenchStamped()
+            ns_to_stamp(stamp, ref.header.stamp)
+            ref.header.frame_id = self._param("frame_id")
+            ref.wrench.force.z = float(self._buf_f[i])
+            self.pub_ref.publish(ref)
+            if k % temp_every == 0:
+                temp = Temperature(temperature=float(self._param("temperature_c")), variance=0.0)
+                ns_to_stamp(stamp, temp.header.stamp)
+                temp.header.frame_id = self._param("frame_id")
+                self.pub_temp.publish(temp)
+        self.published = end
+
+    # ------------------------------------------------------------------ serial
+    def _init_serial(self):
+        self.parser = FrameParser()
+        self.clock = DeviceClock()
+        self.port = None
+        self.outages = 0
+        self.connected = False
+        self._last_error = "not opened yet"
+        self._open_port()
+        self.create_timer(self._param("publish_period_s"), self._serial_tick)
+        self.create_timer(self._param("reconnect_period_s"), self._reconnect)
+
+    def _open_port(self):
+        import serial
+
+        try:
+            self.port = serial.Serial(self._param("port"), self._param("baud"), timeout=0)
+        except (serial.SerialException, OSError) as exc:
+            self.port = None
+            self._last_error = str(exc)
+            return False
+        self.parser.reset()
+        self.clock.reset()
+        self.connected = True
+        self.get_logger().info(f"serial port {self._param('port')} open")
+        return True
+
+    def _reconnect(self):
+        if not self.connected and self._open_port():
+            self.get_logger().info("serial device back: reconnected")
+
+    def _drop_port(self, reason):
+        if self.port is not None:
+            try:
+                self.port.close()
+            except Exception:  # noqa: BLE001 - the device is gone; closing may fail too
+                pass
+        self.port = None
+        if self.connected:
+            self.outages += 1
+            self.get_logger().error(f"serial device lost ({reason}); retrying every {self._param('reconnect_period_s')} s")
+        self.connected = False
+        self._last_error = reason
+
+    def _serial_tick(self):
+        if not self.connected:
+            return
+        import serial
+
+        try:
+            waiting = self.port.in_waiting
+            # read(1) on an idle port returns at once; on a vanished device it raises (EIO)
+            data = self.port.read(waiting or 1)
+        except (serial.SerialException, OSError, TypeError) as exc:
+            self._drop_port(str(exc) or type(exc).__name__)
+            return
+        if not data:
+            return
+        arrival = self.get_clock().now().nanoseconds
+        scale, offset = self._param("volts_per_count"), self._param("volts_offset")
+        for frame in self.parser.feed(data):
+            stamp = self.clock.stamp_ns(frame.t_us, arrival)
+            self.pub_raw.publish(self._raw_message(stamp, frame.counts * scale + offset))
+            self.published += 1
+
+    # ------------------------------------------------------------------ diagnostics
+    def _publish_diagnostics(self):
+        values = {"published": self.published}
+        if self._param("backend") == "sim":
+            level, message = OK, "simulating"
+            values.update(profile=self._param("profile"), rate_hz=self.rate_hz)
+            if self.done:
+                level, message = WARN, "profile finished (loop is false)"
+        else:
+            values.update(port=self._param("port"), connected=self.connected, frames=self.parser.frames,
+                          crc_errors=self.parser.crc_errors, lost_frames=self.parser.lost_frames, outages=self.outages)
+            if not self.connected:
+                level, message = ERROR, f"serial device unavailable: {self._last_error}"
+            elif self.parser.crc_errors or self.parser.lost_frames:
+                level, message = WARN, "connected; corrupt or lost frames seen"
+            else:
+                level, message = OK, "connected"
+        return self.diag.publish(level, message, values)
+
+    def destroy_node(self):
+        if getattr(self, "port", None) is not None:
+            try:
+                self.port.close()
+            except Exception:  # noqa: BLE001
+                pass
+        super().destroy_node()
+
+
+def main(args=None):
+    return run(DriverNode, args)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

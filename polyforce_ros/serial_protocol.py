@@ -1,0 +1,119 @@
+"""Serial frame format between the bridge ADC microcontroller and driver_node.
+
+One frame per ADC sample, 14 bytes, little-endian:
+
+    offset  size  field
+    0       2     sync 0xA5 0x5A
+    2       2     seq        uint16, +1 per sample (wraps); a jump means lost frames
+    4       4     t_us       uint32, device clock at acquisition in microseconds (wraps)
+    8       4     counts     int32, ADC reading
+    12      2     crc        uint16, CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF) of bytes 2..11
+
+The parser resynchronises on the sync word, so a frame cut by a reconnect or a
+corrupted byte costs only that frame; frames failing the CRC are counted and
+dropped. Volts = counts * volts_per_count + volts_offset (driver parameters).
+"""
+from __future__ import annotations
+
+import struct
+from dataclasses import dataclass
+
+SYNC = b"\xa5\x5a"
+FRAME_SIZE = 14
+_BODY = struct.Struct("<HIi")
+
+
+def crc16_ccitt(data: bytes, crc: int = 0xFFFF) -> int:
+    for byte in data:
+        crc ^= byte << 8
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1021) & 0xFFFF if crc & 0x8000 else (crc << 1) & 0xFFFF
+    return crc
+
+
+def encode_frame(seq: int, t_us: int, counts: int) -> bytes:
+    body = _BODY.pack(seq & 0xFFFF, t_us & 0xFFFFFFFF, int(counts))
+    return SYNC + body + struct.pack("<H", crc16_ccitt(body))
+
+
+@dataclass
+class Frame:
+    seq: int
+    t_us: int
+    counts: int
+
+
+class FrameParser:
+    """Incremental parser: ``feed(bytes)`` returns the complete, valid frames found."""
+
+    def __init__(self):
+        self.buffer = bytearray()
+        self.crc_errors = 0
+        self.lost_frames = 0
+        self.frames = 0
+        self._last_seq = None
+
+    def reset(self):
+        """Forget partial data and the sequence (after a reconnect)."""
+        self.buffer.clear()
+        self._last_seq = None
+
+    def feed(self, data: bytes):
+        self.buffer += data
+        out = []
+        buf = self.buffer
+        while True:
+            start = buf.find(SYNC)
+            if start < 0:
+                del buf[: max(0, len(buf) - 1)]  # keep a possible first sync byte
+                break
+            if len(buf) - start < FRAME_SIZE:
+                del buf[:start]
+                break
+            frame = bytes(buf[start : start + FRAME_SIZE])
+            body = frame[2:12]
+            if struct.unpack("<H", frame[12:])[0] != crc16_ccitt(body):
+                self.crc_errors += 1
+                del buf[: start + 1]  # resync past this sync word
+                continue
+            seq, t_us, counts = _BODY.unpack(body)
+            if self._last_seq is not None:
+                self.lost_frames += (seq - self._last_seq - 1) & 0xFFFF
+            self._last_seq = seq
+            self.frames += 1
+            out.append(Frame(seq, t_us, counts))
+            del buf[: start + FRAME_SIZE]
+        return out
+
+
+class DeviceClock:
+    """Maps the device's wrapping microsecond clock onto host time (ns).
+
+    The offset host - device is the minimum of (arrival - device time) over a
+    sliding pair of windows: the least-delayed frames bound the true offset,
+    and the window lets it follow the drift between the two crystals.
+    """
+
+    def __init__(self, window_s: float = 10.0):
+        self.window_ns = int(window_s * 1e9)
+        self.reset()
+
+    def reset(self):
+        self._last_us = None
+        self._wraps = 0
+        self._window_start = None
+        self._min_now = None
+        self._min_prev = None
+
+    def stamp_ns(self, t_us: int, arrival_ns: int) -> int:
+        if self._last_us is not None and t_us < self._last_us and self._last_us - t_us > 1 << 31:
+            self._wraps += 1
+        self._last_us = t_us
+        device_ns = (self._wraps * (1 << 32) + t_us) * 1000
+        delay = arrival_ns - device_ns
+        if self._window_start is None or arrival_ns - self._window_start > self.window_ns:
+            self._min_prev, self._min_now, self._window_start = self._min_now, delay, arrival_ns
+        else:
+            self._min_now = min(self._min_now, delay)
+        offset = self._min_now if self._min_prev is None else min(self._min_now, self._min_prev)
+        return device_ns + offset

@@ -1,0 +1,122 @@
+"""driver_node: sim backend contract and rate; serial backend over a real pseudo-terminal."""
+import os
+import time
+
+import numpy as np
+import pytest
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
+from geometry_msgs.msg import WrenchStamped
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.qos import QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState, Temperature
+
+from polyforce_ros.nodes.common import stamp_to_ns
+from polyforce_ros.nodes.driver_node import DriverNode
+from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+from polyforce_ros.serial_protocol import encode_frame
+from polyforce_ros.sim import profiles
+from polyforce_ros.sim.sensor import BridgeSimulator
+from ros_harness import ros
+
+
+class Listener(Node):
+    def __init__(self, context):
+        super().__init__("listener", namespace="/polyforce", context=context)
+        qos = QoSProfile(depth=5000, reliability=ReliabilityPolicy.RELIABLE)
+        self.raw, self.ref, self.temp, self.diags = [], [], [], []
+        self.create_subscription(JointState, "bridge_voltage", self.raw.append, qos)
+        self.create_subscription(WrenchStamped, "reference_force", self.ref.append, qos)
+        self.create_subscription(Temperature, "temperature", self.temp.append, 10)
+        self.create_subscription(DiagnosticArray, "/diagnostics", self.diags.append, 50)
+
+
+def start_driver(h, **params):
+    node = h.add(DriverNode(context=h.context, parameter_overrides=[Parameter(k, value=v) for k, v in params.items()]))
+    listener = h.add(Listener(h.context))
+    return node, listener
+
+
+def test_sim_backend_contract_values_and_rate():
+    with ros() as h:
+        node, lis = start_driver(h, profile="step", seed=3, diagnostics_period_s=0.2)
+        assert h.spin_until(lambda: len(lis.raw) > 0, 5.0)
+        t_start, n_start = time.monotonic(), len(lis.raw)
+        h.spin_for(1.5)
+        rate = (len(lis.raw) - n_start) / (time.monotonic() - t_start)
+        raw, ref = list(lis.raw), list(lis.ref)
+        assert any(d.status[0].level == DiagnosticStatus.OK for d in lis.diags)
+    assert rate == pytest.approx(1000.0, rel=0.1)
+    assert {tuple(m.name) for m in raw} == {("sarrus_axial",)}
+    assert {m.header.frame_id for m in raw} == {"polyforce_sensor"}
+    stamps = np.array([stamp_to_ns(m.header.stamp) for m in raw])
+    assert set(np.diff(stamps)) <= {999_999, 1_000_000, 1_000_001}  # exactly 1 kHz acquisition stamps
+    assert abs(stamps[-1] * 1e-9 - time.time()) < 2.0  # acquisition time is now, not a made-up epoch
+    # The samples are exactly the simulator's output for the profile (same seed), in order.
+    n = len(raw)
+    t, f = profiles.step(rate_hz=1000.0)
+    expected = BridgeSimulator(model=PAPER_BURGERS, offset_v=0.05, noise_std_v=1e-3, seed=3).simulate(t[:n], f[:n])
+    np.testing.assert_allclose([m.position[0] for m in raw], expected, rtol=0, atol=1e-12)
+    ref_by_stamp = {stamp_to_ns(m.header.stamp): m.wrench.force.z for m in ref}
+    np.testing.assert_array_equal([ref_by_stamp[s] for s in stamps if s in ref_by_stamp], f[:n][np.isin(stamps, list(ref_by_stamp))])
+    assert len(ref_by_stamp) >= n - 5
+
+
+class FakeDevice:
+    """A microcontroller on a pseudo-terminal, reachable under a stable symlink (like /dev/serial/by-id)."""
+
+    def __init__(self, link):
+        self.link = link
+        self.seq = 0
+        self.plug()
+
+    def plug(self):
+        self.master, slave = os.openpty()
+        name = os.ttyname(slave)
+        os.close(slave)  # the driver opens it by path
+        tmp = f"{self.link}.tmp"
+        os.symlink(name, tmp)
+        os.replace(tmp, self.link)
+
+    def unplug(self):
+        os.close(self.master)
+
+    def send(self, counts, corrupt=False):
+        frame = bytearray(encode_frame(self.seq, self.seq * 1000, counts))
+        if corrupt:
+            frame[10] ^= 0x55
+        os.write(self.master, bytes(frame))
+        self.seq += 1
+
+
+def test_serial_backend_scales_counts_and_survives_unplug(tmp_path):
+    device = FakeDevice(str(tmp_path / "ttyPOLYFORCE"))
+    scale, offset = 1e-6, 0.25
+    with ros() as h:
+        node, lis = start_driver(h, backend="serial", port=device.link, volts_per_count=scale, volts_offset=offset,
+                                 reconnect_period_s=0.05, diagnostics_period_s=0.1)
+        assert node.connected
+        for i in range(100):
+            device.send(1000 * i, corrupt=(i == 50))
+            h.spin_for(0.001)
+        assert h.spin_until(lambda: len(lis.raw) >= 99, 5.0)
+        values = [m.position[0] for m in lis.raw]
+        assert values == pytest.approx([1000 * i * scale + offset for i in range(100) if i != 50])
+        stamps = [stamp_to_ns(m.header.stamp) for m in lis.raw]
+        assert all(b > a for a, b in zip(stamps, stamps[1:]))
+        assert node.parser.crc_errors == 1 and node.parser.lost_frames == 1
+
+        device.unplug()
+        assert h.spin_until(lambda: not node.connected, 5.0)
+        assert h.spin_until(lambda: any(d.status[0].level == DiagnosticStatus.ERROR for d in lis.diags), 5.0)
+        assert node.outages == 1
+
+        device.plug()
+        assert h.spin_until(lambda: node.connected, 5.0)
+        before = len(lis.raw)
+        for i in range(20):
+            device.send(7)
+            h.spin_for(0.001)
+        assert h.spin_until(lambda: len(lis.raw) >= before + 20, 5.0)
+        assert lis.raw[-1].position[0] == pytest.approx(7 * scale + offset)
+        device.unplug()

@@ -23,6 +23,9 @@ $(STAMP): requirements.txt setup.py setup.cfg package.xml
 demo: $(STAMP)
 	$(VENV)/bin/polyforce demo
 
+bags: $(STAMP)
+	$(VENV)/bin/polyforce make-bags --out bags
+
 test: $(STAMP)
 	$(PY) -m pytest test
 

@@ -7,6 +7,10 @@ PACKAGE = "polyforce_ros"
 # Executables: `ros2 run polyforce_ros <name>` (colcon install) or `.venv/bin/<name>`.
 CONSOLE_SCRIPTS = [
     "polyforce = polyforce_ros.cli:main",
+    "driver_node = polyforce_ros.nodes.driver_node:main",
+    "compensation_node = polyforce_ros.nodes.compensation_node:main",
+    "calibration_node = polyforce_ros.nodes.calibration_node:main",
+    "replay_node = polyforce_ros.nodes.replay_node:main",
 ]
 
 setup(

@@ -397,16 +397,15 @@ class BagWriter:
         self._writer.start(profile="ros2", library="polyforce_ros")
         self._schemas, self._channels, self._seq = {}, {}, {}
 
-    def _channel(self, topic, type_name):
+    def _channel(self, topic, type_name, schema_data=None):
         if topic in self._channels:
             cid, known = self._channels[topic]
             if known != type_name:
                 raise BagError(f"topic {topic} already written with type {known}")
             return cid
         if type_name not in self._schemas:
-            self._schemas[type_name] = self._writer.register_schema(
-                name=type_name, encoding="ros2msg", data=schema_text(type_name).encode()
-            )
+            data = schema_data if schema_data is not None else schema_text(type_name).encode()
+            self._schemas[type_name] = self._writer.register_schema(name=type_name, encoding="ros2msg", data=data)
         cid = self._writer.register_channel(
             topic=topic, message_encoding="cdr", schema_id=self._schemas[type_name],
             metadata={"offered_qos_profiles": ""},
@@ -415,8 +414,9 @@ class BagWriter:
         self._seq[cid] = 0
         return cid
 
-    def write_serialized(self, topic, type_name, data: bytes, log_time_ns: int):
-        cid = self._channel(topic, type_name)
+    def write_serialized(self, topic, type_name, data: bytes, log_time_ns: int, schema_data=None):
+        """One CDR message; ``schema_data`` supplies the schema text of types not installed here."""
+        cid = self._channel(topic, type_name, schema_data)
         self._seq[cid] += 1
         self._writer.add_message(channel_id=cid, log_time=int(log_time_ns), data=data,
                                  publish_time=int(log_time_ns), sequence=self._seq[cid])

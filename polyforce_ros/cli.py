@@ -1,14 +1,22 @@
 """``polyforce``: command-line tools of polyforce_ros.
 
-    polyforce demo        simulate the sensor, compensate it, print the errors
+    polyforce demo                               live: driver (sim) -> compensation -> errors
+    polyforce simulate                           offline: simulate, compensate, print errors
+    polyforce calibrate CREEP.mcap --output M.yaml
+    polyforce compensate IN.mcap OUT.mcap [--model M.yaml]
+    polyforce replay BAG.mcap [--rate 2.0]
+    polyforce make-bags [--out bags/]
 """
 from __future__ import annotations
 
 import argparse
+import json
 import sys
+from pathlib import Path
 
 import numpy as np
 
+from .bags import BagError
 from .model_file import default_model_path, load_model
 from .physics.chain import ModelError
 from .physics.metrics import error_summary
@@ -36,7 +44,15 @@ def compare_static_and_compensated(chain, t_s, force_n, voltage_v):
     return static, chain.backward(t_s, voltage_v)
 
 
-def cmd_demo(args) -> int:
+def _print_row(profile, label, e):
+    print(f"{profile:<18} {label:<12} {e['rmse_n']:9.4f} {e['max_abs_n']:11.4f} {e['r2']:7.4f}")
+
+
+def _header():
+    print(f"{'profile':<18} {'method':<12} {'RMSE [N]':>9} {'max|e| [N]':>11} {'R2':>7}")
+
+
+def cmd_simulate(args) -> int:
     model = load_model(args.model or default_model_path())
     if args.profile == "okamura" and profiles.okamura_csv_path() is None:
         print("Okamura data not found; using the synthetic needle-insertion profile", file=sys.stderr)
@@ -44,7 +60,7 @@ def cmd_demo(args) -> int:
     truth = BridgeSimulator(model=model.chain.viscoelastic, noise_std_v=args.noise_v, seed=args.seed)
     print(f"sensor truth: {truth.model}  noise {args.noise_v * 1e3:.2f} mV, {truth.adc_bits}-bit ADC")
     print(f"compensation model: {args.model or default_model_path()}")
-    print(f"{'profile':<18} {'method':<12} {'RMSE [N]':>9} {'max|e| [N]':>11} {'R2':>7}")
+    _header()
     names = [args.profile] if args.profile != "all" else ["needle_insertion", "step", "sawtooth", "creep"]
     ok = True
     for name in names:
@@ -52,23 +68,119 @@ def cmd_demo(args) -> int:
         t, f = profiles.make_profile(name, rate_hz=args.rate, seed=args.seed)
         v = truth.simulate(t, f)
         static, compensated = compare_static_and_compensated(model.chain, t, f, v)
-        for label, est in (("static gain", static), ("compensated", compensated)):
-            e = error_summary(f, est)
-            print(f"{name:<18} {label:<12} {e['rmse_n']:9.4f} {e['max_abs_n']:11.4f} {e['r2']:7.4f}")
+        _print_row(name, "static gain", error_summary(f, static))
+        _print_row(name, "compensated", error_summary(f, compensated))
         ok &= bool(np.all(np.isfinite(compensated)))
     return 0 if ok else 1
+
+
+def cmd_demo(args) -> int:
+    from .demo import plot, run_live_demo
+
+    model_file = args.model or ""
+    load_model(model_file or default_model_path())  # fail early with a clear message
+    print(f"live pipeline: driver_node (sim, {args.profile}) -> compensation_node "
+          f"({model_file or default_model_path()}) -> recorder; DDS on loopback")
+    result = run_live_demo(profile=args.profile, model_file=model_file, seed=args.seed, progress=not args.quiet)
+    print(f"wrench messages received: {result['received_wrench']} of {result['expected']} samples; "
+          f"tare {'ok' if result['tare_ok'] else 'FAILED'} (offset {result['offset_v']:.4f} V)")
+    _header()
+    _print_row(args.profile, "static gain", result["static"])
+    _print_row(args.profile, "compensated", result["compensated"])
+    if args.plot:
+        plot(result, args.plot, f"Live demo: {args.profile}, compensated vs static gain")
+        print(f"plot written to {args.plot}")
+    good = result["tare_ok"] and np.all(np.isfinite(result["compensated_n"]))
+    return 0 if good else 1
+
+
+def cmd_calibrate(args) -> int:
+    from .workflows import calibrate_bag
+
+    result = calibrate_bag(args.bag, args.output, candidates=tuple(args.candidates), min_r2=args.min_r2,
+                           progress=lambda name: print(f"fitting {name} ...", file=sys.stderr))
+    for warning in result.warnings:
+        print(f"warning: {warning}", file=sys.stderr)
+    print(f"{'model':<9} {'R2':>8} {'RMSE [V]':>10} {'BIC':>12}  parameters (± standard error)")
+    for fit in result.fits:
+        params = ", ".join(f"{k}={v:.5g}±{fit['stderr'][k]:.2g}" for k, v in fit["parameters"].items())
+        print(f"{fit['model']:<9} {fit['r2']:8.5f} {fit['rmse_v']:10.3e} {fit['bic']:12.1f}  {params}")
+    print(result.reason)
+    if args.json:
+        Path(args.json).write_text(json.dumps(result.summary(), indent=2, default=float))
+    return 0 if result.written else 3
+
+
+def cmd_compensate(args) -> int:
+    from .workflows import compensate_bag
+
+    model = load_model(args.model or default_model_path())
+    n = compensate_bag(args.input, args.output, model, force_limit_n=args.force_limit)
+    print(f"{args.output}: copied {args.input} and added {n} /polyforce/wrench messages "
+          f"(model {args.model or default_model_path()})")
+    return 0
+
+
+def cmd_replay(args) -> int:
+    from .nodes.replay_node import main as replay_main
+
+    ros_args = ["polyforce-replay", "--ros-args", "-p", f"bag_path:={args.bag}", "-p", f"rate_factor:={args.rate}",
+                "-p", f"loop:={'true' if args.loop else 'false'}"]
+    return replay_main(ros_args)
+
+
+def cmd_make_bags(args) -> int:
+    from .sim.recording import make_sample_bags
+
+    for path in make_sample_bags(args.out, progress=lambda name: print(f"simulating {name} ...", file=sys.stderr)):
+        print(f"{path}  {path.stat().st_size / 1e6:.2f} MB")
+    return 0
 
 
 def build_parser():
     parser = argparse.ArgumentParser(prog="polyforce", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="simulate the sensor, compensate it, print errors")
-    demo.add_argument("--profile", default="all", choices=list(profiles.PROFILE_NAMES) + ["okamura", "all"])
-    demo.add_argument("--model", help="model YAML (default: the shipped paper model)")
-    demo.add_argument("--rate", type=float, default=1000.0, help="sample rate in Hz")
-    demo.add_argument("--noise-v", type=float, default=1e-3, help="bridge noise, V (1 sigma)")
+
+    demo = sub.add_parser("demo", help="live pipeline on the embedded simulator: errors with and without compensation")
+    demo.add_argument("--profile", default="needle_insertion", choices=list(profiles.PROFILE_NAMES) + ["okamura"])
+    demo.add_argument("--model", help="model YAML for the compensation node (default: the shipped paper model)")
     demo.add_argument("--seed", type=int, default=0)
+    demo.add_argument("--plot", help="write a PNG of the forces and errors")
+    demo.add_argument("--quiet", action="store_true", help="no progress bar")
     demo.set_defaults(func=cmd_demo)
+
+    sim = sub.add_parser("simulate", help="offline: simulate the sensor, compensate it, print errors")
+    sim.add_argument("--profile", default="all", choices=list(profiles.PROFILE_NAMES) + ["okamura", "all"])
+    sim.add_argument("--model", help="model YAML (default: the shipped paper model)")
+    sim.add_argument("--rate", type=float, default=1000.0, help="sample rate in Hz")
+    sim.add_argument("--noise-v", type=float, default=1e-3, help="bridge noise, V (1 sigma)")
+    sim.add_argument("--seed", type=int, default=0)
+    sim.set_defaults(func=cmd_simulate)
+
+    cal = sub.add_parser("calibrate", help="fit the model from a creep bag and write the model YAML")
+    cal.add_argument("bag")
+    cal.add_argument("--output", required=True, help="model YAML to write (kept if the new fit is worse)")
+    cal.add_argument("--candidates", nargs="+", default=["maxwell", "kelvin", "zener", "burgers"])
+    cal.add_argument("--min-r2", type=float, default=0.9)
+    cal.add_argument("--json", help="also write the fit report as JSON")
+    cal.set_defaults(func=cmd_calibrate)
+
+    comp = sub.add_parser("compensate", help="copy a bag and add the compensated /polyforce/wrench topic")
+    comp.add_argument("input")
+    comp.add_argument("output")
+    comp.add_argument("--model", help="model YAML (default: the shipped paper model)")
+    comp.add_argument("--force-limit", type=float, default=12.0, help="clamp |force| to this (N), like the node")
+    comp.set_defaults(func=cmd_compensate)
+
+    rep = sub.add_parser("replay", help="play a bag onto the topics with its original timing")
+    rep.add_argument("bag")
+    rep.add_argument("--rate", type=float, default=1.0, help="playback speed factor")
+    rep.add_argument("--loop", action="store_true")
+    rep.set_defaults(func=cmd_replay)
+
+    mk = sub.add_parser("make-bags", help="regenerate the sample bags with the simulator")
+    mk.add_argument("--out", default="bags")
+    mk.set_defaults(func=cmd_make_bags)
     return parser
 
 
@@ -76,7 +188,7 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except (ModelError, FileNotFoundError, ValueError) as exc:
+    except (ModelError, BagError, FileNotFoundError, ValueError) as exc:
         print(f"polyforce {args.command}: error: {exc}", file=sys.stderr)
         return 2
 

@@ -8,7 +8,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def run_demo(*args):
     out = subprocess.run(
-        [sys.executable, "-m", "polyforce_ros.cli", "demo", *args], cwd=ROOT, capture_output=True, text=True, check=True
+        [sys.executable, "-m", "polyforce_ros.cli", "simulate", *args], cwd=ROOT, capture_output=True, text=True, check=True
     ).stdout
     rows = {}
     for line in out.splitlines():
@@ -30,7 +30,7 @@ def test_demo_reports_bad_model_file(tmp_path):
     bad = tmp_path / "m.yaml"
     bad.write_text("format: polyforce_model/1\nelements: [{type: burgers}]\n")
     proc = subprocess.run(
-        [sys.executable, "-m", "polyforce_ros.cli", "demo", "--model", str(bad)], cwd=ROOT, capture_output=True, text=True
+        [sys.executable, "-m", "polyforce_ros.cli", "simulate", "--model", str(bad)], cwd=ROOT, capture_output=True, text=True
     )
     assert proc.returncode == 2
     assert "missing keys" in proc.stderr

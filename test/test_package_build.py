@@ -14,7 +14,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Every console entry point of setup.py; nodes are added here as they land.
-EXECUTABLES = ["polyforce"]
+EXECUTABLES = ["polyforce", "driver_node", "compensation_node", "calibration_node", "replay_node"]
 _SKIP = shutil.ignore_patterns(".venv", ".git", "build", "install", "log", "__pycache__", "*.egg-info", ".pytest_cache", ".hypothesis", "out")
 
 
@@ -71,5 +71,5 @@ def test_ament_index_resolves_package_and_shares_config(colcon_install):
 def test_installed_executable_runs_and_finds_shipped_model(colcon_install):
     env, prefix = install_env(colcon_install)
     exe = prefix / "lib" / "polyforce_ros" / "polyforce"
-    out = subprocess.run([str(exe), "demo", "--profile", "step"], env=env, cwd="/", capture_output=True, text=True, check=True).stdout
+    out = subprocess.run([str(exe), "simulate", "--profile", "step"], env=env, cwd="/", capture_output=True, text=True, check=True).stdout
     assert str(prefix / "share" / "polyforce_ros" / "config" / "paper_burgers.yaml") in out

@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 import os
 import time
+from pathlib import Path
 from collections import deque
 
 from geometry_msgs.msg import WrenchStamped
@@ -77,7 +78,7 @@ class CompensationNode(Node):
 
     # ------------------------------------------------------------------ model
     def _load_model(self, path_param):
-        path = path_param or str(default_model_path())
+        path = str(Path(path_param).expanduser()) if path_param else str(default_model_path())
         model = load_model(path)
         self.model, self._model_path = model, path
         self._model_mtime = _mtime(path)

@@ -1,0 +1,148 @@
+"""calibration_node: fit the sensor model from creep bags or a live creep experiment.
+
+Services (std_srvs/Trigger; the bag path is the ``bag_path`` parameter because
+Trigger carries no arguments and this package defines no interfaces):
+* ``~/calibrate``: fit the bag at ``bag_path``;
+* ``~/start_recording``: buffer ``bridge_voltage`` and ``reference_force``;
+* ``~/stop_and_fit``: stop recording and fit what was recorded.
+
+The model goes to ``output_path`` atomically, and only when the fit is good
+(R^2 >= ``min_r2``) and better than the model already there (see
+:func:`polyforce_ros.workflows.calibrate_record`). Every outcome is logged,
+published as JSON on ``~/result`` (std_msgs/String, transient local) and
+reported on /diagnostics.
+"""
+from __future__ import annotations
+
+import json
+from array import array
+from pathlib import Path
+
+import numpy as np
+from geometry_msgs.msg import WrenchStamped
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile
+from sensor_msgs.msg import JointState
+from std_msgs.msg import String
+from std_srvs.srv import Trigger
+
+from ..workflows import calibrate_bag, calibrate_record, clean_samples
+from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run, stamp_to_ns
+
+DEFAULT_OUTPUT = str(Path.home() / ".ros" / "polyforce_model.yaml")
+
+
+class CalibrationNode(Node):
+    def __init__(self, **kwargs):
+        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
+        super().__init__("calibration_node", **kwargs)
+        declare(self, "bag_path", "", "Creep bag (mcap) fitted by ~/calibrate (and at start if calibrate_on_start)")
+        declare(self, "output_path", DEFAULT_OUTPUT, "Model YAML written by a successful calibration")
+        declare(self, "candidates", ["maxwell", "kelvin", "zener", "burgers"], "Model types to fit; the lowest BIC wins")
+        declare(self, "min_r2", 0.9, "A best fit below this R^2 is not written", 0.0, 1.0)
+        declare(self, "calibrate_on_start", False, "Fit bag_path once at start-up", read_only=True)
+        declare_qos(self)
+        qos = data_qos(self)
+        self.diag = Diagnostics(self, "polyforce_ros: calibration")
+        latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.pub_result = self.create_publisher(String, "~/result", latched)
+        self.create_service(Trigger, "~/calibrate", self._on_calibrate)
+        self.create_service(Trigger, "~/start_recording", self._on_start)
+        self.create_service(Trigger, "~/stop_and_fit", self._on_stop_and_fit)
+        self.create_subscription(JointState, "bridge_voltage", self._on_raw, qos)
+        self.create_subscription(WrenchStamped, "reference_force", self._on_ref, qos)
+        self.recording = False
+        self._raw_t, self._raw_v = array("q"), array("d")
+        self._ref_t, self._ref_f = array("q"), array("d")
+        self.last = {"state": "idle"}
+        self.create_timer(1.0, self._publish_diagnostics)
+        if self.get_parameter("calibrate_on_start").value:
+            self._calibrate(lambda: calibrate_bag(self.get_parameter("bag_path").value, **self._options()))
+
+    def _options(self):
+        return dict(output=self.get_parameter("output_path").value,
+                    candidates=tuple(self.get_parameter("candidates").value),
+                    min_r2=self.get_parameter("min_r2").value)
+
+    def _calibrate(self, job):
+        try:
+            result = job()
+        except (ValueError, OSError) as exc:  # BagError and fit failures are ValueErrors
+            self.last = {"state": "failed", "written": False, "reason": str(exc)}
+            self.get_logger().error(f"calibration failed: {exc}")
+        else:
+            self.last = {"state": "done", **result.summary()}
+            best = result.fits[0]
+            log = self.get_logger().info if result.written else self.get_logger().warn
+            log(f"calibration: {result.reason}; best {best['model']} R^2 {best['r2']:.4f} "
+                f"RMSE {best['rmse_v']:.3e} V; params {best['parameters']}")
+        self.pub_result.publish(String(data=json.dumps(self.last, default=float)))
+        self._publish_diagnostics()
+        return self.last
+
+    def _respond(self, response, outcome):
+        response.success = bool(outcome.get("written"))
+        response.message = outcome.get("reason", "")
+        return response
+
+    def _on_calibrate(self, request, response):
+        path = self.get_parameter("bag_path").value
+        if not path:
+            response.success, response.message = False, "set the bag_path parameter first"
+            return response
+        return self._respond(response, self._calibrate(lambda: calibrate_bag(path, **self._options())))
+
+    def _on_start(self, request, response):
+        for buf in (self._raw_t, self._raw_v, self._ref_t, self._ref_f):
+            del buf[:]
+        self.recording = True
+        response.success, response.message = True, "recording bridge_voltage and reference_force"
+        self.get_logger().info(response.message)
+        return response
+
+    def _on_stop_and_fit(self, request, response):
+        if not self.recording:
+            response.success, response.message = False, "not recording; call ~/start_recording first"
+            return response
+        self.recording = False
+        raw_t, raw_v = np.frombuffer(self._raw_t, np.int64), np.frombuffer(self._raw_v)
+        ref_t, ref_f = np.frombuffer(self._ref_t, np.int64), np.frombuffer(self._ref_f)
+
+        def job():
+            keep, rk = clean_samples(raw_t, raw_v), clean_samples(ref_t, ref_f)
+            if keep.sum() < 10 or rk.sum() < 2:
+                raise ValueError(f"recorded {int(keep.sum())} raw and {int(rk.sum())} reference samples: too few to fit")
+            t0 = raw_t[keep][0]
+            t_s = (raw_t[keep] - t0) * 1e-9
+            force = np.interp(t_s, (ref_t[rk] - t0) * 1e-9, ref_f[rk])
+            return calibrate_record(t_s, force, raw_v[keep], source="live recording", **self._options())
+
+        return self._respond(response, self._calibrate(job))
+
+    def _on_raw(self, msg):
+        if self.recording and msg.position:
+            self._raw_t.append(stamp_to_ns(msg.header.stamp))
+            self._raw_v.append(msg.position[0])
+
+    def _on_ref(self, msg):
+        if self.recording:
+            self._ref_t.append(stamp_to_ns(msg.header.stamp))
+            self._ref_f.append(msg.wrench.force.z)
+
+    def _publish_diagnostics(self):
+        state = self.last.get("state")
+        level = {"failed": ERROR, "idle": OK}.get(state, OK if self.last.get("written") else WARN)
+        message = "recording" if self.recording else self.last.get("reason", "idle")
+        values = {"recording": self.recording, "raw_samples": len(self._raw_v), "output": self.get_parameter("output_path").value}
+        if self.last.get("fits"):
+            best = self.last["fits"][0]
+            values.update(best_model=best["model"], r2=best["r2"], rmse_v=best["rmse_v"])
+        return self.diag.publish(level, message, values)
+
+
+def main(args=None):
+    return run(CalibrationNode, args)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,57 @@
+"""Simulated bench experiments written as bags of the topic contract."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .. import bags
+from . import profiles
+from .sensor import BridgeSimulator
+
+#: Start of simulated records (2025-01-01T00:00:00Z): a realistic epoch for stamps.
+T0_NS = 1_735_689_600_000_000_000
+
+#: The shipped sample bags: name -> (profile, rate in Hz, profile options).
+#: Rates keep each bag under 5 MB; the needle insertion is at the 1 kHz sensor rate.
+SAMPLE_BAGS = {
+    "creep_5n": ("creep", 200.0, {"force_n": 5.0, "hold_s": 120.0, "rest_s": 60.0}),
+    "sawtooth": ("sawtooth", 200.0, {}),
+    "step_5n": ("step", 500.0, {"force_n": 5.0}),
+    "sine_sweep": ("sine_sweep", 200.0, {"duration_s": 300.0}),
+    "needle_insertion": ("needle_insertion", 1000.0, {}),
+    "resolution": ("resolution", 50.0, {}),
+}
+
+
+def write_bench_bag(path, t_s, force_n, voltage_v, temperature_c=None, t0_ns=T0_NS, temperature_every=10):
+    """Write a bench record (raw voltage, reference force, optional temperature) as a bag.
+
+    Stamps and log times are ``t0_ns + t_s``; temperature is written every
+    ``temperature_every`` samples when given (scalar or per-sample array).
+    """
+    stamps = t0_ns + np.round(np.asarray(t_s) * 1e9).astype(np.int64)
+    with bags.BagWriter(path) as writer:
+        writer.write_series(bags.BRIDGE_VOLTAGE, bags.JOINT_STATE, stamps, voltage_v)
+        writer.write_series(bags.REFERENCE_FORCE, bags.WRENCH_STAMPED, stamps, force_n)
+        if temperature_c is not None:
+            temp = np.broadcast_to(np.asarray(temperature_c, dtype=float), stamps.shape)
+            writer.write_series(bags.TEMPERATURE, bags.TEMPERATURE_MSG, stamps[::temperature_every], temp[::temperature_every])
+    return Path(path)
+
+
+def simulate_bag(path, profile, rate_hz=1000.0, simulator=None, seed=0, temperature_c=24.0, **profile_kwargs):
+    """Run a profile through the simulator (default: paper truth, 1 mV noise) and write the bag."""
+    t, f = profiles.make_profile(profile, rate_hz=rate_hz, seed=seed, **profile_kwargs)
+    sim = simulator if simulator is not None else BridgeSimulator(seed=seed)
+    return write_bench_bag(path, t, f, sim.simulate(t, f), temperature_c)
+
+
+def make_sample_bags(out_dir, progress=None):
+    """(Re)generate the shipped sample bags into ``out_dir``; returns their paths."""
+    out = []
+    for i, (name, (profile, rate, kwargs)) in enumerate(SAMPLE_BAGS.items()):
+        if progress:
+            progress(name)
+        out.append(simulate_bag(Path(out_dir) / f"{name}.mcap", profile, rate_hz=rate, seed=i, **kwargs))
+    return out

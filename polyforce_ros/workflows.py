@@ -1,0 +1,162 @@
+"""Offline workflows shared by the CLI and the nodes (no rclpy needed).
+
+* :func:`calibrate_bag`: creep bag -> fitted, selected model -> YAML, never
+  replacing a good model by a failed or worse one;
+* :func:`compensate_bag`: copy a bag and add the compensated ``wrench`` topic;
+* :func:`clean_samples`: the sample rules of compensation_node, vectorised.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import bags
+from .model_file import SensorModel, load_model, now_iso, save_model
+from .physics.chain import ModelError, SensorChain
+from .physics.identification import select_model
+from .physics.viscoelastic import simulate_deformation
+
+
+def clean_samples(stamp_ns, values, limit=np.inf):
+    """Mask of samples compensation_node would use.
+
+    Dropped: non-finite values, ``|value| > limit``, and stamps not later than
+    every earlier kept stamp (backwards or duplicate).
+    """
+    stamp_ns = np.asarray(stamp_ns, dtype=np.int64)
+    values = np.asarray(values, dtype=float)
+    ok = np.isfinite(values) & (np.abs(values) <= limit)
+    kept_stamps = np.where(ok, stamp_ns, np.iinfo(np.int64).min)
+    prev_max = np.concatenate(([np.iinfo(np.int64).min], np.maximum.accumulate(kept_stamps)[:-1]))
+    return ok & (stamp_ns > prev_max)
+
+
+def load_record(bag_path, need_reference=True):
+    """Raw voltage with the reference force interpolated onto its stamps.
+
+    Returns ``(t_s, force_n, voltage_v, stamp_ns, warnings)``, time relative to
+    the first kept raw sample; force is None without ``need_reference``.
+    """
+    topics = [bags.BRIDGE_VOLTAGE] + ([bags.REFERENCE_FORCE] if need_reference else [])
+    bag = bags.read_bag(bag_path, topics=topics)
+    raw = bag[bags.BRIDGE_VOLTAGE]
+    if len(raw) == 0 or "position" not in raw.fields:
+        raise bags.BagError(f"{bag_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
+    keep = clean_samples(raw.stamp_ns, raw.fields["position"])
+    stamps, volts = raw.stamp_ns[keep], raw.fields["position"][keep]
+    warnings = list(bag.warnings)
+    if (~keep).any():
+        warnings.append(f"{int((~keep).sum())} raw samples dropped (non-finite, backwards or duplicate stamps)")
+    t0 = stamps[0]
+    t_s = (stamps - t0) * 1e-9
+    force = None
+    if need_reference:
+        ref = bag[bags.REFERENCE_FORCE]
+        rk = clean_samples(ref.stamp_ns, ref.fields.get("force_z", np.zeros(0)))
+        if rk.sum() < 2:
+            raise bags.BagError(f"{bag_path}: no usable samples on {bags.REFERENCE_FORCE}")
+        force = np.interp(t_s, (ref.stamp_ns[rk] - t0) * 1e-9, ref.fields["force_z"][rk])
+    return t_s, force, volts, stamps, warnings
+
+
+@dataclass
+class CalibrationResult:
+    written: bool
+    reason: str
+    output: str
+    fits: list = field(default_factory=list)  # summaries, best first
+    previous_rmse_v: float | None = None
+    warnings: list = field(default_factory=list)
+
+    def summary(self) -> dict:
+        return {"written": self.written, "reason": self.reason, "output": self.output, "fits": self.fits,
+                "previous_rmse_v": self.previous_rmse_v, "warnings": self.warnings}
+
+
+def rmse_of_model(model, t_s, force_n, voltage_v) -> float:
+    """RMS voltage error (V) of a model on a record, offset fitted by the mean."""
+    residual = voltage_v - simulate_deformation(model, t_s, force_n)
+    residual = residual - residual.mean()
+    return float(np.sqrt(np.mean(residual * residual)))
+
+
+def calibrate_record(t_s, force_n, voltage_v, output, source, candidates=("maxwell", "kelvin", "zener", "burgers"),
+                     min_r2=0.9, progress=None, warnings=()):
+    """Fit and select a model; write it to ``output`` only if it is good and better.
+
+    The new model is written (atomically, the old file kept as ``.prev``) when
+    its fit has R^2 >= ``min_r2`` and, if ``output`` already holds a valid
+    model, it explains this record better than that model by the Bayesian
+    information criterion. Comparing raw errors would not do: a model fitted
+    to a record always reproduces that record at least as well as any other,
+    noise included. BIC charges the new fit for its p + 1 free parameters and
+    the existing model for its one (the offset).
+    Raises ``ValueError`` when no fit is possible (e.g. no creep segment).
+    """
+    output = Path(output).expanduser()
+    selection = select_model(t_s, force_n, voltage_v, candidates=candidates, progress=progress)
+    best = selection.best
+    fits = [f.summary() for f in selection.fits]
+    result = CalibrationResult(False, "", str(output), fits, warnings=list(warnings))
+    if not np.isfinite(best.r2) or best.r2 < min_r2:
+        result.reason = f"best fit ({best.kind}) has R^2 {best.r2:.4f} < {min_r2}: previous model kept"
+        return result
+    if output.exists():
+        try:
+            previous = load_model(output).chain.viscoelastic
+        except ModelError:
+            previous = None
+        if previous is not None:
+            n = len(voltage_v)
+            rmse_new = rmse_of_model(best.model, t_s, force_n, voltage_v)
+            result.previous_rmse_v = rmse_of_model(previous, t_s, force_n, voltage_v)
+            bic_new = n * np.log(max(rmse_new, 1e-300) ** 2) + (len(best.parameters) + 1) * np.log(n)
+            bic_old = n * np.log(max(result.previous_rmse_v, 1e-300) ** 2) + np.log(n)
+            if bic_old <= bic_new:
+                result.reason = (f"existing model explains this record as well or better (RMSE "
+                                 f"{result.previous_rmse_v:.4e} V vs {rmse_new:.4e} V, BIC {bic_old:.1f} <= {bic_new:.1f}): kept")
+                return result
+    provenance = {
+        "source": str(source),
+        "created": now_iso(),
+        "method": "creep fit with measured force history, model selected by BIC",
+        "segments": len(selection.segments),
+        "fit": {"r2": best.r2, "rmse_v": best.rmse_v, "bic": best.bic, "stderr": best.stderr},
+        "candidates": {f.kind: {"bic": f.bic, "r2": f.r2} for f in selection.fits},
+    }
+    save_model(output, SensorModel(SensorChain.from_model(best.model, offset_v=best.offset_v), provenance))
+    result.written = True
+    result.reason = f"{best.kind} written (R^2 {best.r2:.4f}, RMSE {best.rmse_v:.3e} V)"
+    return result
+
+
+def calibrate_bag(bag_path, output, **kwargs) -> CalibrationResult:
+    t_s, force, volts, _, warnings = load_record(bag_path)
+    return calibrate_record(t_s, force, volts, output, source=bag_path, warnings=warnings, **kwargs)
+
+
+def compensate_bag(in_path, out_path, model: SensorModel, force_limit_n=np.inf):
+    """Copy every message of ``in_path`` to ``out_path`` and add ``/polyforce/wrench``.
+
+    Each kept raw sample (see :func:`clean_samples`) gets a wrench with the
+    same header stamp and log time; force.z is the chain's inverse, clamped to
+    ``force_limit_n``. Returns the number of wrench messages written.
+    """
+    from mcap.reader import make_reader
+
+    bag = bags.read_bag(in_path, topics=[bags.BRIDGE_VOLTAGE])
+    raw = bag[bags.BRIDGE_VOLTAGE]
+    if bags.WRENCH in bag.types:
+        raise bags.BagError(f"{in_path} already holds {bags.WRENCH}")
+    keep = clean_samples(raw.stamp_ns, raw.fields.get("position", np.zeros(len(raw))))
+    stamps = raw.stamp_ns[keep]
+    t_s = (stamps - stamps[0]) * 1e-9 if stamps.size else np.zeros(0)
+    force = np.clip(model.chain.backward(t_s, raw.fields["position"][keep]), -force_limit_n, force_limit_n)
+    with open(in_path, "rb") as fh, bags.BagWriter(out_path) as writer:
+        for schema, channel, message in make_reader(fh).iter_messages(log_time_order=True):
+            writer.write_serialized(channel.topic, schema.name, message.data, message.log_time, schema_data=schema.data)
+        writer.write_series(bags.WRENCH, bags.WRENCH_STAMPED, stamps, force, log_time_ns=raw.log_time_ns[keep],
+                            frame_id="polyforce_sensor")
+    return int(stamps.size)

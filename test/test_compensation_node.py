@@ -197,3 +197,25 @@ def test_shutdown_publishes_zero_wrench():
         node.destroy_node()
         assert h.spin_until(lambda: len(probe.wrenches) > n, 2.0)
         assert probe.wrenches[-1].wrench.force.z == 0.0
+
+
+def test_thermal_drift_model_uses_the_temperature_topic(tmp_path):
+    from sensor_msgs.msg import Temperature
+
+    from polyforce_ros.physics.chain import OffsetElement, ThermalDriftElement, ViscoelasticElement
+
+    path = tmp_path / "thermal.yaml"
+    chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), ThermalDriftElement(coefficient_v_per_c=0.01, reference_c=20.0),
+                         OffsetElement(0.0)])
+    save_model(path, SensorModel(chain))
+    with ros() as h:
+        node, probe = start(h, stale_timeout_s=30.0, model_file=str(path))
+        temp_pub = probe.create_publisher(Temperature, "temperature", 10)
+        send_all(h, probe, [T0_NS], [0.0], expect=1)
+        assert node._publish_diagnostics().level == DiagnosticStatus.WARN  # thermal model, no temperature yet
+        temp_pub.publish(Temperature(temperature=30.0))
+        assert h.spin_until(lambda: node._aux["temperature_c"] == 30.0, 5.0)
+        # Unloaded sensor, 10 degC above reference: the bridge reads 0.1 V that is not force.
+        send_all(h, probe, [T0_NS + i * 1_000_000 for i in range(1, 50)], [0.1] * 49, expect=50)
+        forces = [w.wrench.force.z for w in probe.sample_wrenches()[1:]]
+    assert max(abs(f) for f in forces) < 1e-9

@@ -120,3 +120,25 @@ def test_serial_backend_scales_counts_and_survives_unplug(tmp_path):
         assert h.spin_until(lambda: len(lis.raw) >= before + 20, 5.0)
         assert lis.raw[-1].position[0] == pytest.approx(7 * scale + offset)
         device.unplug()
+
+
+def test_sim_backend_with_extra_effects_and_temperature_swing(tmp_path):
+    from polyforce_ros.model_file import SensorModel, save_model
+    from polyforce_ros.physics.chain import NonlinearGainElement, OffsetElement, SensorChain, ThermalDriftElement, ViscoelasticElement
+
+    truth = tmp_path / "truth.yaml"
+    chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), NonlinearGainElement(quadratic_per_v=0.1),
+                         ThermalDriftElement(coefficient_v_per_c=0.02, reference_c=24.0), OffsetElement(0.0)])
+    save_model(truth, SensorModel(chain))
+    with ros() as h:
+        node, lis = start_driver(h, profile="step", truth_model_file=str(truth), noise_std_v=0.0, adc_bits=0,
+                                 temperature_amplitude_c=5.0, temperature_period_s=2.0)
+        assert h.spin_until(lambda: len(lis.raw) > 1500 and len(lis.temp) > 10, 10.0)
+        raw, temps = list(lis.raw), list(lis.temp)
+    n = len(raw)
+    t, f = profiles.step(rate_hz=1000.0)
+    temp = 24.0 + 5.0 * np.sin(2 * np.pi * t[:n] / 2.0)
+    chain.offset.voltage_v = 0.05  # the driver's offset_v
+    expected = chain.forward(t[:n], f[:n], {"temperature_c": temp})
+    np.testing.assert_allclose([m.position[0] for m in raw], expected, atol=1e-12)
+    assert np.ptp([m.temperature for m in temps]) > 2.0  # the swing is published

@@ -1,8 +1,9 @@
 """compensation_node: raw bridge voltage -> compensated axial force for the haptic master.
 
 Subscribes ``bridge_voltage`` (sensor_msgs/JointState, position[0] in V, stamped
-at acquisition) and ``bridge_voltage_scalar`` (std_msgs/Float64, stamped on
-arrival); publishes ``wrench`` (geometry_msgs/WrenchStamped, force.z in N,
+at acquisition), ``bridge_voltage_scalar`` (std_msgs/Float64, stamped on
+arrival) and ``temperature`` (for models with a thermal_drift element; the
+latest value is used); publishes ``wrench`` (geometry_msgs/WrenchStamped, force.z in N,
 compression positive, stamped like the raw sample). Services ``~/tare`` and
 ``~/reset`` (std_srvs/Trigger). Diagnostics on /diagnostics.
 
@@ -27,7 +28,7 @@ from collections import deque
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
 from rcl_interfaces.msg import SetParametersResult
-from sensor_msgs.msg import JointState
+from sensor_msgs.msg import JointState, Temperature
 from std_msgs.msg import Float64
 from std_srvs.srv import Trigger
 
@@ -62,11 +63,13 @@ class CompensationNode(Node):
         self._stale = True
         self._model_error = ""
         self._model_path, self._model_mtime = None, None
+        self._aux = {"temperature_c": None}  # latest auxiliary signals for the chain (thermal elements)
         self._load_model(self.get_parameter("model_file").value)  # raises on a bad file at start-up
         qos = data_qos(self)
         self.pub = self.create_publisher(WrenchStamped, "wrench", qos)
         self.create_subscription(JointState, "bridge_voltage", self._on_joint_state, qos)
         self.create_subscription(Float64, "bridge_voltage_scalar", self._on_scalar, qos)
+        self.create_subscription(Temperature, "temperature", self._on_temperature, 10)
         self.create_service(Trigger, "~/tare", self._on_tare)
         self.create_service(Trigger, "~/reset", self._on_reset)
         self.add_on_set_parameters_callback(self._on_set_parameters)
@@ -83,6 +86,7 @@ class CompensationNode(Node):
         self.model, self._model_path = model, path
         self._model_mtime = _mtime(path)
         self._stream = model.chain.streaming()
+        self._needs_temperature = any(e.kind == "thermal_drift" for e in model.chain.elements)
         if self._tare_offset_v is not None:
             model.chain.offset.voltage_v = self._tare_offset_v
         self._last_stamp_ns = None  # the history belongs to the old model
@@ -131,6 +135,10 @@ class CompensationNode(Node):
             return
         self._process(stamp_to_ns(msg.header.stamp), msg.position[index], msg.header.frame_id)
 
+    def _on_temperature(self, msg: Temperature):
+        if math.isfinite(msg.temperature):
+            self._aux["temperature_c"] = msg.temperature
+
     def _on_scalar(self, msg: Float64):
         self._process(self.get_clock().now().nanoseconds, msg.data, "")
 
@@ -160,7 +168,7 @@ class CompensationNode(Node):
         self._recent_v.append(voltage_v)
         self._last_rx = time.monotonic()
         self._stale = False
-        force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v)
+        force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v, self._aux)
         if force is None or not math.isfinite(force):
             # Cannot happen for finite input; if it did, the state is unusable.
             self._stream.reset()
@@ -226,6 +234,8 @@ class CompensationNode(Node):
         c = self.counts
         if self._stale:
             level, message = ERROR, "no valid input: publishing zero force"
+        elif self._needs_temperature and self._aux["temperature_c"] is None:
+            level, message = WARN, "model has a thermal_drift element but no temperature received: not corrected"
         elif self._model_error:
             level, message = WARN, f"model file invalid, previous model kept: {self._model_error}"
         elif c["clamped"] or c["nonfinite"] or c["out_of_range"] or c["backwards"] or c["duplicate"] or c["gaps"]:

@@ -46,11 +46,15 @@ class DriverNode(Node):
         declare(self, "publish_period_s", 0.002, "Timer period; samples due are published each tick (s)", 0.0005, 0.1, read_only=True)
         declare(self, "profile", "needle_insertion", f"Simulated force profile: {', '.join(profiles.PROFILE_NAMES)}, okamura", read_only=True)
         declare(self, "loop", True, "Restart the profile when it ends (else stop publishing)", read_only=True)
-        declare(self, "truth_model_file", "", "Model YAML of the simulated sensor; empty = shipped paper model", read_only=True)
+        declare(self, "truth_model_file", "",
+                "Model YAML of the simulated sensor (may add nonlinear_gain, sensor_lag, thermal_drift, offset_drift "
+                "elements); empty = shipped paper model", read_only=True)
         declare(self, "noise_std_v", 1e-3, "Simulated bridge noise, 1 sigma (V)", 0.0, 1.0, read_only=True)
         declare(self, "adc_bits", 16, "Simulated ADC resolution (bits, 0 = none)", 0, 32, read_only=True)
         declare(self, "offset_v", 0.05, "Simulated bridge output at zero force (V)", -5.0, 5.0, read_only=True)
-        declare(self, "temperature_c", 24.0, "Simulated temperature (degC)", -40.0, 125.0, read_only=True)
+        declare(self, "temperature_c", 24.0, "Simulated mean temperature (degC)", -40.0, 125.0, read_only=True)
+        declare(self, "temperature_amplitude_c", 0.0, "Amplitude of a sinusoidal temperature swing (degC)", 0.0, 50.0, read_only=True)
+        declare(self, "temperature_period_s", 600.0, "Period of the temperature swing (s)", 1.0, 1e6, read_only=True)
         declare(self, "seed", 0, "Noise and profile seed", 0, 2**31 - 1, read_only=True)
         declare(self, "port", "/dev/ttyACM0", "Serial device of the ADC", read_only=True)
         declare(self, "baud", 921600, "Serial baud rate", 1200, 12000000, read_only=True)
@@ -86,17 +90,25 @@ class DriverNode(Node):
         self.pub_ref = self.create_publisher(WrenchStamped, "reference_force", qos)
         self.pub_temp = self.create_publisher(Temperature, "temperature", 10)
         path = self._param("truth_model_file") or str(default_model_path())
-        truth = load_model(path).chain.viscoelastic
+        chain = load_model(path).chain
+        chain.offset.voltage_v = self._param("offset_v")  # the bridge zero is a property of this sensor
+        truth = chain.viscoelastic
         self.rate_hz = float(self._param("rate_hz"))
-        self.sim = BridgeSimulator(model=truth, offset_v=self._param("offset_v"), noise_std_v=self._param("noise_std_v"),
+        self.sim = BridgeSimulator(chain=chain, noise_std_v=self._param("noise_std_v"),
                                    adc_bits=self._param("adc_bits"), seed=self._param("seed"))
         self.profile_t, self.profile_f = profiles.make_profile(self._param("profile"), rate_hz=self.rate_hz, seed=self._param("seed"))
         self.period_n = self.profile_t.size
-        self._buf_f, self._buf_v, self._buf_first = np.zeros(0), np.zeros(0), 0
+        self._buf_f, self._buf_v, self._buf_t, self._buf_first = np.zeros(0), np.zeros(0), np.zeros(0), 0
         self.start_ns = None
         self.create_timer(self._param("publish_period_s"), self._sim_tick)
         self.get_logger().info(f"sim backend: profile {self._param('profile')} ({self.period_n / self.rate_hz:.1f} s), "
                                f"{self.rate_hz:.0f} Hz, truth {truth}")
+
+    def temperature_at(self, t_s):
+        """Simulated temperature (degC): mean plus an optional sinusoidal swing."""
+        amplitude = self._param("temperature_amplitude_c")
+        swing = amplitude * np.sin(2 * np.pi * np.asarray(t_s) / self._param("temperature_period_s")) if amplitude else 0.0
+        return np.broadcast_to(self._param("temperature_c") + swing, np.shape(t_s)).astype(float)
 
     def _simulate_until(self, k_end):
         """Make sure samples [.., k_end) are simulated (blocks of SIM_BLOCK, state carried)."""
@@ -104,10 +116,12 @@ class DriverNode(Node):
             k0 = self._buf_first + self._buf_v.size
             ks = np.arange(k0, k0 + SIM_BLOCK)
             f = self.profile_f[ks % self.period_n]
-            v = self.sim.simulate(ks / self.rate_hz, f)
+            temp = self.temperature_at(ks / self.rate_hz)
+            v = self.sim.simulate(ks / self.rate_hz, f, temperature_c=temp)
             drop = max(0, self._buf_v.size - 4 * SIM_BLOCK)  # keep the buffer short
             self._buf_f = np.concatenate((self._buf_f[drop:], f))
             self._buf_v = np.concatenate((self._buf_v[drop:], v))
+            self._buf_t = np.concatenate((self._buf_t[drop:], temp))
             self._buf_first += drop
 
     def _sim_tick(self):
@@ -135,7 +149,7 @@ class DriverNode(Node):
             ref.wrench.force.z = float(self._buf_f[i])
             self.pub_ref.publish(ref)
             if k % temp_every == 0:
-                temp = Temperature(temperature=float(self._param("temperature_c")), variance=0.0)
+                temp = Temperature(temperature=float(self._buf_t[i]), variance=0.0)
                 ns_to_stamp(stamp, temp.header.stamp)
                 temp.header.frame_id = self._param("frame_id")
                 self.pub_temp.publish(temp)

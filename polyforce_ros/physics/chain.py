@@ -15,7 +15,15 @@ import math
 
 import numpy as np
 
-from .viscoelastic import MODEL_TYPES, StreamingCompensator, ViscoelasticModel, compensate, simulate_deformation
+from .expconv import exp_convolve
+from .viscoelastic import (
+    MODEL_TYPES,
+    ForwardState,
+    StreamingCompensator,
+    ViscoelasticModel,
+    compensate,
+    simulate_deformation,
+)
 
 
 class ModelError(ValueError):
@@ -49,8 +57,11 @@ class ViscoelasticElement:
         self.model = model
         self.kind = model.kind
 
-    def forward(self, t_s, force_n, aux=None):
-        return simulate_deformation(self.model, t_s, force_n)
+    def forward_state(self):
+        return ForwardState(self.model)
+
+    def forward(self, t_s, force_n, aux=None, state=None):
+        return simulate_deformation(self.model, t_s, force_n, state=state)
 
     def backward(self, t_s, deformation_v, aux=None):
         return compensate(self.model, t_s, deformation_v)
@@ -89,7 +100,10 @@ class OffsetElement:
     def __init__(self, voltage_v: float = 0.0):
         self.voltage_v = float(voltage_v)
 
-    def forward(self, t_s, x, aux=None):
+    def forward_state(self):
+        return None
+
+    def forward(self, t_s, x, aux=None, state=None):
         return np.asarray(x, dtype=float) + self.voltage_v
 
     def backward(self, t_s, y, aux=None):
@@ -118,8 +132,190 @@ class _OffsetStream:
         return value - self.element.voltage_v
 
 
+
+class _SimpleElement:
+    """Base of the effect elements: parameters declared in PARAMS as (name, must_be_positive)."""
+
+    kind = ""
+    PARAMS: tuple = ()
+
+    def __init__(self, **values):
+        for name, positive in self.PARAMS:
+            setattr(self, name, _number(self.kind, name, values[name], positive))
+
+    def forward_state(self):
+        return None
+
+    def to_dict(self):
+        return {"type": self.kind, **{name: getattr(self, name) for name, _ in self.PARAMS}}
+
+    @classmethod
+    def from_dict(cls, d):
+        _check_keys(cls.kind, d, [name for name, _ in cls.PARAMS])
+        return cls(**{name: d[name] for name, _ in cls.PARAMS})
+
+
+class _FunctionStream:
+    """Streaming inverse of an element with a per-sample function ``f(t_s, y, aux) -> x``."""
+
+    def __init__(self, step, reset=lambda: None):
+        self.step, self.reset = step, reset
+
+
+class NonlinearGainElement(_SimpleElement):
+    """Static nonlinearity of the bridge gain: y = x + quadratic_per_v * x**2 (volts in, volts out).
+
+    Inverted with the root nearest x, written as 2y / (1 + sqrt(1 + 4 q y))
+    (no cancellation when q is small); where 1 + 4 q y < 0 the model has no
+    inverse and the vertex is returned.
+    """
+
+    kind = "nonlinear_gain"
+    PARAMS = (("quadratic_per_v", False),)
+
+    def forward(self, t_s, x, aux=None, state=None):
+        x = np.asarray(x, dtype=float)
+        return x + self.quadratic_per_v * x * x
+
+    def backward(self, t_s, y, aux=None):
+        y = np.asarray(y, dtype=float)
+        disc = np.sqrt(np.clip(1.0 + 4.0 * self.quadratic_per_v * y, 0.0, None))
+        return 2.0 * y / (1.0 + disc)
+
+    def streaming(self):
+        q = self.quadratic_per_v
+        return _FunctionStream(lambda t_s, y, aux=None: 2.0 * y / (1.0 + math.sqrt(max(1.0 + 4.0 * q * y, 0.0))))
+
+
+class SensorLagElement(_SimpleElement):
+    """First-order sensor/electronics dynamics (seed 002, eq. 10-11 with unit gain): tau y' + y = x.
+
+    Forward: exact for piecewise-linear x (the shared recursion), output zero
+    before the first sample. Backward: x = y + tau dy/dt with the slope over the
+    last sample interval; it amplifies white noise by about tau / h.
+    """
+
+    kind = "sensor_lag"
+    PARAMS = (("tau_s", True),)
+
+    def forward_state(self):
+        return {"y": np.zeros(1), "t_prev": None, "x_prev": 0.0}
+
+    def forward(self, t_s, x, aux=None, state=None):
+        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        st = state if state is not None else self.forward_state()
+        rate = 1.0 / self.tau_s
+        if st["t_prev"] is None:
+            y = exp_convolve(t, x, [rate], y0=st["y"])[:, 0]
+        else:
+            y = exp_convolve(t, x, [rate], y0=st["y"], u_prev=st["x_prev"], t_prev_s=st["t_prev"])[:, 0]
+        y = y * rate
+        if t.size:
+            st["y"] = np.array([y[-1] / rate])
+            st["t_prev"], st["x_prev"] = float(t[-1]), float(x[-1])
+        return y
+
+    def backward(self, t_s, y, aux=None):
+        t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+        slope = np.zeros_like(y)
+        if y.size > 1:
+            dt = np.diff(t)
+            slope[1:] = np.where(dt > 0, np.diff(y) / np.where(dt > 0, dt, 1.0), 0.0)
+        return y + self.tau_s * slope
+
+    def streaming(self):
+        prev = {"t": None, "y": 0.0}
+        tau = self.tau_s
+
+        def step(t_s, y, aux=None):
+            slope = 0.0
+            if prev["t"] is not None and t_s > prev["t"]:
+                slope = (y - prev["y"]) / (t_s - prev["t"])
+            prev["t"], prev["y"] = t_s, y
+            return y + tau * slope
+
+        return _FunctionStream(step, lambda: prev.update(t=None, y=0.0))
+
+
+def _temperature(aux, n):
+    """Temperature samples (degC) from ``aux``: an array of n, a scalar, or None when absent."""
+    if not aux or aux.get("temperature_c") is None:
+        return None
+    return np.broadcast_to(np.asarray(aux["temperature_c"], dtype=float), (n,)) if n else np.zeros(0)
+
+
+class ThermalDriftElement(_SimpleElement):
+    """Output that follows temperature: y = x + coefficient_v_per_c * (T - reference_c).
+
+    T comes from ``aux['temperature_c']``; without it T is taken as the
+    reference (no correction), which the node reports.
+    """
+
+    kind = "thermal_drift"
+    PARAMS = (("coefficient_v_per_c", False), ("reference_c", False))
+
+    def _term(self, y, aux):
+        temp = _temperature(aux, np.size(y))
+        return 0.0 if temp is None else self.coefficient_v_per_c * (temp - self.reference_c)
+
+    def forward(self, t_s, x, aux=None, state=None):
+        x = np.asarray(x, dtype=float)
+        return x + self._term(x, aux)
+
+    def backward(self, t_s, y, aux=None):
+        y = np.asarray(y, dtype=float)
+        return y - self._term(y, aux)
+
+    def streaming(self):
+        c, ref = self.coefficient_v_per_c, self.reference_c
+
+        def step(t_s, y, aux=None):
+            temp = None if not aux else aux.get("temperature_c")
+            return y if temp is None else y - c * (temp - ref)
+
+        return _FunctionStream(step)
+
+
+class OffsetDriftElement(_SimpleElement):
+    """Load-independent baseline drift: y = x + rate_v_per_s * (t - t_first).
+
+    t_first is the first sample of the record (forward, batch backward) or the
+    first sample after a reset (streaming); a tare therefore restarts it.
+    """
+
+    kind = "offset_drift"
+    PARAMS = (("rate_v_per_s", False),)
+
+    def forward_state(self):
+        return {"t_first": None}
+
+    def forward(self, t_s, x, aux=None, state=None):
+        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        st = state if state is not None else self.forward_state()
+        if st["t_first"] is None and t.size:
+            st["t_first"] = float(t[0])
+        return x + self.rate_v_per_s * (t - (st["t_first"] or 0.0))
+
+    def backward(self, t_s, y, aux=None):
+        t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+        return y - self.rate_v_per_s * (t - t[0]) if t.size else y
+
+    def streaming(self):
+        first = {"t": None}
+        rate = self.rate_v_per_s
+
+        def step(t_s, y, aux=None):
+            if first["t"] is None:
+                first["t"] = t_s
+            return y - rate * (t_s - first["t"])
+
+        return _FunctionStream(step, lambda: first.update(t=None))
+
+
 ELEMENT_TYPES = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
+for _element in (NonlinearGainElement, SensorLagElement, ThermalDriftElement, OffsetDriftElement):
+    ELEMENT_TYPES[_element.kind] = _element
 
 
 class SensorChain:
@@ -155,10 +351,16 @@ class SensorChain:
         self.elements.append(element)
         return element
 
-    def forward(self, t_s, force_n, aux=None):
+    def forward_states(self):
+        """Fresh element states for block-wise forward runs (relaxed, unloaded sensor)."""
+        return [e.forward_state() for e in self.elements]
+
+    def forward(self, t_s, force_n, aux=None, states=None):
+        """Voltage for a force history; pass ``states`` to continue from a previous block."""
+        states = states if states is not None else self.forward_states()
         x = np.asarray(force_n, dtype=float)
-        for element in self.elements:
-            x = element.forward(t_s, x, aux)
+        for element, state in zip(self.elements, states):
+            x = element.forward(t_s, x, aux, state)
         return x
 
     def backward(self, t_s, voltage_v, aux=None):

@@ -5,19 +5,22 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..physics.viscoelastic import PAPER_BURGERS, ForwardState, ViscoelasticModel, simulate_deformation
+from ..physics.chain import SensorChain
+from ..physics.viscoelastic import PAPER_BURGERS, ViscoelasticModel
 
 
 @dataclass
 class BridgeSimulator:
     """A polymer force sensor with a Wheatstone bridge and an ADC.
 
-    voltage = quantise(offset_v + gamma(F) + noise), gamma from the truth
-    ``model`` (the paper's Burgers parameters by default).
+    voltage = quantise(chain.forward(F) + noise). The truth ``chain`` defaults
+    to the viscoelastic ``model`` (the paper's Burgers parameters) followed by
+    a bridge offset of ``offset_v``; pass a chain to add effects (nonlinear
+    gain, sensor lag, thermal drift, offset drift, ...).
 
-    offset_v: bridge output at zero force (V); noise_std_v: white noise (V, 1 sigma);
-    adc_bits / adc_range_v: quantiser (0 bits disables it); seed: noise seed.
-    ``simulate`` can be called block after block: the element states carry over.
+    noise_std_v: white noise (V, 1 sigma); adc_bits / adc_range_v: quantiser
+    (0 bits disables it); seed: noise seed. ``simulate`` can be called block
+    after block: element states carry over.
     """
 
     model: ViscoelasticModel = PAPER_BURGERS
@@ -26,15 +29,20 @@ class BridgeSimulator:
     adc_bits: int = 16
     adc_range_v: tuple = (-5.0, 5.0)
     seed: int = 0
-    _state: ForwardState = field(init=False, repr=False)
+    chain: SensorChain = None
+    _states: list = field(init=False, repr=False)
     _rng: np.random.Generator = field(init=False, repr=False)
 
     def __post_init__(self):
+        if self.chain is None:
+            self.chain = SensorChain.from_model(self.model, offset_v=self.offset_v)
+        else:
+            self.model = self.chain.viscoelastic
         self.reset()
 
     def reset(self):
         """Sensor relaxed and unloaded, noise sequence restarted."""
-        self._state = ForwardState(self.model)
+        self._states = self.chain.forward_states()
         self._rng = np.random.default_rng(self.seed)
 
     @property
@@ -42,10 +50,12 @@ class BridgeSimulator:
         lo, hi = self.adc_range_v
         return (hi - lo) / (2**self.adc_bits) if self.adc_bits else 0.0
 
-    def simulate(self, t_s, force_n):
-        """Bridge voltage (V) for the force samples; continues from the previous block."""
-        gamma = simulate_deformation(self.model, t_s, force_n, state=self._state)
-        v = self.offset_v + gamma
+    def simulate(self, t_s, force_n, temperature_c=None):
+        """Bridge voltage (V) for the force samples; continues from the previous block.
+
+        temperature_c: per-sample (or scalar) temperature for thermal elements.
+        """
+        v = self.chain.forward(t_s, force_n, aux={"temperature_c": temperature_c}, states=self._states)
         if self.noise_std_v:
             v = v + self._rng.normal(0.0, self.noise_std_v, size=v.shape)
         if self.adc_bits:

@@ -1,0 +1,94 @@
+"""Effect elements of the sensor chain: inverses, streaming == batch, YAML, block-wise simulation."""
+import numpy as np
+import pytest
+
+from polyforce_ros.model_file import SensorModel, load_model, save_model
+from polyforce_ros.physics.chain import (
+    ModelError, NonlinearGainElement, OffsetDriftElement, OffsetElement, SensorChain, SensorLagElement,
+    ThermalDriftElement, ViscoelasticElement,
+)
+from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+from polyforce_ros.sim.sensor import BridgeSimulator
+
+
+def signals(n=20000, dt=1e-3):
+    t = np.arange(n) * dt
+    x = 0.8 + 0.5 * np.sin(2 * np.pi * 0.7 * t) + 0.2 * np.sin(2 * np.pi * 0.13 * t)
+    temp = 24 + 3 * np.sin(2 * np.pi * t / 7.0)
+    return t, x, {"temperature_c": temp}
+
+
+ELEMENTS = [
+    NonlinearGainElement(quadratic_per_v=0.08),
+    SensorLagElement(tau_s=0.03),
+    ThermalDriftElement(coefficient_v_per_c=2e-3, reference_c=22.0),
+    OffsetDriftElement(rate_v_per_s=1e-4),
+]
+
+
+@pytest.mark.parametrize("element", ELEMENTS, ids=lambda e: e.kind)
+def test_backward_undoes_forward(element):
+    t, x, aux = signals()
+    y = element.forward(t, x, aux)
+    assert np.abs(y - x).max() > 1e-3  # the effect is really there
+    back = element.backward(t, y, aux)
+    if element.kind == "sensor_lag":
+        # The slope over one step is first-order: error ~ tau * h * |y''| / 2, large only in the
+        # start-up transient (the input steps from rest at t0); judged after 10 tau.
+        settled = t > 10 * element.tau_s
+        max_x2 = 0.5 * (2 * np.pi * 0.7) ** 2 + 0.2 * (2 * np.pi * 0.13) ** 2  # max |x''| of signals()
+        bound = element.tau_s * (t[1] - t[0]) * max_x2 / 2
+        assert np.abs(back[settled] - x[settled]).max() < 1.05 * bound
+    else:
+        assert np.abs(back - x).max() < 1e-12
+
+
+@pytest.mark.parametrize("element", ELEMENTS, ids=lambda e: e.kind)
+def test_streaming_equals_batch(element):
+    t, x, aux = signals(3000)
+    y = element.forward(t, x, aux) + np.random.default_rng(0).normal(0, 1e-3, t.size)
+    batch = element.backward(t, y, aux)
+    stream = element.streaming()
+    per_sample = [stream.step(ti, yi, {"temperature_c": ci}) for ti, yi, ci in zip(t, y, aux["temperature_c"])]
+    np.testing.assert_allclose(per_sample, batch, rtol=1e-12, atol=1e-12)
+
+
+def test_full_chain_round_trip_and_streaming():
+    chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), *ELEMENTS, OffsetElement(0.05)])
+    t, _, aux = signals()
+    force = 2 + np.sin(2 * np.pi * 0.5 * t)
+    volts = chain.forward(t, force, aux)
+    est = chain.backward(t, volts, aux)
+    settled = t > 0.3  # after the lag's start-up transient (see test_backward_undoes_forward)
+    assert np.abs(est[settled] - force[settled]).max() < 1e-3
+    stream = chain.streaming()
+    per_sample = np.array([stream.step(ti, vi, {"temperature_c": ci}) for ti, vi, ci in zip(t, volts, aux["temperature_c"])])
+    np.testing.assert_allclose(per_sample, est, rtol=1e-9, atol=1e-9)
+
+
+def test_thermal_element_without_temperature_is_identity():
+    element = ThermalDriftElement(coefficient_v_per_c=1e-2, reference_c=20.0)
+    np.testing.assert_array_equal(element.backward([0, 1], [1.0, 2.0]), [1.0, 2.0])
+    assert element.streaming().step(0.0, 1.5, {"temperature_c": None}) == 1.5
+
+
+def test_block_wise_simulation_equals_whole_record():
+    chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), *ELEMENTS, OffsetElement(0.05)])
+    t, _, aux = signals()
+    force = 2 + np.sin(2 * np.pi * 0.5 * t)
+    whole = BridgeSimulator(chain=chain, noise_std_v=0.0, adc_bits=0).simulate(t, force, aux["temperature_c"])
+    sim = BridgeSimulator(chain=chain, noise_std_v=0.0, adc_bits=0)
+    blocks = [sim.simulate(tb, fb, cb) for tb, fb, cb in zip(np.array_split(t, 9), np.array_split(force, 9), np.array_split(aux["temperature_c"], 9))]
+    np.testing.assert_allclose(np.concatenate(blocks), whole, rtol=1e-12, atol=1e-12)
+
+
+def test_yaml_round_trip_and_validation(tmp_path):
+    chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), *ELEMENTS, OffsetElement(0.05)])
+    path = tmp_path / "m.yaml"
+    save_model(path, SensorModel(chain, {"source": "test"}))
+    again = load_model(path).chain
+    assert [e.to_dict() for e in again.elements] == [e.to_dict() for e in chain.elements]
+    with pytest.raises(ModelError, match="tau_s must be > 0"):
+        SensorChain.from_dict({"elements": [{"type": "sensor_lag", "tau_s": 0.0}]})
+    with pytest.raises(ModelError, match="missing keys"):
+        SensorChain.from_dict({"elements": [{"type": "thermal_drift", "coefficient_v_per_c": 1e-3}]})

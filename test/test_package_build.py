@@ -15,21 +15,6 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 #: Every console entry point of setup.py; nodes are added here as they land.
 EXECUTABLES = ["polyforce", "driver_node", "compensation_node", "calibration_node", "replay_node"]
-_SKIP = shutil.ignore_patterns(".venv", ".git", "build", "install", "log", "__pycache__", "*.egg-info", ".pytest_cache", ".hypothesis", "out")
-
-
-@pytest.fixture(scope="module")
-def colcon_install(tmp_path_factory):
-    ws = tmp_path_factory.mktemp("ws")
-    shutil.copytree(ROOT, ws / "src" / "polyforce_ros", ignore=_SKIP)
-    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}")
-    colcon = Path(sys.executable).parent / "colcon"
-    proc = subprocess.run(
-        [str(colcon), "--log-base", "log", "build", "--base-paths", "src"],
-        cwd=ws, env=env, capture_output=True, text=True, timeout=300,
-    )
-    assert proc.returncode == 0, proc.stdout + proc.stderr
-    return ws / "install"
 
 
 def test_every_entry_point_is_installed_where_ros2_run_looks(colcon_install):

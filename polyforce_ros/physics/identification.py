@@ -219,12 +219,7 @@ def fit_creep(model_type, t_s, force_n, voltage_v, segments=None, fit_rate_hz=DE
     """
     if isinstance(model_type, str):
         model_type = MODEL_TYPES[model_type]
-    t, f, v = (np.asarray(a, dtype=float) for a in (t_s, force_n, voltage_v))
-    _check_record(t, f, v)
-    if segments is None:
-        segments = find_creep_segments(t, f)
-    if not segments:
-        raise ValueError("no creep segment found: need a load step held for several seconds")
+    t, f, v, segments = _prepare(t_s, force_n, voltage_v, segments)
     mask = np.zeros(t.size, dtype=bool)
     for seg in segments:
         mask[seg.start : seg.stop] = True
@@ -288,6 +283,17 @@ def _rescale_segments(segments, t_full, t_dec):
     ]
 
 
+def _prepare(t_s, force_n, voltage_v, segments):
+    """Validated float arrays and the creep segments (found when not given)."""
+    t, f, v = (np.asarray(a, dtype=float) for a in (t_s, force_n, voltage_v))
+    _check_record(t, f, v)
+    if segments is None:
+        segments = find_creep_segments(t, f)
+    if not segments:
+        raise ValueError("no creep segment found: need a load step held for several seconds")
+    return t, f, v, segments
+
+
 def _check_record(t, f, v):
     if not (t.shape == f.shape == v.shape) or t.ndim != 1:
         raise ValueError("time, force and voltage must be 1-D arrays of equal length")
@@ -304,12 +310,7 @@ def select_model(t_s, force_n, voltage_v, candidates=("maxwell", "kelvin", "zene
 
     progress: optional callable ``progress(name)`` called before each fit.
     """
-    t, f, v = (np.asarray(a, dtype=float) for a in (t_s, force_n, voltage_v))
-    _check_record(t, f, v)
-    if segments is None:
-        segments = find_creep_segments(t, f)
-    if not segments:
-        raise ValueError("no creep segment found: need a load step held for several seconds")
+    t, f, v, segments = _prepare(t_s, force_n, voltage_v, segments)
     fits = []
     for name in candidates:
         if progress is not None:

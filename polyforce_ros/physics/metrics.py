@@ -32,3 +32,100 @@ def error_summary(reference, estimate) -> dict:
         "max_abs_n": max_abs_error(reference, estimate),
         "r2": r_squared(reference, estimate),
     }
+
+
+def hysteresis_percent(input_signal, output_signal, grid_points=97) -> float:
+    """Hysteresis of one loading/unloading cycle, normalised as in seed 000 (Fig. 11).
+
+    Input and output are divided by their maxima; the cycle is split at the
+    input's maximum into loading and unloading branches; the result is the
+    largest vertical gap between the branches over 2-98 % of the input range,
+    in percent of the normalised output. A pure spring gives 0.
+    """
+    u = np.asarray(input_signal, dtype=float)
+    y = np.asarray(output_signal, dtype=float)
+    u, y = u / np.max(np.abs(u)), y / np.max(np.abs(y))
+    peak = int(np.argmax(u))
+    if peak < 2 or peak > u.size - 3:
+        raise ValueError("hysteresis needs a loading and an unloading branch")
+    grid = np.linspace(0.02, 0.98, grid_points) * u[peak]
+
+    def branch(us, ys):
+        order = np.argsort(us, kind="stable")
+        return np.interp(grid, us[order], ys[order])
+
+    return float(100.0 * np.max(np.abs(branch(u[peak:], y[peak:]) - branch(u[: peak + 1], y[: peak + 1]))))
+
+
+def step_response(t_s, y, t_step_s, final_value, settle_band=0.02):
+    """10-90 % rise time and settling time (s) of a step of size ``final_value`` at ``t_step_s``.
+
+    Settling: time after the step from which |y - final| stays within
+    ``settle_band`` * |final| to the end of the record; ``inf`` if it never
+    does (a drifting, uncompensated reading). Rise time ``inf`` if 90 % is
+    never reached.
+    """
+    t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+    after = t >= t_step_s
+    ta, ya = t[after], y[after] / final_value
+    hit10, hit90 = np.flatnonzero(ya >= 0.1), np.flatnonzero(ya >= 0.9)
+    rise = float(ta[hit90[0]] - ta[hit10[0]]) if hit90.size and hit10.size else float("inf")
+    outside = np.flatnonzero(np.abs(ya - 1.0) > settle_band)
+    if outside.size == 0:
+        settle = 0.0
+    elif outside[-1] == ya.size - 1:
+        settle = float("inf")
+    else:
+        settle = float(ta[outside[-1] + 1] - t_step_s)
+    return {"rise_time_s": rise, "settling_time_s": settle}
+
+
+def sine_component(t_s, y, freq_hz):
+    """Amplitude and phase (rad) of the ``freq_hz`` component by least squares (with a constant)."""
+    t = np.asarray(t_s, dtype=float)
+    w = 2 * np.pi * freq_hz * t
+    basis = np.column_stack([np.sin(w), np.cos(w), np.ones_like(t)])
+    (a, b, _), *_ = np.linalg.lstsq(basis, np.asarray(y, dtype=float), rcond=None)
+    return float(np.hypot(a, b)), float(np.arctan2(b, a))
+
+
+def bandwidth_3db(freqs_hz, magnitude_db, reference_db=None):
+    """Lowest frequency (Hz) where the magnitude falls 3 dB below the reference.
+
+    The reference is the magnitude at the lowest frequency unless given. The
+    crossing is interpolated in log-frequency; ``inf`` means the magnitude
+    stays within 3 dB over the whole range (bandwidth beyond the last frequency).
+    """
+    f = np.asarray(freqs_hz, dtype=float)
+    m = np.asarray(magnitude_db, dtype=float)
+    ref = m[0] if reference_db is None else reference_db
+    below = np.flatnonzero(m < ref - 3.0)
+    if below.size == 0:
+        return float("inf")
+    i = below[0]
+    if i == 0:
+        return float(f[0])
+    x0, x1 = np.log10(f[i - 1]), np.log10(f[i])
+    frac = (m[i - 1] - (ref - 3.0)) / (m[i - 1] - m[i])
+    return float(10 ** (x0 + frac * (x1 - x0)))
+
+
+def resolution_changes(t_s, y, start_s, half_period_s, cycles, window_s=40.0, sample_period_s=0.1):
+    """Detected changes of the resolution test (seed 000, Fig. 13-14), as samples.
+
+    Each cycle (low half, then high half of a square wave starting at
+    ``start_s``) is referred to its value at the start of the cycle; the
+    ``window_s`` seconds in the middle of each high half, sampled every
+    ``sample_period_s``, are the detected changes. Returns the array (mean and
+    std are the paper's 0.08 +- 0.013 N).
+    """
+    t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+    out = []
+    for k in range(cycles):
+        c0 = start_s + 2 * k * half_period_s
+        base = np.mean(y[(t >= c0 - 0.5) & (t < c0)]) if np.any((t >= c0 - 0.5) & (t < c0)) else y[np.searchsorted(t, c0)]
+        # the high half is the first half of each cycle in profiles.resolution
+        mid = c0 + 0.5 * half_period_s
+        grid = np.arange(mid - window_s / 2, mid + window_s / 2, sample_period_s)
+        out.append(np.interp(grid, t, y) - base)
+    return np.concatenate(out) if out else np.zeros(0)

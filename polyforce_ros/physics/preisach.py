@@ -1,0 +1,302 @@
+"""Rate-independent hysteresis: the discrete Preisach operator of seed 001.
+
+The input range [u_min, u_max] is cut into ``n`` levels with edges
+e_0 < e_1 < ... < e_n. Relay (i, j), 0 <= j <= i < n, switches up (+1) when
+the input reaches e_{i+1} and down (-1) when it falls to e_j, so there are
+n (n + 1) / 2 relays (820 for n = 40). The output is
+
+    y = offset + sum_ij density[i, j] * H_ij,   density >= 0.
+
+All relays start down (-1), as in seed 001.
+
+* :func:`relay_states` / :meth:`PreisachModel.forward`: batch forward run;
+* :func:`identify`: non-negative least squares of density and offset from a
+  record (e.g. increasing-amplitude triangles), as in seed 001;
+* :class:`PreisachStream`: per-sample forward run and the closest-match
+  inverse (CMA) of the discrete operator. It keeps the outputs every
+  reachable level would give and recomputes them only when a relay switches,
+  so a sample costs a bisection and a few comparisons;
+* :class:`ContinuousPreisachStream`: the continuous operator (ramp hysterons,
+  the paper's future work) and its exact inverse.
+"""
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize
+
+
+@dataclass
+class PreisachModel:
+    """u_min, u_max: input range (input unit); density: (n, n) lower-triangular
+    weights >= 0 (output unit); offset: eta_0 (output unit)."""
+
+    u_min: float
+    u_max: float
+    density: np.ndarray
+    offset: float = 0.0
+
+    def __post_init__(self):
+        self.density = np.tril(np.asarray(self.density, dtype=float))
+        n = self.density.shape[0]
+        if self.density.shape != (n, n) or n < 1:
+            raise ValueError("density must be a square (n, n) matrix")
+        if not (np.isfinite(self.u_min) and np.isfinite(self.u_max) and self.u_max > self.u_min):
+            raise ValueError("need finite u_min < u_max")
+        if np.any(self.density < 0) or not np.all(np.isfinite(self.density)):
+            raise ValueError("Preisach density must be finite and non-negative")
+
+    @property
+    def n_levels(self) -> int:
+        return self.density.shape[0]
+
+    @property
+    def n_hysterons(self) -> int:
+        n = self.n_levels
+        return n * (n + 1) // 2
+
+    @property
+    def edges(self) -> np.ndarray:
+        return np.linspace(self.u_min, self.u_max, self.n_levels + 1)
+
+    @property
+    def level_step(self) -> float:
+        return (self.u_max - self.u_min) / self.n_levels
+
+    def forward(self, u):
+        """Discrete output for an input sequence, starting with all relays down."""
+        states = relay_states(u, self.u_min, self.u_max, self.n_levels)
+        i, j = np.tril_indices(self.n_levels)
+        return self.offset + states @ self.density[i, j]
+
+    def stream(self, continuous=False):
+        """Per-sample operator: discrete relays with the CMA inverse, or continuous ramps."""
+        return ContinuousPreisachStream(self) if continuous else PreisachStream(self)
+
+    def to_dict(self):
+        i, j = np.tril_indices(self.n_levels)
+        return {"u_min": float(self.u_min), "u_max": float(self.u_max), "n_levels": self.n_levels,
+                "offset": float(self.offset), "density": [float(v) for v in self.density[i, j]]}
+
+    @classmethod
+    def from_dict(cls, d):
+        n = int(d["n_levels"])
+        values = np.asarray(d["density"], dtype=float)
+        if values.size != n * (n + 1) // 2:
+            raise ValueError(f"density needs {n * (n + 1) // 2} values for {n} levels, got {values.size}")
+        density = np.zeros((n, n))
+        density[np.tril_indices(n)] = values
+        return cls(float(d["u_min"]), float(d["u_max"]), density, float(d["offset"]))
+
+
+def relay_states(u, u_min, u_max, n_levels, chunk=20000):
+    """Relay outputs (+1/-1, int8) for every sample: shape (len(u), n(n+1)/2), tril order.
+
+    Relay (i, j) is up at sample k when the input last reached e_{i+1} after it
+    last fell to e_j; both "last" indices are running maxima, so the whole
+    record is vectorised.
+    """
+    u = np.asarray(u, dtype=float)
+    edges = np.linspace(u_min, u_max, n_levels + 1)
+    idx = np.arange(u.size)
+    last_up = np.maximum.accumulate(np.where(u[None, :] >= edges[1:, None], idx, -1), axis=1)
+    last_dn = np.maximum.accumulate(np.where(u[None, :] <= edges[:-1, None], idx, -1), axis=1)
+    i, j = np.tril_indices(n_levels)
+    out = np.empty((u.size, i.size), dtype=np.int8)
+    for start in range(0, u.size, chunk):
+        sl = slice(start, start + chunk)
+        out[sl] = np.where(last_up[i, sl] > last_dn[j, sl], 1, -1).T
+    return out
+
+
+def identify(u, y, n_levels=40, u_min=None, u_max=None) -> PreisachModel:
+    """Density >= 0 and offset by least squares from an input/output record (seed 001).
+
+    Samples with the same relay state are merged (mean output, weighted by
+    count), which leaves the least-squares problem unchanged and makes it
+    small. The input should switch every relay both ways (e.g. triangles of
+    increasing amplitude over the whole range), or the unexcited relays'
+    weights stay undetermined (they come out as 0).
+    """
+    u, y = np.asarray(u, dtype=float), np.asarray(y, dtype=float)
+    lo = float(np.min(u)) if u_min is None else u_min
+    hi = float(np.max(u)) if u_max is None else u_max
+    states = relay_states(u, lo, hi, n_levels)
+    packed = np.packbits(states > 0, axis=1)
+    _, first, inverse, counts = np.unique(packed, axis=0, return_index=True, return_inverse=True, return_counts=True)
+    inverse = inverse.ravel()
+    y_mean = np.bincount(inverse, weights=y) / counts
+    a = np.column_stack([states[first].astype(float), np.ones(first.size)])
+    w = np.sqrt(counts)
+    n_q = states.shape[1]
+    lower = np.concatenate([np.zeros(n_q), [-np.inf]])
+    upper = np.full(n_q + 1, np.inf)
+    sol = optimize.lsq_linear(a * w[:, None], y_mean * w, bounds=(lower, upper), method="bvls")
+    density = np.zeros((n_levels, n_levels))
+    density[np.tril_indices(n_levels)] = np.clip(sol.x[:-1], 0.0, None)
+    return PreisachModel(lo, hi, density, float(sol.x[-1]))
+
+
+class PreisachStream:
+    """Per-sample forward run and closest-match inverse (CMA) of the discrete operator.
+
+    ``forward(u)`` moves the input and returns the output; ``inverse(y)``
+    returns the edge whose output, reached from the current state, is closest
+    to ``y`` (seed 001's CMA: quantised to the levels) and moves the state
+    there. A target reachable without switching any relay keeps the previous
+    input.
+    """
+
+    def __init__(self, model: PreisachModel):
+        self.model = model
+        n = model.n_levels
+        self._w = model.density
+        self._tril = np.tril(np.ones((n, n), dtype=bool))
+        self._edges = model.edges.tolist()
+        self._step = model.level_step
+        self.reset()
+
+    def reset(self):
+        """All relays down, input at u_min."""
+        self._h = np.where(self._tril, -1.0, 0.0)
+        self.y = self.model.offset - float(self._w.sum())
+        self.u = self.model.u_min
+        self._candidates()
+
+    def _candidates(self):
+        """Outputs after moving the input up to each edge (rising) and down to each edge (falling)."""
+        row_off = ((self._h < 0) * self._w).sum(axis=1)
+        col_on = ((self._h > 0) * self._w).sum(axis=0)
+        self._up = (self.y + 2.0 * np.concatenate(([0.0], np.cumsum(row_off)))).tolist()
+        self._down = (self.y - 2.0 * np.concatenate((np.cumsum(col_on[::-1])[::-1], [0.0]))).tolist()
+
+    def _move_up(self, k):
+        if self._up[k] != self.y:
+            self._h[:k][self._tril[:k]] = 1.0
+            self.y = self._up[k]
+            self._candidates()
+
+    def _move_down(self, k):
+        if self._down[k] != self.y:
+            self._h[:, k:][self._tril[:, k:]] = -1.0
+            self.y = self._down[k]
+            self._candidates()
+
+    def forward(self, u: float) -> float:
+        n = self.model.n_levels
+        pos = (u - self.model.u_min) / self._step
+        self._move_up(min(max(int(np.floor(pos)), 0), n))  # relays with e_{i+1} <= u switch up
+        self._move_down(min(max(int(np.ceil(pos)), 0), n))  # relays with e_j >= u switch down
+        self.u = u
+        return self.y
+
+    def inverse(self, y_target: float) -> float:
+        if y_target == self.y:
+            return self.u
+        if y_target > self.y:
+            up = self._up
+            k = bisect.bisect_right(up, y_target) - 1  # up[k] <= y_target < up[k + 1]
+            if k < len(up) - 1 and up[k + 1] - y_target < y_target - up[k]:
+                k += 1
+            u = self._edges[k] if up[k] != self.y else self.u
+            self._move_up(k)
+        else:
+            down = self._down  # non-decreasing in k
+            k = bisect.bisect_left(down, y_target)  # down[k - 1] < y_target <= down[k]
+            if k > 0 and y_target - down[k - 1] < down[k] - y_target:
+                k -= 1
+            u = self._edges[k] if down[k] != self.y else self.u
+            self._move_down(k)
+        self.u = u
+        return u
+
+
+class ContinuousPreisachStream:
+    """The continuous Preisach operator and its exact inverse (seed 001's future work).
+
+    Each relay (i, j) is a ramp with memory: its value r in [-1, 1] is pushed
+    up by the ramp f_i(u) = -1 + 2 clip((u - e_i) / h, 0, 1) across the level
+    below its up-edge e_{i+1} and down by f_j(u) across the level above its
+    down-edge e_j, and holds in between: r <- min(max(r, f_i(u)), f_j(u)).
+    At the edges it agrees with the discrete relay; between them the output
+    varies continuously, so there is no level quantisation.
+
+    The inverse uses that, from a given state, the output is monotone and
+    piecewise linear in the input: candidate outputs at the edges locate the
+    level, and inside it the ramp value solves a sorted piecewise-linear sum.
+    """
+
+    def __init__(self, model: PreisachModel):
+        self.model = model
+        n = model.n_levels
+        self._w = model.density
+        self._tril = np.tril(np.ones((n, n), dtype=bool))
+        self._e = model.edges
+        self._h = model.level_step
+        self.reset()
+
+    def reset(self):
+        self.r = np.where(self._tril, -1.0, 0.0)
+        self.u = self.model.u_min
+        self.y = self.model.offset - float(self._w.sum())
+
+    def _ramps(self, u):
+        return -1.0 + 2.0 * np.clip((u - self._e[:-1]) / self._h, 0.0, 1.0)
+
+    def forward(self, u: float) -> float:
+        f = self._ramps(u)
+        self.r = np.minimum(np.maximum(self.r, f[:, None]), f[None, :]) * self._tril
+        self.u = u
+        self.y = self.model.offset + float((self._w * self.r).sum())
+        return self.y
+
+    def inverse(self, y_target: float) -> float:
+        n = self.model.n_levels
+        if y_target > self.y:
+            deficit = (self._w * (1.0 - self.r)).sum(axis=1)  # what each row adds when fully up
+            up = self.y + np.concatenate(([0.0], np.cumsum(deficit)))
+            k = int(np.searchsorted(up, y_target, side="right")) - 1
+            if k >= n:
+                u = self._e[-1]
+            else:
+                # Inside level k only row k moves: sum_j w_kj * max(0, s - r_kj) = need.
+                s = _solve_ramp(self._w[k, : k + 1], self.r[k, : k + 1], y_target - up[k])
+                u = self._e[k] + self._h * (s + 1.0) / 2.0
+        elif y_target < self.y:
+            excess = (self._w * (1.0 + self.r)).sum(axis=0)  # what each column removes when fully down
+            down = self.y - np.concatenate((np.cumsum(excess[::-1])[::-1], [0.0]))
+            k = int(np.searchsorted(down, y_target, side="left"))  # down[k-1] < y_target <= down[k]
+            if k == 0:
+                u = self._e[0]
+            else:
+                j = k - 1  # inside level j only column j moves: sum_i w_ij * max(0, r_ij - s) = need
+                col_w, col_r = self._w[j:, j], self.r[j:, j]
+                s = -_solve_ramp(col_w, -col_r, down[k] - y_target)
+                u = self._e[j] + self._h * (s + 1.0) / 2.0
+        else:
+            return self.u
+        self.forward(u)
+        return u
+
+
+def _solve_ramp(weights, values, need):
+    """s in [-1, 1] with sum_k weights_k * max(0, s - values_k) = need (monotone, piecewise linear)."""
+    order = np.argsort(values)
+    v, w = values[order], weights[order]
+    # at breakpoint v_m the sum is sum_{k<m} w_k (v_m - v_k) = v_m W_m - S_m
+    cw, cs = np.cumsum(w), np.cumsum(w * v)
+    at_breaks = np.concatenate(([0.0], v[1:] * cw[:-1] - cs[:-1]))
+    m = int(np.searchsorted(at_breaks, need, side="right")) - 1
+    m = min(max(m, 0), v.size - 1)
+    if cw[m] <= 0:
+        return float(np.clip(v[m], -1.0, 1.0))
+    return float(np.clip((need + cs[m]) / cw[m], -1.0, 1.0))
+
+
+def hysteresis_error_percent(u, y) -> float:
+    """Seed 001 eq. 3: 100 * max (unloading - loading output at equal input) / max output."""
+    from .metrics import hysteresis_percent
+
+    return hysteresis_percent(u, y)

@@ -5,6 +5,7 @@
     polyforce calibrate CREEP.mcap --output M.yaml
     polyforce compensate IN.mcap OUT.mcap [--model M.yaml]
     polyforce replay BAG.mcap [--rate 2.0]
+    polyforce evaluate [--out DIR] [--bag BAG.mcap ...]
     polyforce make-bags [--out bags/]
 """
 from __future__ import annotations
@@ -129,6 +130,28 @@ def cmd_replay(args) -> int:
     return replay_main(ros_args)
 
 
+def cmd_evaluate(args) -> int:
+    from tqdm import tqdm
+
+    from .evaluation.common import Settings
+    from .evaluation.report import EXPERIMENTS, run_evaluation
+
+    settings = Settings(seed=args.seed, noise_std_v=args.noise_v, quick=args.quick)
+    bar = tqdm(total=len(EXPERIMENTS) + len(args.bag), desc="evaluate", unit="experiment")
+
+    def progress(name):
+        bar.set_postfix_str(name)
+        bar.update(1)
+
+    report, data = run_evaluation(args.out, settings, args.bag, args.model, progress=progress)
+    bar.close()
+    for section in data["sections"]:
+        judged = [r for r in section["rows"] if r["passed"] is not None]
+        print(f"{section['title']}: {sum(r['passed'] for r in judged)} of {len(judged)} judged rows meet the paper")
+    print(f"report: {report}")
+    return 0 if data["seed000_all_met"] else 4
+
+
 def cmd_make_bags(args) -> int:
     from .sim.recording import make_sample_bags
 
@@ -177,6 +200,15 @@ def build_parser():
     rep.add_argument("--rate", type=float, default=1.0, help="playback speed factor")
     rep.add_argument("--loop", action="store_true")
     rep.set_defaults(func=cmd_replay)
+
+    ev = sub.add_parser("evaluate", help="run the seed papers' experiments and write a report (Markdown + JSON + figures)")
+    ev.add_argument("--out", default="out/evaluation", help="output folder")
+    ev.add_argument("--bag", action="append", default=[], help="also evaluate a recorded bag with reference_force (repeatable)")
+    ev.add_argument("--model", help="model YAML for the bags (default: the shipped paper model)")
+    ev.add_argument("--seed", type=int, default=0)
+    ev.add_argument("--noise-v", type=float, default=1e-3, help="simulated bridge noise, V (1 sigma)")
+    ev.add_argument("--quick", action="store_true", help="shorter records (for tests)")
+    ev.set_defaults(func=cmd_evaluate)
 
     mk = sub.add_parser("make-bags", help="regenerate the sample bags with the simulator")
     mk.add_argument("--out", default="bags")

@@ -4,7 +4,7 @@ import pytest
 
 from polyforce_ros.model_file import SensorModel, load_model, save_model
 from polyforce_ros.physics.chain import (
-    ModelError, NonlinearGainElement, OffsetDriftElement, OffsetElement, SensorChain, SensorLagElement,
+    GainElement, ModelError, NonlinearGainElement, OffsetDriftElement, OffsetElement, SensorChain, SensorLagElement,
     ThermalDriftElement, ViscoelasticElement,
 )
 from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
@@ -19,6 +19,7 @@ def signals(n=20000, dt=1e-3):
 
 
 ELEMENTS = [
+    GainElement(gain=0.8),
     NonlinearGainElement(quadratic_per_v=0.08),
     SensorLagElement(tau_s=0.03),
     ThermalDriftElement(coefficient_v_per_c=2e-3, reference_c=22.0),
@@ -92,3 +93,23 @@ def test_yaml_round_trip_and_validation(tmp_path):
         SensorChain.from_dict({"elements": [{"type": "sensor_lag", "tau_s": 0.0}]})
     with pytest.raises(ModelError, match="missing keys"):
         SensorChain.from_dict({"elements": [{"type": "thermal_drift", "coefficient_v_per_c": 1e-3}]})
+
+
+def test_preisach_element_in_a_chain_yaml_and_streaming(tmp_path):
+    from polyforce_ros.evaluation.seed001 import fsr_truth, grip_profile
+    from polyforce_ros.physics.chain import PreisachElement
+
+    element = PreisachElement(fsr_truth(seed=2), continuous=True)
+    chain = SensorChain([element, OffsetElement(0.0)])
+    path = tmp_path / "fsr.yaml"
+    save_model(path, SensorModel(chain, {"source": "test"}))
+    loaded = load_model(path).chain
+    t, force = grip_profile(duration_s=20.0)
+    volts = chain.forward(t, force)
+    np.testing.assert_allclose(loaded.backward(t, volts)[1:], force[1:], atol=1e-9)  # exact continuous inverse
+    stream = loaded.streaming()
+    np.testing.assert_allclose([stream.step(ti, vi) for ti, vi in zip(t, volts)][1:], force[1:], atol=1e-9)
+    bad = element.to_dict()
+    bad["density"] = bad["density"][:5]
+    with pytest.raises(ModelError, match="preisach: density needs"):
+        SensorChain.from_dict({"elements": [bad]})

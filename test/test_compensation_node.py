@@ -219,3 +219,20 @@ def test_thermal_drift_model_uses_the_temperature_topic(tmp_path):
         send_all(h, probe, [T0_NS + i * 1_000_000 for i in range(1, 50)], [0.1] * 49, expect=50)
         forces = [w.wrench.force.z for w in probe.sample_wrenches()[1:]]
     assert max(abs(f) for f in forces) < 1e-9
+
+
+def test_hysteresis_model_by_configuration(tmp_path):
+    """Any chain runs in the node: here an FSR-like Preisach sensor (seed 001) with its continuous inverse."""
+    from polyforce_ros.evaluation.seed001 import fsr_truth
+    from polyforce_ros.physics.chain import OffsetElement, PreisachElement
+
+    chain = SensorChain([PreisachElement(fsr_truth(seed=3), continuous=True), OffsetElement(0.0)])
+    path = tmp_path / "fsr.yaml"
+    save_model(path, SensorModel(chain))
+    force = np.concatenate([np.linspace(0.0, 4.0, 200), np.linspace(4.0, 1.0, 150), np.linspace(1.0, 3.0, 100)])
+    volts = chain.forward(np.arange(force.size) * 1e-3, force)
+    with ros() as h:
+        node, probe = start(h, stale_timeout_s=30.0, model_file=str(path), force_limit_n=10.0)
+        send_all(h, probe, T0_NS + np.arange(force.size) * 1_000_000, volts, expect=force.size)
+        got = np.array([w.wrench.force.z for w in probe.sample_wrenches()])
+    np.testing.assert_allclose(got[1:], force[1:], atol=1e-6)

@@ -60,3 +60,17 @@ def test_inverse_sensor_widens_the_bandwidth():
         inv_db.append(20 * np.log10(sine_component(t[steady], est[steady], f)[0] / 100))
     assert bandwidth_3db(freqs, raw_db, 0.0) == pytest.approx(sensor.bandwidth_hz(), rel=0.05)
     assert bandwidth_3db(freqs, inv_db, 0.0) > 30.0  # limited by the 50 Hz noise filter, not the sensor
+
+
+def test_thin_film_sensor_as_a_chain_matches_eq_11():
+    """gain -> sensor_lag -> offset is eq. 11, so the node can compensate a thin-film sensor by configuration."""
+    from polyforce_ros.physics.chain import GainElement, OffsetElement, SensorChain, SensorLagElement
+
+    sensor = PatchSensor()
+    chain = SensorChain([GainElement(gain=sensor.kappa_v_per_n), SensorLagElement(tau_s=sensor.tau_s), OffsetElement(sensor.b_v)])
+    t = np.arange(0, 5, 1e-3)
+    force = 200 * np.clip(t - 1, 0, 1) + 50 * np.sin(2 * np.pi * 1.5 * t)
+    force -= force[0]
+    np.testing.assert_allclose(chain.forward(t, force), sensor.voltage(t, force), atol=1e-12)
+    settled = t > 0.5
+    np.testing.assert_allclose(chain.backward(t, chain.forward(t, force))[settled], force[settled], atol=0.5)

@@ -162,6 +162,23 @@ class _FunctionStream:
         self.step, self.reset = step, reset
 
 
+class GainElement(_SimpleElement):
+    """Linear gain: y = gain * x (e.g. a thin-film sensor's kappa, V/N, seed 002)."""
+
+    kind = "gain"
+    PARAMS = (("gain", True),)
+
+    def forward(self, t_s, x, aux=None, state=None):
+        return self.gain * np.asarray(x, dtype=float)
+
+    def backward(self, t_s, y, aux=None):
+        return np.asarray(y, dtype=float) / self.gain
+
+    def streaming(self):
+        g = self.gain
+        return _FunctionStream(lambda t_s, y, aux=None: y / g)
+
+
 class NonlinearGainElement(_SimpleElement):
     """Static nonlinearity of the bridge gain: y = x + quadratic_per_v * x**2 (volts in, volts out).
 
@@ -312,9 +329,62 @@ class OffsetDriftElement(_SimpleElement):
         return _FunctionStream(step, lambda: first.update(t=None))
 
 
+class PreisachElement:
+    """Rate-independent hysteresis (seed 001): a Preisach operator from input to output (same or any units).
+
+    ``continuous`` selects ramp hysterons and their exact inverse; otherwise the
+    discrete relays and the closest-match inverse (quantised to the levels).
+    Forward and backward start from all relays down (an unloaded sensor).
+    """
+
+    kind = "preisach"
+    KEYS = ("u_min", "u_max", "n_levels", "offset", "density", "continuous")
+
+    def __init__(self, model, continuous=True):
+        self.model = model
+        self.continuous = bool(continuous)
+
+    def forward_state(self):
+        return {"stream": self.model.stream(self.continuous)}
+
+    def forward(self, t_s, x, aux=None, state=None):
+        stream = (state or self.forward_state())["stream"]
+        return np.array([stream.forward(float(v)) for v in np.asarray(x, dtype=float)])
+
+    def backward(self, t_s, y, aux=None):
+        stream = self.model.stream(self.continuous)
+        return np.array([stream.inverse(float(v)) for v in np.asarray(y, dtype=float)])
+
+    def streaming(self):
+        stream = self.model.stream(self.continuous)
+        return _FunctionStream(lambda t_s, y, aux=None: stream.inverse(y), stream.reset)
+
+    def to_dict(self):
+        return {"type": self.kind, **self.model.to_dict(), "continuous": self.continuous}
+
+    @classmethod
+    def from_dict(cls, d):
+        from .preisach import PreisachModel
+
+        _check_keys(cls.kind, d, cls.KEYS)
+        if not isinstance(d["density"], list) or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in d["density"]):
+            raise ModelError("preisach: density must be a list of numbers")
+        if not isinstance(d["n_levels"], int) or d["n_levels"] < 1:
+            raise ModelError("preisach: n_levels must be a positive integer")
+        if not isinstance(d["continuous"], bool):
+            raise ModelError("preisach: continuous must be true or false")
+        for key in ("u_min", "u_max", "offset"):
+            _number(cls.kind, key, d[key], positive=False)
+        try:
+            model = PreisachModel.from_dict(d)
+        except ValueError as exc:
+            raise ModelError(f"preisach: {exc}") from exc
+        return cls(model, d["continuous"])
+
+
 ELEMENT_TYPES = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
-for _element in (NonlinearGainElement, SensorLagElement, ThermalDriftElement, OffsetDriftElement):
+for _element in (GainElement, NonlinearGainElement, SensorLagElement, ThermalDriftElement, OffsetDriftElement, PreisachElement):
     ELEMENT_TYPES[_element.kind] = _element
 
 

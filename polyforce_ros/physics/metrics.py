@@ -80,13 +80,17 @@ def step_response(t_s, y, t_step_s, final_value, settle_band=0.02):
     return {"rise_time_s": rise, "settling_time_s": settle}
 
 
-def sine_component(t_s, y, freq_hz):
-    """Amplitude and phase (rad) of the ``freq_hz`` component by least squares (with a constant)."""
+def sine_component(t_s, y, freq_hz, trend=False):
+    """Amplitude and phase (rad) of the ``freq_hz`` component by least squares.
+
+    The regression includes a constant and, with ``trend``, a linear drift
+    (an uncompensated viscoelastic reading creeps during a sine test).
+    """
     t = np.asarray(t_s, dtype=float)
     w = 2 * np.pi * freq_hz * t
-    basis = np.column_stack([np.sin(w), np.cos(w), np.ones_like(t)])
-    (a, b, _), *_ = np.linalg.lstsq(basis, np.asarray(y, dtype=float), rcond=None)
-    return float(np.hypot(a, b)), float(np.arctan2(b, a))
+    columns = [np.sin(w), np.cos(w), np.ones_like(t)] + ([t - t.mean()] if trend else [])
+    coef, *_ = np.linalg.lstsq(np.column_stack(columns), np.asarray(y, dtype=float), rcond=None)
+    return float(np.hypot(coef[0], coef[1])), float(np.arctan2(coef[1], coef[0]))
 
 
 def bandwidth_3db(freqs_hz, magnitude_db, reference_db=None):

@@ -36,10 +36,12 @@ def sawtooth(peak_n=10.0, cycles=4, ramp_rate_n_per_s=1.0, pre_s=2.0, post_s=10.
     return t, np.where(phase > 0, peak_n * 0.5 * (tri + 1.0), 0.0)
 
 
-def step(force_n=5.0, pre_s=2.0, hold_s=30.0, rate_hz=1000.0):
-    """Step of ``force_n`` (Fig. 16), rising within one sample at ``pre_s``."""
+def step(force_n=5.0, pre_s=2.0, hold_s=30.0, rise_s=0.0, rate_hz=1000.0):
+    """Step of ``force_n`` (Fig. 16) at ``pre_s``: within one sample, or a ramp of ``rise_s`` (an actuator's)."""
     t = _time(pre_s + hold_s, rate_hz)
-    return t, np.where(t >= pre_s, force_n, 0.0)
+    if rise_s <= 0:
+        return t, np.where(t >= pre_s, force_n, 0.0)
+    return t, force_n * np.clip((t - pre_s) / rise_s, 0.0, 1.0)
 
 
 def sine_sweep(f_start_hz=0.01, f_stop_hz=10.0, amplitude_n=1.0, offset_n=3.0, duration_s=600.0, rate_hz=1000.0):

@@ -176,6 +176,28 @@ def _convolve_irregular(h, u_all, r, y_start):
     return y
 
 
+def exp_convolve_columns(t_s, u, rate_per_s):
+    """:func:`exp_convolve` of every column of ``u`` (n, m) with one rate, from rest; (n, m) out.
+
+    One ``lfilter`` call along axis 0 when the spacing is uniform (many
+    signals through one filter at once); column by column otherwise.
+    """
+    t = np.asarray(t_s, dtype=float)
+    u = np.asarray(u, dtype=float)
+    out = np.zeros_like(u)
+    if t.size < 2:
+        return out
+    h = np.diff(t)
+    if np.ptp(h) <= _UNIFORM_RTOL * max(h[0], 1e-300):
+        e, alpha, beta = step_weights(rate_per_s * h[0])
+        drive = h[0] * (alpha * u[:-1] + beta * u[1:])
+        out[1:] = signal.lfilter([1.0], [1.0, -e], drive, axis=0)
+        return out
+    for k in range(u.shape[1]):
+        out[:, k] = exp_convolve(t, u[:, k], [rate_per_s])[:, 0]
+    return out
+
+
 class ExpConvState:
     """Streaming form of :func:`exp_convolve`: O(m) work and memory per sample.
 

@@ -195,6 +195,7 @@ def _initial_guesses(model_type, t, f, v, segments):
     for tau in (hold_s / 20, hold_s / 6, hold_s / 2):
         retarded = max(j_end - j_inst - slope * hold_s, 0.05 * j_inst)
         by_kind = {
+            "elastic": (1 / j_end,),
             "maxwell": (1 / j_inst, 1 / max((j_end - j_inst) / hold_s, 1e-9)),
             "kelvin": (1 / j_end, tau / j_end),
             "zener": (1 / j_inst, 1 / max(j_end - j_inst, 0.05 * j_inst), tau / max(j_end - j_inst, 0.05 * j_inst)),

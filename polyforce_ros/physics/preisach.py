@@ -111,6 +111,31 @@ def relay_states(u, u_min, u_max, n_levels, chunk=20000):
     return out
 
 
+def ramp_states(u, u_min, u_max, n_levels):
+    """Relay values of the continuous operator (ramp hysterons) for every sample: (len(u), n(n+1)/2)."""
+    probe = ContinuousPreisachStream(PreisachModel(u_min, u_max, np.zeros((n_levels, n_levels)) + 1e-300, 0.0))
+    i, j = np.tril_indices(n_levels)
+    out = np.empty((np.size(u), i.size))
+    for k, x in enumerate(np.asarray(u, dtype=float)):
+        probe.forward(float(x))
+        out[k] = probe.r[i, j]
+    return out
+
+
+def identify_continuous(u, y, n_levels=16, u_min=None, u_max=None) -> PreisachModel:
+    """Density >= 0 and offset of the *continuous* operator by least squares (output is linear in them)."""
+    u, y = np.asarray(u, dtype=float), np.asarray(y, dtype=float)
+    lo = float(np.min(u)) if u_min is None else u_min
+    hi = float(np.max(u)) if u_max is None else u_max
+    a = np.column_stack([ramp_states(u, lo, hi, n_levels), np.ones(u.size)])
+    n_q = a.shape[1] - 1
+    sol = optimize.lsq_linear(a, y, bounds=(np.concatenate([np.zeros(n_q), [-np.inf]]), np.full(n_q + 1, np.inf)),
+                              method="bvls")
+    density = np.zeros((n_levels, n_levels))
+    density[np.tril_indices(n_levels)] = np.clip(sol.x[:-1], 0.0, None)
+    return PreisachModel(lo, hi, density, float(sol.x[-1]))
+
+
 def identify(u, y, n_levels=40, u_min=None, u_max=None) -> PreisachModel:
     """Density >= 0 and offset by least squares from an input/output record (seed 001).
 

@@ -29,7 +29,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from .expconv import ExpConvState, exp_convolve
+from .expconv import ExpConvState, exp_convolve, exp_convolve_columns
 
 
 @dataclass(frozen=True)
@@ -146,6 +146,20 @@ class ViscoelasticModel:
 
 
 @dataclass(frozen=True)
+class Elastic(ViscoelasticModel):
+    """A pure spring k: the static-gain sensor (no viscoelasticity)."""
+
+    kind: ClassVar[str] = "elastic"
+    k_n_per_v: float
+
+    def compliance(self):
+        return CreepCompliance(1.0 / self.k_n_per_v)
+
+    def relaxation(self):
+        return RelaxationModulus(self.k_n_per_v)
+
+
+@dataclass(frozen=True)
 class Maxwell(ViscoelasticModel):
     """Spring k in series with dashpot eta (fluid)."""
 
@@ -234,7 +248,7 @@ class Burgers(ViscoelasticModel):
 
 
 MODEL_TYPES: dict[str, type[ViscoelasticModel]] = {
-    cls.kind: cls for cls in (Maxwell, KelvinVoigt, Zener, Burgers)
+    cls.kind: cls for cls in (Elastic, Maxwell, KelvinVoigt, Zener, Burgers)
 }
 
 #: Seed 000, eq. 5: the Burgers parameters identified from the 5 N creep test.
@@ -276,6 +290,18 @@ def simulate_deformation(model: ViscoelasticModel, t_s, force_n, state=None):
     if t.size:
         st.y = y[-1].copy()
         st.t_prev_s, st.f_prev_n = float(t[-1]), float(f[-1])
+    return gamma
+
+
+def simulate_deformation_columns(model: ViscoelasticModel, t_s, forces_n):
+    """:func:`simulate_deformation` of every column of ``forces_n`` (n, m) from rest, at once."""
+    comp = model.compliance()
+    x = np.asarray(forces_n, dtype=float)
+    gamma = comp.j0_v_per_n * x
+    for c, tau in zip(comp.c_v_per_n, comp.tau_s):
+        gamma = gamma + (c / tau) * exp_convolve_columns(t_s, x, 1.0 / tau)
+    if comp.fluidity_v_per_n_s:
+        gamma = gamma + comp.fluidity_v_per_n_s * exp_convolve_columns(t_s, x, 0.0)
     return gamma
 
 

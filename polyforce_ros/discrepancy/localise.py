@@ -1,0 +1,115 @@
+"""Where does the residual (measured - simulated voltage) concentrate, and what does it follow?
+
+Segment kinds are labelled per sample from the reference force and the
+temperature; for each, the RMS residual inside is compared with the RMS over
+the whole record (a ratio above 1 means the residual concentrates there).
+Candidate signals are correlated with the residual; each hints at one effect.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy import ndimage
+
+#: What a concentration or a correlation suggests.
+HINTS = {
+    "hold_under_load": "creep during holds (viscous_flow / delayed_elasticity)",
+    "rest_after_unloading": "recovery after unloading (delayed_elasticity / viscous_flow)",
+    "load_reversal": "path dependence at reversals (hysteresis)",
+    "fast_transient": "dynamics faster than the model (sensor_lag)",
+    "high_load": "gain changing with load (nonlinear_gain)",
+    "temperature_change": "output following temperature (thermal_drift)",
+    "late_in_record": "a slow drift over time (offset_drift / viscous_flow)",
+    "force": "gain error",
+    "force_squared": "nonlinear_gain",
+    "force_rate": "sensor_lag",
+    "load_direction": "hysteresis",
+    "load_history": "viscous_flow (integral of force)",
+    "temperature": "thermal_drift",
+    "time": "offset_drift",
+}
+
+
+def segment_labels(t_s, force_n, temperature_c=None):
+    """Boolean masks of the segment kinds (dict name -> mask)."""
+    t, f = np.asarray(t_s), np.asarray(force_n)
+    dt = float(np.median(np.diff(t)))
+    smooth = ndimage.uniform_filter1d(f, max(1, int(0.1 / dt)))
+    rate = np.gradient(smooth, t)
+    fmax = max(float(np.percentile(f, 99)), 1e-9)
+    labels = {
+        "hold_under_load": (f > 0.2 * fmax) & (np.abs(rate) < 0.02 * fmax),
+        "high_load": f > 0.7 * fmax,
+        "fast_transient": np.abs(rate) > 0.5 * fmax,
+    }
+    loaded = ndimage.maximum_filter1d((f > 0.2 * fmax).astype(np.uint8), max(1, int(60.0 / dt)), origin=-0) > 0
+    labels["rest_after_unloading"] = (f < 0.05 * fmax) & loaded
+    moving = np.abs(rate) > 0.02 * fmax
+    direction = np.sign(rate) * moving
+    change = np.zeros(t.size, dtype=bool)
+    idx = np.flatnonzero(direction)
+    if idx.size > 1:
+        flips = idx[1:][np.diff(direction[idx]) != 0]
+        change[flips] = True
+    labels["load_reversal"] = ndimage.maximum_filter1d(change.astype(np.uint8), max(1, int(2.0 / dt))) > 0
+    if temperature_c is not None:
+        trate = np.abs(np.gradient(ndimage.uniform_filter1d(np.asarray(temperature_c), max(1, int(5.0 / dt))), t))
+        labels["temperature_change"] = trate > np.percentile(trate, 70)
+    labels["late_in_record"] = t > t[0] + 2.0 / 3.0 * (t[-1] - t[0])
+    return labels, rate
+
+
+def localise(rec, residual_v):
+    """Concentration of the residual per segment kind and its correlation with candidate signals."""
+    labels, rate = segment_labels(rec.t_s, rec.force_n, rec.temperature_c)
+    r = np.asarray(residual_v) - np.mean(residual_v)
+    overall = float(np.sqrt(np.mean(r * r)))
+    concentration = {}
+    for name, mask in labels.items():
+        if mask.sum() > 10:
+            concentration[name] = {"rms_ratio": float(np.sqrt(np.mean(r[mask] ** 2)) / max(overall, 1e-300)),
+                                   "fraction": float(mask.mean())}
+    f = rec.force_n
+    direction = np.sign(rate)
+    held = np.copy(direction)
+    for k in range(1, held.size):  # the direction of the last movement (memory of the loading path)
+        if held[k] == 0:
+            held[k] = held[k - 1]
+    signals = {
+        "force": f,
+        "force_squared": f * f,
+        "force_rate": rate,
+        "load_direction": held * (f > 0.05 * f.max()),
+        "load_history": np.cumsum(f) * float(np.median(np.diff(rec.t_s))),
+        "time": rec.t_s,
+    }
+    if rec.temperature_c is not None:
+        signals["temperature"] = rec.temperature_c
+    correlation = {}
+    for name, s in signals.items():
+        s = np.asarray(s, dtype=float) - np.mean(s)
+        denom = np.sqrt((s @ s) * (r @ r))
+        correlation[name] = float(s @ r / denom) if denom > 0 else 0.0
+    return {"rms_residual_v": overall, "concentration": concentration, "correlation": correlation, "masks": labels}
+
+
+def describe(loc, base_fit, chosen, candidates):
+    """Evidence as short sentences with numbers (the JSON ``evidence`` list)."""
+    out = [f"base model RMSE {base_fit.rmse_fit_v:.3e} V on the fitting part, {base_fit.rmse_val_v:.3e} V on validation"]
+    conc = sorted(loc["concentration"].items(), key=lambda kv: -kv[1]["rms_ratio"])
+    for name, c in conc[:3]:
+        if c["rms_ratio"] > 1.1:
+            out.append(f"residual concentrates in {name.replace('_', ' ')}: RMS x{c['rms_ratio']:.2f} of overall "
+                       f"({100 * c['fraction']:.0f} % of samples) -> {HINTS[name]}")
+    corr = sorted(loc["correlation"].items(), key=lambda kv: -abs(kv[1]))
+    for name, c in corr[:3]:
+        if abs(c) > 0.2:
+            out.append(f"residual correlates with {name.replace('_', ' ')}: r = {c:+.2f} -> {HINTS[name]}")
+    base_bic = next(c.bic for c in candidates if c.effect == "none")
+    for c in candidates[:3]:
+        if c.effect != "none":
+            out.append(f"candidate {c.effect}: validation RMSE {c.rmse_val_v:.3e} V, BIC {c.bic - base_bic:+.1f} vs base")
+    if chosen.effect == "none":
+        out.append("no augmentation is justified: none lowers BIC clearly and shrinks the validation error")
+    else:
+        out.append(f"named {chosen.effect}: validation RMSE {base_fit.rmse_val_v:.3e} -> {chosen.rmse_val_v:.3e} V")
+    return out

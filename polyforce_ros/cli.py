@@ -6,6 +6,7 @@
     polyforce compensate IN.mcap OUT.mcap [--model M.yaml]
     polyforce replay BAG.mcap [--rate 2.0]
     polyforce evaluate [--out DIR] [--bag BAG.mcap ...]
+    polyforce diagnose BAG.mcap --base {elastic,maxwell,kelvin,zener,burgers} [--json OUT] [--report DIR] [--save-model M.yaml]
     polyforce make-bags [--out bags/]
 """
 from __future__ import annotations
@@ -152,6 +153,28 @@ def cmd_evaluate(args) -> int:
     return 0 if data["seed000_all_met"] else 4
 
 
+def cmd_diagnose(args) -> int:
+    from tqdm import tqdm
+
+    from .discrepancy.report import run
+
+    bar = tqdm(total=9, desc="diagnose", unit="step")
+
+    def progress(step):
+        bar.set_postfix_str(step)
+        bar.update(1)
+
+    diag, data = run(args.bag, args.base, args.json, args.report, args.save_model, args.fit_fraction, progress)
+    bar.close()
+    print(f"missing effect: {diag.missing_effect}  (base {diag.base})")
+    print(f"validation RMSE: {diag.rmse_before:.3e} V -> {diag.rmse_after:.3e} V")
+    for line in diag.evidence:
+        print(f"  - {line}")
+    if args.save_model:
+        print(f"augmented model written to {args.save_model}")
+    return 0
+
+
 def cmd_make_bags(args) -> int:
     from .sim.recording import make_sample_bags
 
@@ -209,6 +232,15 @@ def build_parser():
     ev.add_argument("--noise-v", type=float, default=1e-3, help="simulated bridge noise, V (1 sigma)")
     ev.add_argument("--quick", action="store_true", help="shorter records (for tests)")
     ev.set_defaults(func=cmd_evaluate)
+
+    dg = sub.add_parser("diagnose", help="find where simulation and measurement disagree and name the missing effect")
+    dg.add_argument("bag", help="bench bag: bridge_voltage, reference_force, optional temperature")
+    dg.add_argument("--base", required=True, choices=["elastic", "maxwell", "kelvin", "zener", "burgers"])
+    dg.add_argument("--json", help="write the diagnosis as JSON")
+    dg.add_argument("--report", help="write report.md and figures into this folder")
+    dg.add_argument("--save-model", help="write the augmented model YAML (loads in compensation_node)")
+    dg.add_argument("--fit-fraction", type=float, default=0.6, help="share of the record (from its start) that is fitted")
+    dg.set_defaults(func=cmd_diagnose)
 
     mk = sub.add_parser("make-bags", help="regenerate the sample bags with the simulator")
     mk.add_argument("--out", default="bags")

@@ -283,7 +283,7 @@ class Diagnosis:
             "candidates": [c.summary() for c in self.candidates],
             "model": model_to_mapping(SensorModel(self.chosen.chain)),
             "validation_starts_s": self.split_s,
-            "localisation": self.localisation,
+            "localisation": {k: v for k, v in self.localisation.items() if k != "masks"},
         }
 
 

@@ -11,6 +11,7 @@ CONSOLE_SCRIPTS = [
     "compensation_node = polyforce_ros.nodes.compensation_node:main",
     "calibration_node = polyforce_ros.nodes.calibration_node:main",
     "replay_node = polyforce_ros.nodes.replay_node:main",
+    "recorder_node = polyforce_ros.nodes.recorder_node:main",
 ]
 
 setup(

@@ -14,7 +14,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Every console entry point of setup.py; nodes are added here as they land.
-EXECUTABLES = ["polyforce", "driver_node", "compensation_node", "calibration_node", "replay_node"]
+EXECUTABLES = ["polyforce", "driver_node", "compensation_node", "calibration_node", "replay_node", "recorder_node"]
 
 
 def test_every_entry_point_is_installed_where_ros2_run_looks(colcon_install):

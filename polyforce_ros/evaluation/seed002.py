@@ -5,9 +5,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..physics.metrics import bandwidth_3db, sine_component
+from ..physics.metrics import bandwidth_3db
 from ..physics.thinfilm import (
-    PAPER_FIT, PAPER_LINEAR_SUMMARY, PatchSensor, PneumaticMuscle, identify_patch_sensor, linear_summary,
+    PAPER_FIT, PAPER_LINEAR_SUMMARY, PatchSensor, PneumaticMuscle, identify_patch_sensor, inversion_bode, linear_summary,
 )
 from .common import Row, Section, figure
 
@@ -54,14 +54,7 @@ def run(settings) -> Section:
     ]
     # Inverse of the first-order sensor: bandwidth before and after.
     freqs = np.array([0.5, 1, 2, 4, 8, 16, 32])
-    raw_db, inv_db = [], []
-    for f in freqs:
-        tt = np.arange(0, 12 / f + 1.0, 1e-4)
-        force = 200 + 100 * np.sin(2 * np.pi * f * tt)
-        vv = fit.voltage(tt, force)
-        steady = tt > tt[-1] / 2
-        raw_db.append(20 * np.log10(sine_component(tt[steady], (vv[steady] - fit.b_v) / fit.kappa_v_per_n, f)[0] / 100))
-        inv_db.append(20 * np.log10(sine_component(tt[steady], fit.force_from_voltage(tt, vv, cutoff_hz=50.0)[steady], f)[0] / 100))
+    raw_db, inv_db = inversion_bode(fit, freqs, cutoff_hz=50.0)
     bw_raw, bw_inv = bandwidth_3db(freqs, raw_db, 0.0), bandwidth_3db(freqs, inv_db, 0.0)
     section.rows.append(Row("Sensor inversion (Sect. 3.2)", "-3 dB bandwidth of the force reading", "Hz", None, "(future work)",
                             bw_raw, bw_inv, "", passed=bw_inv > 5 * bw_raw,

@@ -88,6 +88,27 @@ class PatchSensor:
         return 1.0 / (2 * np.pi * self.tau_s)
 
 
+def inversion_bode(sensor: PatchSensor, freqs_hz, cutoff_hz=50.0, mean_n=200.0, amplitude_n=100.0, rate_hz=1e4):
+    """Magnitudes (dB re. the applied force) of the raw reading (V - b) / kappa and of the inverse.
+
+    A sine of ``amplitude_n`` around ``mean_n`` per frequency, judged on the
+    second half of 12 periods (+1 s); the inverse uses a ``cutoff_hz`` filter.
+    """
+    from .metrics import sine_component
+
+    raw_db, inv_db = [], []
+    for f in freqs_hz:
+        t = np.arange(0, 12 / f + 1.0, 1.0 / rate_hz)
+        force = mean_n + amplitude_n * np.sin(2 * np.pi * f * t)
+        v = sensor.voltage(t, force)
+        steady = t > t[-1] / 2
+        raw = (v[steady] - sensor.b_v) / sensor.kappa_v_per_n
+        raw_db.append(20 * np.log10(sine_component(t[steady], raw, f)[0] / amplitude_n))
+        est = sensor.force_from_voltage(t, v, cutoff_hz=cutoff_hz)[steady]
+        inv_db.append(20 * np.log10(sine_component(t[steady], est, f)[0] / amplitude_n))
+    return np.array(raw_db), np.array(inv_db)
+
+
 _FITTED = ("c2_per_pa", "c3_s", "k0", "k1", "tau_s", "b_v")
 
 

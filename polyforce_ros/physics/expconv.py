@@ -40,9 +40,25 @@ _SERIES_BELOW = 1e-2
 # rounding of the running sum.
 _MAX_CHUNK_DECAY = 300.0
 _MAX_CHUNK_LEN = 1 << 16
-# Stamps whose spacings agree to this relative tolerance are treated as uniform
-# (the weights then differ by far less than float64 rounding of the result).
+# Stamps whose spacings agree to this relative tolerance, or to the float64
+# rounding of the times themselves, are uniform; their mean spacing is then
+# the best estimate of the step (per-sample differences carry the rounding).
 _UNIFORM_RTOL = 1e-12
+
+
+def uniform_step(t):
+    """The common step (s) of sample times ``t`` if they are uniform up to rounding, else None."""
+    t = np.asarray(t, dtype=float)
+    if t.size < 2:
+        return None
+    h = np.diff(t)
+    span = float(t[-1] - t[0])
+    if span <= 0:
+        return None
+    rounding = 8 * np.finfo(float).eps * max(abs(float(t[0])), abs(float(t[-1])))
+    if np.ptp(h) <= _UNIFORM_RTOL * h[0] + rounding:
+        return span / (t.size - 1)
+    return None
 
 
 def step_weights(z):
@@ -131,10 +147,10 @@ def exp_convolve(t_s, u, rates_per_s, y0=None, u_prev=None, t_prev_s=None):
         rows = slice(0, None)
     if h.size == 0:
         return out
-    uniform = np.ptp(h) <= _UNIFORM_RTOL * max(h[0], 1e-300)
+    step = uniform_step(t_all)
     for k, r in enumerate(rates):
-        if uniform:
-            out[rows, k] = _convolve_uniform(h[0], u_all, r, y_start[k])
+        if step is not None:
+            out[rows, k] = _convolve_uniform(step, u_all, r, y_start[k])
         else:
             out[rows, k] = _convolve_irregular(h, u_all, r, y_start[k])
     return out
@@ -187,10 +203,10 @@ def exp_convolve_columns(t_s, u, rate_per_s):
     out = np.zeros_like(u)
     if t.size < 2:
         return out
-    h = np.diff(t)
-    if np.ptp(h) <= _UNIFORM_RTOL * max(h[0], 1e-300):
-        e, alpha, beta = step_weights(rate_per_s * h[0])
-        drive = h[0] * (alpha * u[:-1] + beta * u[1:])
+    step = uniform_step(t)
+    if step is not None:
+        e, alpha, beta = step_weights(rate_per_s * step)
+        drive = step * (alpha * u[:-1] + beta * u[1:])
         out[1:] = signal.lfilter([1.0], [1.0, -e], drive, axis=0)
         return out
     for k in range(u.shape[1]):

@@ -29,7 +29,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from .expconv import ExpConvState, exp_convolve, exp_convolve_columns
+from scipy import signal
+
+from .expconv import ExpConvState, exp_convolve, exp_convolve_columns, step_weights, uniform_step
 
 
 @dataclass(frozen=True)
@@ -341,13 +343,28 @@ def compensate(model: ViscoelasticModel, t_s, deformation_v, state=None):
     if t.size == 0:
         return force
     if rel.r_per_s:
-        if st.t_prev_s is None:
-            y = exp_convolve(t, g, rel.r_per_s, y0=st.y)
+        fresh = st.t_prev_s is None  # the first sample is then the step from rest: no history yet
+        t_all = t if fresh else np.concatenate(([st.t_prev_s], t))
+        g_all = g if fresh else np.concatenate(([st.g_prev_v], g))
+        step = uniform_step(t_all) if t_all.size > 1 else None
+        if step is not None:
+            # Uniform stamps: each history integral is one first-order section with the input
+            # weights folded into its numerator; no drive arrays, subtracted in place.
+            for k, (a, r) in enumerate(zip(rel.a_n_per_v, rel.r_per_s)):
+                e, alpha, beta = step_weights(r * step)
+                b = [a * r * step * beta, a * r * step * alpha]
+                zi = [a * r * st.y[k] - b[0] * g_all[0]]  # makes the first output the carried state
+                contribution = signal.lfilter(b, [1.0, -e], g_all, zi=zi)[0]
+                force -= contribution if fresh else contribution[1:]
+                st.y[k] = contribution[-1] / (a * r)
         else:
-            y = exp_convolve(t, g, rel.r_per_s, y0=st.y, u_prev=st.g_prev_v, t_prev_s=st.t_prev_s)
-        for k, (a, r) in enumerate(zip(rel.a_n_per_v, rel.r_per_s)):
-            force = force - (a * r) * y[:, k]
-        st.y = y[-1].copy()
+            if st.t_prev_s is None:
+                y = exp_convolve(t, g, rel.r_per_s, y0=st.y)
+            else:
+                y = exp_convolve(t, g, rel.r_per_s, y0=st.y, u_prev=st.g_prev_v, t_prev_s=st.t_prev_s)
+            for k, (a, r) in enumerate(zip(rel.a_n_per_v, rel.r_per_s)):
+                force = force - (a * r) * y[:, k]
+            st.y = y[-1].copy()
     if rel.eta_impulse_n_s_per_v:
         t_all = t if st.t_prev_s is None else np.concatenate(([st.t_prev_s], t))
         g_all = g if st.t_prev_s is None else np.concatenate(([st.g_prev_v], g))

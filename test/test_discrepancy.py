@@ -90,7 +90,11 @@ def test_bad_bags_are_clear_errors(tmp_path):
 
 
 def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_path):
-    """driver_node (sim, a nonlinear gain hidden in its truth) -> recorder_node -> diagnose -> compensation_node."""
+    """driver_node (sim, a nonlinear gain hidden in its truth) -> recorder_node -> diagnose -> compensation_node.
+
+    A Zener sensor and base: 40 s of recording cannot pin a Burgers dashpot of
+    ~4600 N s/V (24 s are fitted), which would blur what this test is about.
+    """
     from rclpy.parameter import Parameter
 
     from polyforce_ros.model_file import SensorModel, save_model
@@ -98,11 +102,11 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
     from polyforce_ros.nodes.driver_node import DriverNode
     from polyforce_ros.nodes.recorder_node import RecorderNode
     from polyforce_ros.physics.chain import NonlinearGainElement, OffsetElement, SensorChain, ViscoelasticElement
-    from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+    from polyforce_ros.physics.viscoelastic import Zener
     from ros_harness import ros
 
     truth = tmp_path / "truth.yaml"
-    save_model(truth, SensorModel(SensorChain([ViscoelasticElement(PAPER_BURGERS), NonlinearGainElement(quadratic_per_v=0.06),
+    save_model(truth, SensorModel(SensorChain([ViscoelasticElement(Zener(4.8, 10.0, 85.12)), NonlinearGainElement(quadratic_per_v=0.06),
                                                OffsetElement(0.0)])))
     bag = tmp_path / "driver.mcap"
     with ros() as h:
@@ -116,7 +120,7 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
         h.nodes.remove(recorder)
         recorder.destroy_node()
     assert recorder.counts["bridge_voltage"] > 7000
-    proc = subprocess.run([sys.executable, "-m", "polyforce_ros.cli", "diagnose", str(bag), "--base", "burgers",
+    proc = subprocess.run([sys.executable, "-m", "polyforce_ros.cli", "diagnose", str(bag), "--base", "zener",
                            "--json", str(tmp_path / "d.json"), "--save-model", str(tmp_path / "aug.yaml")],
                           cwd=REPO, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
@@ -131,7 +135,7 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
     with ros() as h:
         comp = h.add(CompensationNode(context=h.context, parameter_overrides=[
             Parameter("model_file", value=str(tmp_path / "aug.yaml")), Parameter("stale_timeout_s", value=30.0)]))
-        assert [e.kind for e in comp.model.chain.elements] == ["burgers", "nonlinear_gain", "offset"]
+        assert [e.kind for e in comp.model.chain.elements] == ["zener", "nonlinear_gain", "offset"]
         forces = [comp._stream.step(ti, vi, comp._aux) for ti, vi in zip(t[:400], volts[:400])]
     np.testing.assert_allclose(forces, expected, rtol=1e-9, atol=1e-9)
     assert np.sqrt(np.mean((np.array(forces) - force[:400]) ** 2)) < 0.05

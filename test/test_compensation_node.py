@@ -236,3 +236,22 @@ def test_hysteresis_model_by_configuration(tmp_path):
         send_all(h, probe, T0_NS + np.arange(force.size) * 1_000_000, volts, expect=force.size)
         got = np.array([w.wrench.force.z for w in probe.sample_wrenches()])
     np.testing.assert_allclose(got[1:], force[1:], atol=1e-6)
+
+
+@pytest.mark.parametrize("tracking", [False, True])
+def test_drift_tracking_rezeroes_a_drifting_baseline_at_rest(tracking):
+    """An unloaded sensor whose bridge drifts by 2 mV/s: without tracking the force creeps away; with it
+    the offset follows and the resting force stays inside the band."""
+    n = 3000
+    stamps = T0_NS + np.arange(n) * 5_000_000  # 200 Hz, 15 s
+    volts = 2e-3 * np.arange(n) * 0.005
+    with ros() as h:
+        node, probe = start(h, stale_timeout_s=30.0, drift_tracking=tracking, drift_band_n=0.05, drift_window_s=1.0)
+        send_all(h, probe, stamps, volts, expect=n)
+        forces = np.array([w.wrench.force.z for w in probe.sample_wrenches()])
+    if tracking:
+        assert node.counts["drift_corrections"] >= 10
+        assert np.abs(forces).max() < 0.05 + 1e-9
+    else:
+        assert node.counts["drift_corrections"] == 0
+        assert forces[-1] > 0.1  # 30 mV of drift reads as force

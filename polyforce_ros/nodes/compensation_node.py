@@ -47,6 +47,11 @@ class CompensationNode(Node):
         declare(self, "stale_timeout_s", 0.1, "No valid input for this long -> zero wrench and ERROR (s)", 0.002, 60.0)
         declare(self, "gap_warn_s", 0.05, "Stamp gaps longer than this are counted as gaps (s)", 0.0001, 3600.0)
         declare(self, "tare_window", 200, "Samples averaged by ~/tare", 1, 100000)
+        declare(self, "drift_tracking", False,
+                "Re-zero the bridge offset whenever the force rests inside +-drift_band_n for drift_window_s "
+                "(tracks slow baseline drift; off by default: it would also zero a real steady load that small)")
+        declare(self, "drift_band_n", 0.05, "Force band counted as 'at rest' for drift tracking (N)", 0.001, 5.0)
+        declare(self, "drift_window_s", 5.0, "Rest time before a drift correction (s)", 0.1, 3600.0)
         declare(self, "joint_name", "", "Joint to read from JointState; empty = position[0]")
         declare(self, "frame_id", "", "Frame of the wrench; empty = the frame of the input")
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
@@ -54,7 +59,7 @@ class CompensationNode(Node):
         declare_qos(self)
         self.diag = Diagnostics(self, "polyforce_ros: compensation")
         self.counts = dict(samples=0, published=0, nonfinite=0, out_of_range=0, backwards=0, duplicate=0, gaps=0,
-                           clamped=0, stale_events=0, bad_joint=0, model_reloads=0)
+                           clamped=0, stale_events=0, bad_joint=0, model_reloads=0, drift_corrections=0)
         self._recent_v = deque(maxlen=int(self.get_parameter("tare_window").value))
         self._tare_offset_v = None
         self._epoch_ns = None
@@ -64,6 +69,7 @@ class CompensationNode(Node):
         self._model_error = ""
         self._model_path, self._model_mtime = None, None
         self._aux = {"temperature_c": None}  # latest auxiliary signals for the chain (thermal elements)
+        self._rest_since_ns, self._rest_force_sum, self._rest_count = None, 0.0, 0
         self._load_model(self.get_parameter("model_file").value)  # raises on a bad file at start-up
         qos = data_qos(self)
         self.pub = self.create_publisher(WrenchStamped, "wrench", qos)
@@ -169,6 +175,8 @@ class CompensationNode(Node):
         self._last_rx = time.monotonic()
         self._stale = False
         force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v, self._aux)
+        if force is not None and math.isfinite(force) and self.get_parameter("drift_tracking").value:
+            force = self._track_drift(stamp_ns, force)
         if force is None or not math.isfinite(force):
             # Cannot happen for finite input; if it did, the state is unusable.
             self._stream.reset()
@@ -179,6 +187,25 @@ class CompensationNode(Node):
             self.counts["clamped"] += 1
             force = math.copysign(limit, force)
         self._publish(stamp_ns, force, frame_id)
+
+    def _track_drift(self, stamp_ns, force):
+        """Fold a resting force into the bridge offset (see the drift_tracking parameter)."""
+        if abs(force) > self.get_parameter("drift_band_n").value:
+            self._rest_since_ns, self._rest_force_sum, self._rest_count = None, 0.0, 0
+            return force
+        if self._rest_since_ns is None:
+            self._rest_since_ns = stamp_ns
+        self._rest_force_sum += force
+        self._rest_count += 1
+        if (stamp_ns - self._rest_since_ns) * 1e-9 >= self.get_parameter("drift_window_s").value:
+            mean_force = self._rest_force_sum / self._rest_count
+            # F = G(0) (V - offset) - history: a resting force of F reads as an offset error of F / G(0).
+            g0 = self.model.chain.viscoelastic.relaxation().g0_n_per_v if self.model.chain.viscoelastic else 1.0
+            self.model.chain.offset.voltage_v += mean_force / g0
+            self.counts["drift_corrections"] += 1
+            self._rest_since_ns, self._rest_force_sum, self._rest_count = stamp_ns, 0.0, 0
+            force -= mean_force
+        return force
 
     def _publish(self, stamp_ns, force_n, frame_id=""):
         msg = WrenchStamped()

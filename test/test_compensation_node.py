@@ -122,9 +122,11 @@ def test_force_is_clamped_to_the_limit():
     with ros() as h:
         node, probe = start(h, stale_timeout_s=30.0, force_limit_n=2.0)
         send_all(h, probe, [T0_NS, T0_NS + 1_000_000], [5.0, -5.0], expect=2)
+        assert node.set_parameters([Parameter("force_limit_n", value=1.5)])[0].successful  # takes effect at once
+        send_all(h, probe, [T0_NS + 2_000_000], [5.0], expect=3)
         got = probe.sample_wrenches()
-    assert [w.wrench.force.z for w in got] == [2.0, -2.0]
-    assert node.counts["clamped"] == 2
+    assert [w.wrench.force.z for w in got] == [2.0, -2.0, 1.5]
+    assert node.counts["clamped"] == 3
 
 
 def test_tare_and_reset_services():

@@ -57,6 +57,9 @@ class CompensationNode(Node):
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
         declare(self, "model_check_period_s", 1.0, "How often the model file is checked for changes (s)", 0.1, 60.0, read_only=True)
         declare_qos(self)
+        # Parameter values read on every sample, kept in a dict refreshed by the set-parameters
+        # callback (a get_parameter call per value and sample costs latency at 1 kHz).
+        self.p = {name: param.value for name, param in self._parameters.items()}
         self.diag = Diagnostics(self, "polyforce_ros: compensation")
         self.counts = dict(samples=0, published=0, nonfinite=0, out_of_range=0, backwards=0, duplicate=0, gaps=0,
                            clamped=0, stale_events=0, bad_joint=0, model_reloads=0, drift_corrections=0)
@@ -79,7 +82,7 @@ class CompensationNode(Node):
         self.create_service(Trigger, "~/tare", self._on_tare)
         self.create_service(Trigger, "~/reset", self._on_reset)
         self.add_on_set_parameters_callback(self._on_set_parameters)
-        timeout = self.get_parameter("stale_timeout_s").value
+        timeout = self.p["stale_timeout_s"]
         self._watchdog = self.create_timer(min(0.02, timeout / 4), self._check_stale)
         self.create_timer(self.get_parameter("diagnostics_period_s").value, self._publish_diagnostics)
         self.create_timer(self.get_parameter("model_check_period_s").value, self._check_model_file)
@@ -123,11 +126,13 @@ class CompensationNode(Node):
                 self.get_logger().info(f"model set to {self._model_path}")
             elif p.name == "tare_window":
                 self._recent_v = deque(self._recent_v, maxlen=int(p.value))
+        for p in params:
+            self.p[p.name] = p.value
         return SetParametersResult(successful=True)
 
     # ------------------------------------------------------------------ input
     def _on_joint_state(self, msg: JointState):
-        joint = self.get_parameter("joint_name").value
+        joint = self.p["joint_name"]
         if joint:
             try:
                 index = list(msg.name).index(joint)
@@ -153,7 +158,7 @@ class CompensationNode(Node):
         if not math.isfinite(voltage_v):
             self.counts["nonfinite"] += 1
             return
-        if abs(voltage_v) > self.get_parameter("input_limit_v").value:
+        if abs(voltage_v) > self.p["input_limit_v"]:
             self.counts["out_of_range"] += 1
             return
         last = self._last_stamp_ns
@@ -164,7 +169,7 @@ class CompensationNode(Node):
             if stamp_ns == last:
                 self.counts["duplicate"] += 1
                 return
-            if (stamp_ns - last) * 1e-9 > self.get_parameter("gap_warn_s").value:
+            if (stamp_ns - last) * 1e-9 > self.p["gap_warn_s"]:
                 self.counts["gaps"] += 1
         else:
             self._stream.reset()
@@ -175,14 +180,14 @@ class CompensationNode(Node):
         self._last_rx = time.monotonic()
         self._stale = False
         force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v, self._aux)
-        if force is not None and math.isfinite(force) and self.get_parameter("drift_tracking").value:
+        if force is not None and math.isfinite(force) and self.p["drift_tracking"]:
             force = self._track_drift(stamp_ns, force)
         if force is None or not math.isfinite(force):
             # Cannot happen for finite input; if it did, the state is unusable.
             self._stream.reset()
             self._last_stamp_ns = None
             force = 0.0
-        limit = self.get_parameter("force_limit_n").value
+        limit = self.p["force_limit_n"]
         if abs(force) > limit:
             self.counts["clamped"] += 1
             force = math.copysign(limit, force)
@@ -190,14 +195,14 @@ class CompensationNode(Node):
 
     def _track_drift(self, stamp_ns, force):
         """Fold a resting force into the bridge offset (see the drift_tracking parameter)."""
-        if abs(force) > self.get_parameter("drift_band_n").value:
+        if abs(force) > self.p["drift_band_n"]:
             self._rest_since_ns, self._rest_force_sum, self._rest_count = None, 0.0, 0
             return force
         if self._rest_since_ns is None:
             self._rest_since_ns = stamp_ns
         self._rest_force_sum += force
         self._rest_count += 1
-        if (stamp_ns - self._rest_since_ns) * 1e-9 >= self.get_parameter("drift_window_s").value:
+        if (stamp_ns - self._rest_since_ns) * 1e-9 >= self.p["drift_window_s"]:
             mean_force = self._rest_force_sum / self._rest_count
             # F = G(0) (V - offset) - history: a resting force of F reads as an offset error of F / G(0).
             g0 = self.model.chain.viscoelastic.relaxation().g0_n_per_v if self.model.chain.viscoelastic else 1.0
@@ -210,14 +215,14 @@ class CompensationNode(Node):
     def _publish(self, stamp_ns, force_n, frame_id=""):
         msg = WrenchStamped()
         ns_to_stamp(stamp_ns, msg.header.stamp)
-        msg.header.frame_id = self.get_parameter("frame_id").value or frame_id
+        msg.header.frame_id = self.p["frame_id"] or frame_id
         msg.wrench.force.z = float(force_n)
         self.pub.publish(msg)
         self.counts["published"] += 1
 
     # ------------------------------------------------------------------ safety
     def _check_stale(self):
-        timeout = self.get_parameter("stale_timeout_s").value
+        timeout = self.p["stale_timeout_s"]
         if self._last_rx is not None and time.monotonic() - self._last_rx <= timeout:
             return
         if not self._stale:

@@ -247,14 +247,7 @@ def _string(buf, pos):
     return bytes(buf[pos + 4 : pos + 4 + n]).decode(), pos + 4 + n
 
 
-def read_bag(path, topics=None, expected_types=None) -> BagData:
-    """Read topics of an MCAP bag into arrays.
-
-    topics: iterable of topic names to decode (default: every topic of a known
-    type). A requested topic that is absent raises :class:`BagError` listing
-    what the bag holds. expected_types: ``{topic: type}`` to enforce (default:
-    the bag contract for contract topics).
-    """
+def _read_file(path):
     path = Path(path)
     try:
         raw = path.read_bytes()
@@ -262,11 +255,23 @@ def read_bag(path, topics=None, expected_types=None) -> BagData:
         raise BagError(f"cannot read bag {path}: {exc.strerror}") from exc
     if not raw.startswith(_MAGIC):
         raise BagError(f"{path} is not an MCAP file (bad magic bytes)")
-    expected = dict(CONTRACT)
-    expected.update(expected_types or {})
-    schemas, channels, warnings = {}, {}, []
-    # Per channel: list of (buffer, record starts array, data offsets, lengths).
-    pieces = {}
+    return raw
+
+
+def _scan(raw, on_messages, schemas=None, channels=None):
+    """Walk the records of an MCAP file; returns ``(schemas, channels, warnings)``.
+
+    schemas: id -> (name, data); channels: id -> (topic, schema id), filled
+    into the given dicts as the walk meets them (schemas and channels precede
+    their messages, so ``on_messages`` can look them up). For every
+    buffer (the file, then each chunk) ``on_messages(buf, starts, lengths)``
+    gets the message records it holds, in bulk. A truncated file stops the
+    walk (what came before is kept); a corrupt chunk is skipped. Both are
+    reported in ``warnings``.
+    """
+    schemas = {} if schemas is None else schemas
+    channels = {} if channels is None else channels
+    warnings = []
 
     def scan(buf, base, in_chunk):
         pos, n = 0, len(buf)
@@ -283,36 +288,22 @@ def read_bag(path, topics=None, expected_types=None) -> BagData:
             if op == 5:  # Message
                 msg_pos.append(body)
                 msg_len.append(length)
-            elif op == 3:  # Schema
-                sid = struct.unpack_from("<H", buf, body)[0]
-                name, p = _string(buf, body + 2)
-                schemas[sid] = name
-            elif op == 4:  # Channel
-                cid, sid = struct.unpack_from("<HH", buf, body)
-                topic, p = _string(buf, body + 4)
-                channels[cid] = (topic, sid)
+            elif op in (3, 4):  # Schema, Channel
+                _table_record(op, buf, body, schemas, channels)
             elif op == 6 and not in_chunk:  # Chunk
-                _read_chunk(buf, body, length, base + pos)
+                read_chunk(buf, body, base + pos)
             elif op == 2:  # Footer
                 break
             pos = body + length
         if msg_pos:
-            starts = np.asarray(msg_pos, dtype=np.int64)
-            lens = np.asarray(msg_len, dtype=np.int64)
-            arr = np.frombuffer(buf, dtype=np.uint8) if not isinstance(buf, np.ndarray) else buf
-            cids = arr[starts[:, None] + np.arange(2)].view("<u2").ravel()
-            for cid in np.unique(cids):
-                sel = cids == cid
-                pieces.setdefault(int(cid), []).append((buf, starts[sel], lens[sel]))
-        return pos
+            on_messages(buf, np.asarray(msg_pos, dtype=np.int64), np.asarray(msg_len, dtype=np.int64))
 
-    def _read_chunk(buf, body, length, at):
+    def read_chunk(buf, body, at):
         try:
             _start, _end, size, crc = struct.unpack_from("<QQQI", buf, body)
             compression, p = _string(buf, body + 28)
             rec_len = struct.unpack_from("<Q", buf, p)[0]
-            data = bytes(buf[p + 8 : p + 8 + rec_len])
-            inner = _decompress(compression, data, size)
+            inner = _decompress(compression, bytes(buf[p + 8 : p + 8 + rec_len]), size)
             if len(inner) != size or (crc and zlib.crc32(inner) != crc):
                 raise ValueError("size or CRC mismatch")
         except BagError:
@@ -323,7 +314,31 @@ def read_bag(path, topics=None, expected_types=None) -> BagData:
         scan(inner, at, in_chunk=True)
 
     scan(memoryview(raw)[8:], 8, in_chunk=False)
-    types = {topic: schemas.get(sid, "") for topic, sid in channels.values()}
+    return schemas, channels, warnings
+
+
+def read_bag(path, topics=None, expected_types=None) -> BagData:
+    """Read topics of an MCAP bag into arrays.
+
+    topics: iterable of topic names to decode (default: every topic of a known
+    type). A requested topic that is absent raises :class:`BagError` listing
+    what the bag holds. expected_types: ``{topic: type}`` to enforce (default:
+    the bag contract for contract topics).
+    """
+    raw = _read_file(path)
+    expected = dict(CONTRACT)
+    expected.update(expected_types or {})
+    pieces = {}  # channel id -> [(buffer, record starts, record lengths)]
+
+    def collect(buf, starts, lens):
+        arr = np.frombuffer(buf, dtype=np.uint8)
+        cids = arr[starts[:, None] + np.arange(2)].view("<u2").ravel()
+        for cid in np.unique(cids):
+            sel = cids == cid
+            pieces.setdefault(int(cid), []).append((buf, starts[sel], lens[sel]))
+
+    schemas, channels, warnings = _scan(raw, collect)
+    types = {topic: schemas.get(sid, ("", b""))[0] for topic, sid in channels.values()}
     result = BagData(types=types, warnings=warnings)
     wanted = list(types) if topics is None else list(topics)
     for topic in wanted:
@@ -334,7 +349,7 @@ def read_bag(path, topics=None, expected_types=None) -> BagData:
     for cid, (topic, sid) in channels.items():
         if topic not in wanted:
             continue
-        type_name = schemas.get(sid, "")
+        type_name = schemas.get(sid, ("", b""))[0]
         try:
             result.topics[topic] = _decode_topic(topic, type_name, pieces.get(cid, []))
         except BagError:
@@ -342,6 +357,82 @@ def read_bag(path, topics=None, expected_types=None) -> BagData:
                 continue  # a type we cannot decode, not asked for by name
             raise
     return result
+
+
+def _summary_tables(raw, schemas, channels):
+    """Fill schemas and channels from the summary section, when the file is complete.
+
+    A writer repeats every schema and channel there, so messages whose
+    definitions sat in a corrupt chunk can still be attributed. Silent when
+    there is no readable summary (e.g. a truncated file).
+    """
+    try:
+        if len(raw) < 8 + 29 + 8 or raw[-8:] != _MAGIC:
+            return
+        op, length = _REC.unpack_from(raw, len(raw) - 8 - 29)
+        if op != 2:
+            return
+        summary_start = struct.unpack_from("<Q", raw, len(raw) - 8 - 20)[0]
+        if not summary_start:
+            return
+        end = len(raw) - 8 - 29
+        _scan_records(memoryview(raw)[summary_start:end], schemas, channels)
+    except (struct.error, UnicodeDecodeError, ValueError):
+        return
+
+
+def _scan_records(buf, schemas, channels):
+    """Schema and channel records of a run of top-level records (no messages, no chunks)."""
+    pos, n = 0, len(buf)
+    while pos + 9 <= n:
+        op, length = _REC.unpack_from(buf, pos)
+        body = pos + 9
+        if body + length > n:
+            return
+        if op in (3, 4):
+            _table_record(op, buf, body, schemas, channels)
+        pos = body + length
+
+
+def _table_record(op, buf, body, schemas, channels):
+    """Register a Schema (op 3: id -> (name, data)) or Channel (op 4: id -> (topic, schema id)) record."""
+    if op == 3:
+        sid = struct.unpack_from("<H", buf, body)[0]
+        name, p = _string(buf, body + 2)
+        _encoding, p = _string(buf, p)
+        data_len = struct.unpack_from("<I", buf, p)[0]
+        schemas[sid] = (name, bytes(buf[p + 4 : p + 4 + data_len]))
+    else:
+        cid, sid = struct.unpack_from("<HH", buf, body)
+        channels[cid] = (_string(buf, body + 4)[0], sid)
+
+
+def copy_messages(path, writer) -> list:
+    """Copy every readable message of ``path`` into ``writer`` (a :class:`BagWriter`), in file order.
+
+    Tolerates truncation and corrupt chunks like :func:`read_bag`; returns its warnings.
+    """
+    raw = _read_file(path)
+    schemas, channels = {}, {}
+    _summary_tables(raw, schemas, channels)
+    orphans = [0]
+
+    def copy(buf, starts, lens):
+        mv = memoryview(buf)
+        for start, length in zip(starts.tolist(), lens.tolist()):
+            cid = struct.unpack_from("<H", mv, start)[0]
+            if cid not in channels or channels[cid][1] not in schemas:
+                orphans[0] += 1  # its channel was defined in a lost part of the file
+                continue
+            log_time = struct.unpack_from("<Q", mv, start + 6)[0]
+            topic, sid = channels[cid]
+            name, schema_data = schemas[sid]
+            writer.write_serialized(topic, name, bytes(mv[start + 22 : start + length]), log_time, schema_data=schema_data)
+
+    warnings = _scan(raw, copy, schemas, channels)[2]
+    if orphans[0]:
+        warnings.append(f"{orphans[0]} messages skipped: their channel definition was lost with the damaged part")
+    return warnings
 
 
 def _decode_topic(topic, type_name, pieces):

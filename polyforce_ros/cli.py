@@ -117,7 +117,9 @@ def cmd_compensate(args) -> int:
     from .workflows import compensate_bag
 
     model = load_model(args.model or default_model_path())
-    n = compensate_bag(args.input, args.output, model, force_limit_n=args.force_limit)
+    n, warnings = compensate_bag(args.input, args.output, model, force_limit_n=args.force_limit)
+    for warning in warnings:
+        print(f"warning: {warning}", file=sys.stderr)
     print(f"{args.output}: copied {args.input} and added {n} /polyforce/wrench messages "
           f"(model {args.model or default_model_path()})")
     return 0

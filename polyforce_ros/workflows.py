@@ -142,10 +142,9 @@ def compensate_bag(in_path, out_path, model: SensorModel, force_limit_n=np.inf):
 
     Each kept raw sample (see :func:`clean_samples`) gets a wrench with the
     same header stamp and log time; force.z is the chain's inverse, clamped to
-    ``force_limit_n``. Returns the number of wrench messages written.
+    ``force_limit_n``. Returns the number of wrench messages written and the
+    reader's warnings (truncation, corrupt chunks: what could be read is used).
     """
-    from mcap.reader import make_reader
-
     bag = bags.read_bag(in_path, topics=[bags.BRIDGE_VOLTAGE])
     raw = bag[bags.BRIDGE_VOLTAGE]
     if bags.WRENCH in bag.types:
@@ -153,10 +152,11 @@ def compensate_bag(in_path, out_path, model: SensorModel, force_limit_n=np.inf):
     keep = clean_samples(raw.stamp_ns, raw.fields.get("position", np.zeros(len(raw))))
     stamps = raw.stamp_ns[keep]
     t_s = (stamps - stamps[0]) * 1e-9 if stamps.size else np.zeros(0)
+    if stamps.size == 0:
+        raise bags.BagError(f"{in_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
     force = np.clip(model.chain.backward(t_s, raw.fields["position"][keep]), -force_limit_n, force_limit_n)
-    with open(in_path, "rb") as fh, bags.BagWriter(out_path) as writer:
-        for schema, channel, message in make_reader(fh).iter_messages(log_time_order=True):
-            writer.write_serialized(channel.topic, schema.name, message.data, message.log_time, schema_data=schema.data)
+    with bags.BagWriter(out_path) as writer:
+        bags.copy_messages(in_path, writer)  # survives truncation and corrupt chunks, like read_bag
         writer.write_series(bags.WRENCH, bags.WRENCH_STAMPED, stamps, force, log_time_ns=raw.log_time_ns[keep],
                             frame_id="polyforce_sensor")
-    return int(stamps.size)
+    return int(stamps.size), list(bag.warnings)

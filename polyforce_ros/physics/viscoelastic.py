@@ -339,9 +339,9 @@ def compensate(model: ViscoelasticModel, t_s, deformation_v, state=None):
     g = np.asarray(deformation_v, dtype=float)
     rel = model.relaxation()
     st = state if state is not None else BackwardState(model)
-    force = rel.g0_n_per_v * g
     if t.size == 0:
-        return force
+        return rel.g0_n_per_v * g
+    force = None
     if rel.r_per_s:
         fresh = st.t_prev_s is None  # the first sample is then the step from rest: no history yet
         t_all = t if fresh else np.concatenate(([st.t_prev_s], t))
@@ -349,22 +349,38 @@ def compensate(model: ViscoelasticModel, t_s, deformation_v, state=None):
         step = uniform_step(t_all) if t_all.size > 1 else None
         if step is not None:
             # Uniform stamps: each history integral is one first-order section with the input
-            # weights folded into its numerator; no drive arrays, subtracted in place.
-            for k, (a, r) in enumerate(zip(rel.a_n_per_v, rel.r_per_s)):
+            # weights folded into its numerator, and the instantaneous term G(0) gamma rides in
+            # the last section (still a single pole): the force is a sum of filter outputs, with
+            # no drive arrays and no extra passes. Sections keep their own pole, so precision is
+            # that of first-order filters (one common denominator lost 1e-7 to pole clustering).
+            modes = list(zip(rel.a_n_per_v, rel.r_per_s))
+            g0, last = rel.g0_n_per_v, len(modes) - 1
+            total = None
+            for k, (a, r) in enumerate(modes):
                 e, alpha, beta = step_weights(r * step)
-                b = [a * r * step * beta, a * r * step * alpha]
-                zi = [a * r * st.y[k] - b[0] * g_all[0]]  # makes the first output the carried state
-                contribution = signal.lfilter(b, [1.0, -e], g_all, zi=zi)[0]
-                force -= contribution if fresh else contribution[1:]
-                st.y[k] = contribution[-1] / (a * r)
+                b = [-a * r * step * beta, -a * r * step * alpha]
+                first_out = -a * r * st.y[k]  # this section's output at g_all[0]
+                if k == last:  # carry G(0) gamma too: out = G(0) gamma - a r y
+                    b = [b[0] + g0, b[1] - g0 * e]
+                    first_out += g0 * g_all[0]
+                out = signal.lfilter(b, [1.0, -e], g_all, zi=[first_out - b[0] * g_all[0]])[0]
+                st.y[k] = ((g0 * g_all[-1] if k == last else 0.0) - out[-1]) / (a * r)
+                if total is None:
+                    total = out
+                else:
+                    total += out
+            force = total if fresh else total[1:]
         else:
             if st.t_prev_s is None:
                 y = exp_convolve(t, g, rel.r_per_s, y0=st.y)
             else:
                 y = exp_convolve(t, g, rel.r_per_s, y0=st.y, u_prev=st.g_prev_v, t_prev_s=st.t_prev_s)
+            force = rel.g0_n_per_v * g
             for k, (a, r) in enumerate(zip(rel.a_n_per_v, rel.r_per_s)):
                 force = force - (a * r) * y[:, k]
             st.y = y[-1].copy()
+    else:
+        force = rel.g0_n_per_v * g
     if rel.eta_impulse_n_s_per_v:
         t_all = t if st.t_prev_s is None else np.concatenate(([st.t_prev_s], t))
         g_all = g if st.t_prev_s is None else np.concatenate(([st.g_prev_v], g))

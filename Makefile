@@ -23,6 +23,10 @@ $(STAMP): requirements.txt setup.py setup.cfg package.xml
 demo: $(STAMP)
 	$(VENV)/bin/polyforce demo
 
+bench: $(STAMP)
+	$(PY) bench/bench_offline.py
+	$(PY) bench/bench_live.py
+
 bags: $(STAMP)
 	$(VENV)/bin/polyforce make-bags --out bags
 

@@ -58,11 +58,16 @@ def sink(out_path):
             stamps.append(stamp)
 
     node.create_subscription(WrenchStamped, "wrench", on_wrench, QOS)
-    run(node)
+    run(node, ready_file=out_path + ".ready", ready=lambda: node.count_publishers(f"{NS}/wrench") > 0)
     lat_us = np.array(lat, dtype=float) / 1e3
     unique = len(set(stamps))
+    st = np.unique(np.array(stamps, dtype=np.int64))
+    gaps = np.diff(st) if st.size > 1 else np.zeros(1, dtype=np.int64)
+    worst = int(np.argmax(gaps)) if st.size > 1 else 0
     with open(out_path, "w") as fh:
-        json.dump({"received": unique, "p50_us": float(np.percentile(lat_us, 50)) if lat else None,
+        json.dump({"largest_gap_ms": float(gaps.max() / 1e6) if st.size > 1 else None,
+                   "largest_gap_at_s": float((st[worst] - st[0]) / 1e9) if st.size > 1 else None,
+                   "received": unique, "p50_us": float(np.percentile(lat_us, 50)) if lat else None,
                    "p99_us": float(np.percentile(lat_us, 99)) if lat else None, "max_us": float(lat_us.max()) if lat else None}, fh)
 
 
@@ -80,13 +85,17 @@ def relay():
     run(node)
 
 
-def run(node):
+def run(node, ready_file=None, ready=None):
+    """Spin until SIGTERM; once ``ready()`` holds, create ``ready_file`` (the orchestrator waits for it)."""
     stop = {"flag": False}
     signal.signal(signal.SIGTERM, lambda *_: stop.update(flag=True))
     executor = EventsExecutor()
     executor.add_node(node)
     while not stop["flag"]:
         executor.spin_once(timeout_sec=0.05)
+        if ready_file and ready():
+            open(ready_file, "w").close()
+            ready_file = None
     executor.remove_node(node)
 
 

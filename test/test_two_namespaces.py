@@ -9,7 +9,6 @@ link and that the packets really crossed the veth. Everything is removed afterwa
 import json
 import os
 import shutil
-import signal
 import subprocess
 import sys
 import time
@@ -17,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
+from test_node_processes import stop  # SIGTERM, then SIGKILL: no orphan outlives the test
 
 HERE = Path(__file__).resolve().parent
 BIN = Path(sys.executable).parent
@@ -60,16 +61,6 @@ def env_for(peer):
 def in_ns(ns, cmd, peer):
     return subprocess.Popen(["ip", "netns", "exec", ns, *cmd], env=env_for(peer), stdout=subprocess.PIPE,
                             stderr=subprocess.DEVNULL, text=True)
-
-
-def stop(proc):
-    if proc.poll() is None:
-        proc.send_signal(signal.SIGTERM)
-        try:
-            proc.wait(10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
 
 
 def rx_packets(ns, dev):

@@ -157,10 +157,15 @@ def exp_convolve(t_s, u, rates_per_s, y0=None, u_prev=None, t_prev_s=None):
 
 
 def _convolve_uniform(h, u_all, r, y_start):
-    """Recursion for constant spacing ``h``: one first-order IIR section (lfilter)."""
+    """Recursion for constant spacing ``h``: one first-order IIR section (lfilter) along axis 0.
+
+    ``u_all`` may hold one signal (n,) or many as columns (n, m), with
+    ``y_start`` a scalar or one value per column.
+    """
     e, alpha, beta = step_weights(r * h)
     drive = h * (alpha * u_all[:-1] + beta * u_all[1:])
-    y, _ = signal.lfilter([1.0], [1.0, -e], drive, zi=[e * y_start])
+    zi = e * np.reshape(np.broadcast_to(y_start, u_all.shape[1:]), (1,) + u_all.shape[1:])
+    y, _ = signal.lfilter([1.0], [1.0, -e], drive, axis=0, zi=zi)
     return y
 
 
@@ -205,9 +210,7 @@ def exp_convolve_columns(t_s, u, rate_per_s):
         return out
     step = uniform_step(t)
     if step is not None:
-        e, alpha, beta = step_weights(rate_per_s * step)
-        drive = step * (alpha * u[:-1] + beta * u[1:])
-        out[1:] = signal.lfilter([1.0], [1.0, -e], drive, axis=0)
+        out[1:] = _convolve_uniform(step, u, rate_per_s, 0.0)
         return out
     for k in range(u.shape[1]):
         out[:, k] = exp_convolve(t, u[:, k], [rate_per_s])[:, 0]

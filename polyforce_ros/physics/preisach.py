@@ -122,20 +122,6 @@ def ramp_states(u, u_min, u_max, n_levels):
     return out
 
 
-def identify_continuous(u, y, n_levels=16, u_min=None, u_max=None) -> PreisachModel:
-    """Density >= 0 and offset of the *continuous* operator by least squares (output is linear in them)."""
-    u, y = np.asarray(u, dtype=float), np.asarray(y, dtype=float)
-    lo = float(np.min(u)) if u_min is None else u_min
-    hi = float(np.max(u)) if u_max is None else u_max
-    a = np.column_stack([ramp_states(u, lo, hi, n_levels), np.ones(u.size)])
-    n_q = a.shape[1] - 1
-    sol = optimize.lsq_linear(a, y, bounds=(np.concatenate([np.zeros(n_q), [-np.inf]]), np.full(n_q + 1, np.inf)),
-                              method="bvls")
-    density = np.zeros((n_levels, n_levels))
-    density[np.tril_indices(n_levels)] = np.clip(sol.x[:-1], 0.0, None)
-    return PreisachModel(lo, hi, density, float(sol.x[-1]))
-
-
 def identify(u, y, n_levels=40, u_min=None, u_max=None) -> PreisachModel:
     """Density >= 0 and offset by least squares from an input/output record (seed 001).
 

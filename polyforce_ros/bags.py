@@ -48,6 +48,9 @@ CONTRACT = {
     TEMPERATURE: TEMPERATURE_MSG,
 }
 
+#: The field that carries a contract message's one scalar (see :func:`make_message`).
+SCALAR_FIELD = {JOINT_STATE: "position", WRENCH_STAMPED: "force_z", TEMPERATURE_MSG: "temperature", FLOAT64: "data"}
+
 _MAGIC = b"\x89MCAP0\r\n"
 _PRIMITIVES = {
     "bool", "byte", "char", "float32", "float64", "int8", "uint8", "int16", "uint16",
@@ -534,8 +537,7 @@ class BagWriter:
         if "sec" in fields:
             block[:, 4:8] = (stamp_ns // 1_000_000_000).astype("<i4").view(np.uint8).reshape(n, 4)
             block[:, 8:12] = (stamp_ns % 1_000_000_000).astype("<u4").view(np.uint8).reshape(n, 4)
-        key = {JOINT_STATE: "position", WRENCH_STAMPED: "force_z", TEMPERATURE_MSG: "temperature", FLOAT64: "data"}[type_name]
-        off = 4 + fields[key][0]
+        off = 4 + fields[SCALAR_FIELD[type_name]][0]
         block[:, off : off + 8] = values.astype("<f8").view(np.uint8).reshape(n, 8)
         raw = block.tobytes()
         for i in range(n):

@@ -17,7 +17,7 @@ from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
 from .. import bags
-from .common import DEFAULT_NAMESPACE, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run
+from .common import DEFAULT_NAMESPACE, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run
 
 _RELATIVE = {bags.BRIDGE_VOLTAGE: "bridge_voltage", bags.REFERENCE_FORCE: "reference_force", bags.TEMPERATURE: "temperature"}
 _TYPES = {bags.JOINT_STATE: JointState, bags.WRENCH_STAMPED: WrenchStamped, bags.TEMPERATURE_MSG: Temperature}
@@ -44,9 +44,8 @@ class ReplayNode(Node):
         for topic, data in bag.topics.items():
             if topic not in _RELATIVE or len(data) == 0:
                 continue
-            key = {bags.JOINT_STATE: "position", bags.WRENCH_STAMPED: "force_z", bags.TEMPERATURE_MSG: "temperature"}[data.type_name]
             pub = self.create_publisher(_TYPES[data.type_name], _RELATIVE[topic], qos)
-            streams.append((data.log_time_ns, data.stamp_ns, data.fields[key], data.type_name, pub))
+            streams.append((data.log_time_ns, data.stamp_ns, data.fields[bags.SCALAR_FIELD[data.type_name]], data.type_name, pub))
         if not streams:
             raise ValueError(f"{path}: no contract topic to replay")
         # One merged timeline ordered by log time.
@@ -57,6 +56,7 @@ class ReplayNode(Node):
         self._value = np.concatenate([s[2] for s in streams])[order]
         self._stream = np.concatenate([np.full(len(s[0]), i) for i, s in enumerate(streams)])[order]
         self._kinds = [(s[3], s[4]) for s in streams]
+        self._frame, self._joint = self.get_parameter("frame_id").value, self.get_parameter("joint_name").value
         self.diag = Diagnostics(self, "polyforce_ros: replay")
         self.index = 0
         self.loops = 0
@@ -66,19 +66,6 @@ class ReplayNode(Node):
         self.create_timer(1.0, self._publish_diagnostics)
         self.get_logger().info(f"replaying {path}: {self._log.size} messages over "
                                f"{(self._log[-1] - self._log[0]) * 1e-9:.1f} s at x{self.get_parameter('rate_factor').value}")
-
-    def _message(self, kind, stamp_ns, value):
-        frame = self.get_parameter("frame_id").value
-        if kind == bags.JOINT_STATE:
-            msg = JointState(name=[self.get_parameter("joint_name").value], position=[float(value)])
-        elif kind == bags.WRENCH_STAMPED:
-            msg = WrenchStamped()
-            msg.wrench.force.z = float(value)
-        else:
-            msg = Temperature(temperature=float(value))
-        ns_to_stamp(stamp_ns, msg.header.stamp)
-        msg.header.frame_id = frame
-        return msg
 
     def _tick(self):
         if self.done:
@@ -90,7 +77,7 @@ class ReplayNode(Node):
         end = int(np.searchsorted(self._log, due_log, side="right"))
         for i in range(self.index, end):
             kind, pub = self._kinds[self._stream[i]]
-            pub.publish(self._message(kind, int(self._stamp[i]), self._value[i]))
+            pub.publish(bags.make_message(kind, int(self._stamp[i]), self._value[i], self._frame, self._joint))
         self.index = max(self.index, end)
         if self.index >= self._log.size:
             if self.get_parameter("loop").value:

@@ -320,13 +320,14 @@ def _scan(raw, on_messages, schemas=None, channels=None):
     return schemas, channels, warnings
 
 
-def read_bag(path, topics=None, expected_types=None) -> BagData:
+def read_bag(path, topics=None, expected_types=None, optional=()) -> BagData:
     """Read topics of an MCAP bag into arrays.
 
     topics: iterable of topic names to decode (default: every topic of a known
     type). A requested topic that is absent raises :class:`BagError` listing
-    what the bag holds. expected_types: ``{topic: type}`` to enforce (default:
-    the bag contract for contract topics).
+    what the bag holds. optional: topics decoded too when the bag holds them.
+    expected_types: ``{topic: type}`` to enforce (default: the bag contract
+    for contract topics).
     """
     raw = _read_file(path)
     expected = dict(CONTRACT)
@@ -343,7 +344,7 @@ def read_bag(path, topics=None, expected_types=None) -> BagData:
     schemas, channels, warnings = _scan(raw, collect)
     types = {topic: schemas.get(sid, ("", b""))[0] for topic, sid in channels.values()}
     result = BagData(types=types, warnings=warnings)
-    wanted = list(types) if topics is None else list(topics)
+    wanted = list(types) if topics is None else list(topics) + [t for t in optional if t in types]
     for topic in wanted:
         if topic not in types:
             raise BagError(f"{path}: topic {topic} not in bag; it holds {sorted(types) or 'no topics'}")

@@ -33,14 +33,22 @@ def clean_samples(stamp_ns, values, limit=np.inf):
     return ok & (stamp_ns > prev_max)
 
 
-def load_record(bag_path, need_reference=True):
-    """Raw voltage with the reference force interpolated onto its stamps.
+def resample_onto(t_s, t0_ns, stamp_ns, values, what):
+    """Samples of another topic, cleaned (see :func:`clean_samples`) and linearly
+    interpolated onto ``t_s`` (seconds since ``t0_ns``)."""
+    stamp_ns, values = np.asarray(stamp_ns, dtype=np.int64), np.asarray(values, dtype=float)
+    keep = clean_samples(stamp_ns, values)
+    if keep.sum() < 2:
+        raise bags.BagError(f"no usable samples on {what}")
+    return np.interp(t_s, (stamp_ns[keep] - t0_ns) * 1e-9, values[keep])
+
+
+def record_from_bag(bag, bag_path, need_reference=True):
+    """Raw voltage with the reference force interpolated onto its stamps, from a read bag.
 
     Returns ``(t_s, force_n, voltage_v, stamp_ns, warnings)``, time relative to
     the first kept raw sample; force is None without ``need_reference``.
     """
-    topics = [bags.BRIDGE_VOLTAGE] + ([bags.REFERENCE_FORCE] if need_reference else [])
-    bag = bags.read_bag(bag_path, topics=topics)
     raw = bag[bags.BRIDGE_VOLTAGE]
     if len(raw) == 0 or "position" not in raw.fields:
         raise bags.BagError(f"{bag_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
@@ -54,11 +62,15 @@ def load_record(bag_path, need_reference=True):
     force = None
     if need_reference:
         ref = bag[bags.REFERENCE_FORCE]
-        rk = clean_samples(ref.stamp_ns, ref.fields.get("force_z", np.zeros(0)))
-        if rk.sum() < 2:
-            raise bags.BagError(f"{bag_path}: no usable samples on {bags.REFERENCE_FORCE}")
-        force = np.interp(t_s, (ref.stamp_ns[rk] - t0) * 1e-9, ref.fields["force_z"][rk])
+        force = resample_onto(t_s, t0, ref.stamp_ns, ref.fields.get("force_z", np.zeros(len(ref))),
+                              f"{bag_path}: {bags.REFERENCE_FORCE}")
     return t_s, force, volts, stamps, warnings
+
+
+def load_record(bag_path, need_reference=True):
+    """:func:`record_from_bag` of the bag at ``bag_path``."""
+    topics = [bags.BRIDGE_VOLTAGE] + ([bags.REFERENCE_FORCE] if need_reference else [])
+    return record_from_bag(bags.read_bag(bag_path, topics=topics), bag_path, need_reference)
 
 
 @dataclass

@@ -8,30 +8,19 @@ import numpy as np
 
 from .. import bags
 from ..model_file import SensorModel, now_iso, save_model
-from ..workflows import clean_samples
+from ..workflows import record_from_bag, resample_onto
 from .engine import Record, diagnose
 
 
 def load_bench_record(path) -> Record:
-    """Raw voltage, reference force and (if recorded) temperature on the raw stamps."""
-    present = bags.read_bag(path, topics=[]).types
-    topics = [bags.BRIDGE_VOLTAGE, bags.REFERENCE_FORCE] + ([bags.TEMPERATURE] if bags.TEMPERATURE in present else [])
-    bag = bags.read_bag(path, topics=topics)
-    raw, ref = bag[bags.BRIDGE_VOLTAGE], bag[bags.REFERENCE_FORCE]
-    keep = clean_samples(raw.stamp_ns, raw.fields.get("position", np.zeros(len(raw))))
-    if keep.sum() < 100:
-        raise bags.BagError(f"{path}: too few usable samples on {bags.BRIDGE_VOLTAGE}")
-    stamps = raw.stamp_ns[keep]
-    t = (stamps - stamps[0]) * 1e-9
-    rk = clean_samples(ref.stamp_ns, ref.fields.get("force_z", np.zeros(len(ref))))
-    if rk.sum() < 2:
-        raise bags.BagError(f"{path}: no usable samples on {bags.REFERENCE_FORCE}")
-    force = np.interp(t, (ref.stamp_ns[rk] - stamps[0]) * 1e-9, ref.fields["force_z"][rk])
+    """Raw voltage, reference force and (if recorded) temperature on the raw stamps; one read of the bag."""
+    bag = bags.read_bag(path, topics=[bags.BRIDGE_VOLTAGE, bags.REFERENCE_FORCE], optional=[bags.TEMPERATURE])
+    t, force, volts, stamps, _ = record_from_bag(bag, path)
     temp = None
     if bags.TEMPERATURE in bag.topics and len(bag[bags.TEMPERATURE]) >= 2:
-        tk = clean_samples(bag[bags.TEMPERATURE].stamp_ns, bag[bags.TEMPERATURE].fields["temperature"])
-        temp = np.interp(t, (bag[bags.TEMPERATURE].stamp_ns[tk] - stamps[0]) * 1e-9, bag[bags.TEMPERATURE].fields["temperature"][tk])
-    return Record(t, force, raw.fields["position"][keep], temp)
+        tdata = bag[bags.TEMPERATURE]
+        temp = resample_onto(t, stamps[0], tdata.stamp_ns, tdata.fields["temperature"], f"{path}: {bags.TEMPERATURE}")
+    return Record(t, force, volts, temp)
 
 
 def write_report(diag, rec, out_dir, bag_name=""):

@@ -26,7 +26,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
-from ..workflows import calibrate_bag, calibrate_record, clean_samples
+from ..workflows import calibrate_bag, calibrate_record, clean_samples, resample_onto
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run, stamp_to_ns
 
 DEFAULT_OUTPUT = str(Path.home() / ".ros" / "polyforce_model.yaml")
@@ -114,7 +114,7 @@ class CalibrationNode(Node):
                 raise ValueError(f"recorded {int(keep.sum())} raw and {int(rk.sum())} reference samples: too few to fit")
             t0 = raw_t[keep][0]
             t_s = (raw_t[keep] - t0) * 1e-9
-            force = np.interp(t_s, (ref_t[rk] - t0) * 1e-9, ref_f[rk])
+            force = resample_onto(t_s, t0, ref_t, ref_f, "reference_force")
             return calibrate_record(t_s, force, raw_v[keep], source="live recording", **self._options())
 
         return self._respond(response, self._calibrate(job))

@@ -24,27 +24,7 @@ from .physics.chain import ModelError
 from .physics.metrics import error_summary
 from .sim import profiles
 from .sim.sensor import BridgeSimulator
-
-#: Seconds at the start of a record over which the unloaded bridge output is averaged (tare).
-TARE_WINDOW_S = 0.5
-
-
-def tare_offset_v(t_s, voltage_v, window_s=TARE_WINDOW_S) -> float:
-    """Bridge offset estimated as the mean output over the first ``window_s`` (sensor unloaded)."""
-    t = np.asarray(t_s)
-    return float(np.mean(np.asarray(voltage_v)[t - t[0] <= window_s]))
-
-
-def compare_static_and_compensated(chain, t_s, force_n, voltage_v):
-    """Force estimates by static gain and by the chain's inverse, both tared alike.
-
-    Returns ``(static_n, compensated_n)``.
-    """
-    offset = tare_offset_v(t_s, voltage_v)
-    chain.offset.voltage_v = offset
-    static = (np.asarray(voltage_v) - offset) / chain.static_gain_v_per_n()
-    return static, chain.backward(t_s, voltage_v)
-
+from .workflows import static_and_compensated, tare_offset_v
 
 def _print_row(profile, label, e):
     print(f"{profile:<18} {label:<12} {e['rmse_n']:9.4f} {e['max_abs_n']:11.4f} {e['r2']:7.4f}")
@@ -69,7 +49,7 @@ def cmd_simulate(args) -> int:
         truth.reset()
         t, f = profiles.make_profile(name, rate_hz=args.rate, seed=args.seed)
         v = truth.simulate(t, f)
-        static, compensated = compare_static_and_compensated(model.chain, t, f, v)
+        static, compensated = static_and_compensated(model.chain, t, v, tare_offset_v(t, v))
         _print_row(name, "static gain", error_summary(f, static))
         _print_row(name, "compensated", error_summary(f, compensated))
         ok &= bool(np.all(np.isfinite(compensated)))

@@ -33,6 +33,26 @@ def clean_samples(stamp_ns, values, limit=np.inf):
     return ok & (stamp_ns > prev_max)
 
 
+#: Seconds at the start of a record over which the unloaded bridge output is averaged (tare).
+TARE_WINDOW_S = 0.5
+
+
+def tare_offset_v(t_s, voltage_v, window_s=TARE_WINDOW_S) -> float:
+    """Bridge offset estimated as the mean output over the first ``window_s`` (sensor unloaded)."""
+    t = np.asarray(t_s)
+    return float(np.mean(np.asarray(voltage_v)[t - t[0] <= window_s]))
+
+
+def static_and_compensated(chain, t_s, voltage_v, offset_v):
+    """Force (N) read by static gain and by the chain's inverse, both with bridge offset ``offset_v``.
+
+    Sets the chain's offset element. Returns ``(static_n, compensated_n)``.
+    """
+    chain.offset.voltage_v = offset_v
+    static = (np.asarray(voltage_v) - offset_v) / chain.static_gain_v_per_n()
+    return static, chain.backward(t_s, voltage_v)
+
+
 def resample_onto(t_s, t0_ns, stamp_ns, values, what):
     """Samples of another topic, cleaned (see :func:`clean_samples`) and linearly
     interpolated onto ``t_s`` (seconds since ``t0_ns``)."""

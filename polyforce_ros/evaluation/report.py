@@ -13,7 +13,7 @@ import numpy as np
 from .. import bags
 from ..model_file import default_model_path, load_model
 from ..physics.metrics import error_summary
-from ..workflows import load_record
+from ..workflows import load_record, static_and_compensated, tare_offset_v
 from . import seed000, seed001, seed002
 from .common import Row, Section, Settings, figure, finite_or_text
 
@@ -24,11 +24,8 @@ def evaluate_bag(path, model_path=None) -> Section:
     """Static gain vs compensation on a recorded bag with a reference force."""
     model = load_model(model_path or default_model_path())
     t, force, volts, _, warnings = load_record(path)
-    offset = float(np.mean(volts[t <= 0.5]))  # tare on the first half second (sensor unloaded)
-    chain = model.chain
-    chain.offset.voltage_v = offset
-    static = (volts - offset) / chain.static_gain_v_per_n()
-    comp = chain.backward(t, volts)
+    # tare on the first half second (sensor unloaded), as a user would
+    static, comp = static_and_compensated(model.chain, t, volts, tare_offset_v(t, volts))
     es, ec = error_summary(force, static), error_summary(force, comp)
     section = Section(f"Recorded bag {Path(path).name}", notes=[f"model: {model_path or default_model_path()}"] + warnings)
     for key, unit in (("rmse_n", "N"), ("max_abs_n", "N"), ("r2", "")):

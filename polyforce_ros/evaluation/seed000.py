@@ -16,6 +16,7 @@ from ..physics.metrics import (
 from ..physics.viscoelastic import PAPER_BURGERS
 from ..sim import profiles
 from ..sim.sensor import BridgeSimulator
+from ..workflows import static_and_compensated
 from .common import Row, Section, figure
 
 #: Seed 000's published figures.
@@ -34,13 +35,6 @@ REQUIREMENTS = {"rated_force_n": 10.0, "bandwidth_hz": 3.0, "resolution_n": 0.1}
 def _sensor(settings, seed_offset=0):
     return BridgeSimulator(model=PAPER_BURGERS, offset_v=settings.offset_v, noise_std_v=settings.noise_std_v,
                            adc_bits=settings.adc_bits, seed=settings.seed + seed_offset)
-
-
-def _estimates(chain, t, v, offset_v):
-    """Static-gain and compensated force from bridge volts (offset known from a tare)."""
-    chain.offset.voltage_v = offset_v
-    static = (v - offset_v) / chain.static_gain_v_per_n()
-    return static, chain.backward(t, v)
 
 
 def identify(settings, section):
@@ -77,7 +71,7 @@ def _simulate(model, t, f):
 def sawtooth_and_hysteresis(settings, chain, section):
     t, f = profiles.sawtooth(peak_n=10.0, cycles=4, ramp_rate_n_per_s=1.0, rate_hz=100.0)
     v = _sensor(settings, 2).simulate(t, f)
-    static, comp = _estimates(chain, t, v, settings.offset_v)
+    static, comp = static_and_compensated(chain, t, v, settings.offset_v)
     period = 20.0
     mins_s, mins_c = [], []
     for k in range(4):
@@ -113,7 +107,7 @@ def resolution(settings, chain, section):
     half = 30.0 if settings.quick else 60.0
     t, f = profiles.resolution(half_period_s=half, rate_hz=100.0)
     v = _sensor(settings, 3).simulate(t, f)
-    static, comp = _estimates(chain, t, v, settings.offset_v)
+    static, comp = static_and_compensated(chain, t, v, settings.offset_v)
     window = 20.0 if settings.quick else 40.0
     ch_s = resolution_changes(t, static, 10.0, half, 4, window_s=window)
     ch_c = resolution_changes(t, comp, 10.0, half, 4, window_s=window)
@@ -129,7 +123,7 @@ def step(settings, chain, section):
     # The paper's step came from an X-Y table; ours rises in 50 ms like such an actuator.
     t, f = profiles.step(5.0, pre_s=2.0, hold_s=20.0 if settings.quick else 60.0, rise_s=0.05, rate_hz=settings.rate_hz)
     v = _sensor(settings, 4).simulate(t, f)
-    static, comp = _estimates(chain, t, v, settings.offset_v)
+    static, comp = static_and_compensated(chain, t, v, settings.offset_v)
     rs, rc = step_response(t, static, 2.0, 5.0), step_response(t, comp, 2.0, 5.0)
     applied = step_response(t, f, 2.0, 5.0)["rise_time_s"]
     section.rows.append(Row("Step of 5 N (Fig. 16)", "10-90 % rise time", "s", None, PAPER["rise_time_s"],
@@ -155,7 +149,7 @@ def bode(settings, chain, section):
         t = np.arange(0, cycles / fr + 10.0, 1.0 / rate)
         f = 3.0 + 1.0 * np.sin(2 * np.pi * fr * t) * (t >= 10.0)  # preload settles 10 s first
         v = _sensor(settings, 10 + k).simulate(t, f)
-        static, comp = _estimates(chain, t, v, settings.offset_v)
+        static, comp = static_and_compensated(chain, t, v, settings.offset_v)
         tail = t >= 10.0 + (cycles // 2) / fr
         mag_s.append(20 * np.log10(sine_component(t[tail], static[tail], fr, trend=True)[0]))
         mag_c.append(20 * np.log10(sine_component(t[tail], comp[tail], fr, trend=True)[0]))
@@ -189,7 +183,7 @@ def insertion(settings, chain, section):
         source = "synthetic needle-insertion profile (shared/data not present)"
     section.notes.append(f"Needle insertion uses the {source}.")
     v = _sensor(settings, 5).simulate(t, f)
-    static, comp = _estimates(chain, t, v, settings.offset_v)
+    static, comp = static_and_compensated(chain, t, v, settings.offset_v)
     ps, pc = PAPER["insertion_r2"]
     section.rows.append(Row("Needle insertion (Fig. 18)", "R² reading vs applied", "", ps, pc,
                             r_squared(f, static), r_squared(f, comp), ">=", note=source).judge())
@@ -206,7 +200,7 @@ def rated_range(settings, chain, section):
     """Accuracy over the rated 10 N: error of the compensated reading on the 10 N sawtooth."""
     t, f = profiles.sawtooth(peak_n=REQUIREMENTS["rated_force_n"], cycles=2, rate_hz=100.0)
     v = _sensor(settings, 6).simulate(t, f)
-    static, comp = _estimates(chain, t, v, settings.offset_v)
+    static, comp = static_and_compensated(chain, t, v, settings.offset_v)
     return float(np.abs(static - f).max()), float(np.abs(comp - f).max())
 
 

@@ -47,8 +47,8 @@ class Record:
     voltage_v: np.ndarray
     temperature_c: np.ndarray | None = None
 
-    def aux(self, sl=slice(None)):
-        return {"temperature_c": None if self.temperature_c is None else self.temperature_c[sl]}
+    def aux(self):
+        return {"temperature_c": self.temperature_c}
 
 
 @dataclass

@@ -63,6 +63,8 @@ class DriverNode(Node):
         declare(self, "reconnect_period_s", 0.5, "Delay between attempts to reopen the port (s)", 0.01, 60.0, read_only=True)
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
         declare_qos(self)
+        # Read-only parameters used for every published sample: read once.
+        self._joint, self._frame = self._param("joint_name"), self._param("frame_id")
         qos = data_qos(self)
         self.pub_raw = self.create_publisher(JointState, "bridge_voltage", qos)
         self.diag = Diagnostics(self, f"polyforce_ros: driver ({backend})")
@@ -80,9 +82,9 @@ class DriverNode(Node):
         return self.get_parameter(name).value
 
     def _raw_message(self, stamp_ns, volts):
-        msg = JointState(name=[self._param("joint_name")], position=[float(volts)])
+        msg = JointState(name=[self._joint], position=[float(volts)])
         ns_to_stamp(stamp_ns, msg.header.stamp)
-        msg.header.frame_id = self._param("frame_id")
+        msg.header.frame_id = self._frame
         return msg
 
     # ------------------------------------------------------------------ simulator
@@ -145,13 +147,13 @@ class DriverNode(Node):
             self.pub_raw.publish(self._raw_message(stamp, self._buf_v[i]))
             ref = WrenchStamped()
             ns_to_stamp(stamp, ref.header.stamp)
-            ref.header.frame_id = self._param("frame_id")
+            ref.header.frame_id = self._frame
             ref.wrench.force.z = float(self._buf_f[i])
             self.pub_ref.publish(ref)
             if k % temp_every == 0:
                 temp = Temperature(temperature=float(self._buf_t[i]), variance=0.0)
                 ns_to_stamp(stamp, temp.header.stamp)
-                temp.header.frame_id = self._param("frame_id")
+                temp.header.frame_id = self._frame
                 self.pub_temp.publish(temp)
         self.published = end
 

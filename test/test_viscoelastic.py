@@ -119,6 +119,41 @@ def test_streaming_equals_batch(model):
     assert np.abs(stream - batch).max() <= 1e-9 * scale
 
 
+@pytest.mark.parametrize("model", MODELS + [Burgers(4.8, 10.0, 46.0, 0.9)], ids=lambda m: m.kind)
+def test_uniform_fast_path_equals_streaming_in_blocks_that_switch_paths(model):
+    """Uniform stamps take the single-pass cascade, others the modal recursion.
+
+    Blocks alternate between the two (a jittered block in the middle), so the
+    history is handed across in both directions; the streaming compensator,
+    which has only the modal form, is the reference.
+    """
+    rng = np.random.default_rng(7)
+    t = np.arange(30000) * 1e-3
+    t[10000:15000] += rng.uniform(0, 3e-4, 5000)  # jitter: this block is not uniform
+    f = loading(t, rng)
+    gamma = simulate_deformation(model, t, f) + rng.normal(0, 1e-3, t.size)
+    comp = StreamingCompensator(model)
+    stream = np.array([comp.step(ti, gi) for ti, gi in zip(t, gamma)])
+    state = BackwardState(model)
+    blocks = [compensate(model, t[a:b], gamma[a:b], state=state)
+              for a, b in [(0, 1), (1, 10000), (10000, 15000), (15000, 15001), (15001, 30000)]]
+    whole = compensate(model, t[:10000], gamma[:10000])
+    scale = np.abs(stream).max()
+    assert np.abs(np.concatenate(blocks) - stream).max() <= 1e-9 * scale
+    assert np.abs(whole - stream[:10000]).max() <= 1e-9 * scale
+
+
+def test_uniform_fast_path_falls_back_when_its_factorisation_does_not_apply():
+    """A negative relaxation coefficient (not a passive sensor) has no cascade here;
+    compensate must then still be the modal recursion, not an error."""
+    from polyforce_ros.physics.viscoelastic import RelaxationModulus, _UniformCascade
+
+    passive = PAPER_BURGERS.relaxation()
+    assert _UniformCascade.build(passive, 1e-3) is not None
+    odd = RelaxationModulus(1.0, (2.0, -0.5), passive.r_per_s)
+    assert _UniformCascade.build(odd, 1e-3) is None
+
+
 def test_streaming_rejects_backwards_time_without_corrupting_state():
     comp, ref = StreamingCompensator(PAPER_BURGERS), StreamingCompensator(PAPER_BURGERS)
     for i in range(100):

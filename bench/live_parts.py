@@ -1,10 +1,14 @@
 """Processes of the live benchmark: `source`, `sink` and a bare `relay` node (the baseline).
 
-    python bench/live_parts.py source RATE_HZ SECONDS        publishes JointState stamped now, then prints the count
-    python bench/live_parts.py sink OUT.json                 records stamp->receive latency until SIGTERM
+    python bench/live_parts.py source RATE_HZ SECONDS FLOWING  warms up until FLOWING exists, then publishes
+                                                               RATE_HZ * SECONDS samples and prints the count and first stamp
+    python bench/live_parts.py sink OUT.npz                    records stamps and receive times until SIGTERM;
+                                                               creates OUT.npz.ready once it sees the publisher and
+                                                               OUT.npz.flowing at the first wrench received
     python bench/live_parts.py relay                         JointState in -> WrenchStamped out, no computation
 """
 import json
+import os
 import signal
 import sys
 import time
@@ -21,54 +25,61 @@ QOS = QoSProfile(depth=1000, reliability=ReliabilityPolicy.RELIABLE)
 NS = "/polyforce"
 
 
-def source(rate_hz, seconds):
+def source(rate_hz, seconds, flowing_path):
+    """Publish at ``rate_hz``: a warm-up until the sink reports the first wrench, then the measured run.
+
+    The warm-up proves every reliable match along source -> node -> sink is complete before
+    the first measured sample, so a loss in the measured run cannot be a discovery race.
+    """
     node = Node("bench_source", namespace=NS)
     pub = node.create_publisher(JointState, "bridge_voltage", QOS)
     deadline = time.monotonic() + 10.0
     while pub.get_subscription_count() == 0 and time.monotonic() < deadline:
         time.sleep(0.01)
-    time.sleep(1.0)  # let the whole chain finish discovery
     msg = JointState(name=["sarrus_axial"], position=[0.0])
     period = 1.0 / rate_hz
     n = int(rate_hz * seconds)
     start = time.perf_counter()
-    for k in range(n):
+    k, warmup, measured, t0_ns = 0, 0, 0, None
+    flowing_deadline = time.monotonic() + 20.0
+    while measured < n:
         target = start + k * period
         while True:  # sleep most of the wait, spin the last 200 us for a steady rate
             left = target - time.perf_counter()
             if left <= 0:
                 break
             time.sleep(left - 2e-4 if left > 3e-4 else 0)
+        if t0_ns is None and warmup % 100 == 0 and (os.path.exists(flowing_path) or time.monotonic() > flowing_deadline):
+            t0_ns = time.time_ns()  # every sample stamped from here on is measured
         now = time.time_ns()
         msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(now, 1_000_000_000)
         msg.position[0] = 0.3 + 0.1 * np.sin(k * 0.01)
         pub.publish(msg)
+        k += 1
+        if t0_ns is None:
+            warmup += 1
+        else:
+            measured += 1
     time.sleep(1.0)
-    print(json.dumps({"sent": n}), flush=True)
+    print(json.dumps({"sent": n, "warmup": warmup, "t0_ns": t0_ns}), flush=True)
 
 
 def sink(out_path):
     node = Node("bench_sink", namespace=NS)
-    lat, stamps = [], []
+    stamps, received = [], []
+    flowing = {"path": out_path + ".flowing"}
 
     def on_wrench(msg):
-        stamp = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec
         if msg.wrench.force.z != 0.0:  # the source never sends exactly 0; the watchdog does
-            lat.append(time.time_ns() - stamp)
-            stamps.append(stamp)
+            received.append(time.time_ns())
+            stamps.append(msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec)
+            if flowing["path"]:
+                open(flowing["path"], "w").close()
+                flowing["path"] = None
 
     node.create_subscription(WrenchStamped, "wrench", on_wrench, QOS)
     run(node, ready_file=out_path + ".ready", ready=lambda: node.count_publishers(f"{NS}/wrench") > 0)
-    lat_us = np.array(lat, dtype=float) / 1e3
-    unique = len(set(stamps))
-    st = np.unique(np.array(stamps, dtype=np.int64))
-    gaps = np.diff(st) if st.size > 1 else np.zeros(1, dtype=np.int64)
-    worst = int(np.argmax(gaps)) if st.size > 1 else 0
-    with open(out_path, "w") as fh:
-        json.dump({"largest_gap_ms": float(gaps.max() / 1e6) if st.size > 1 else None,
-                   "largest_gap_at_s": float((st[worst] - st[0]) / 1e9) if st.size > 1 else None,
-                   "received": unique, "p50_us": float(np.percentile(lat_us, 50)) if lat else None,
-                   "p99_us": float(np.percentile(lat_us, 99)) if lat else None, "max_us": float(lat_us.max()) if lat else None}, fh)
+    np.savez(out_path, stamp_ns=np.array(stamps, dtype=np.int64), received_ns=np.array(received, dtype=np.int64))
 
 
 def relay():
@@ -104,7 +115,7 @@ if __name__ == "__main__":
     try:
         role = sys.argv[1]
         if role == "source":
-            source(float(sys.argv[2]), float(sys.argv[3]))
+            source(float(sys.argv[2]), float(sys.argv[3]), sys.argv[4])
         elif role == "sink":
             sink(sys.argv[2])
         elif role == "relay":

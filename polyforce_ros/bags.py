@@ -178,18 +178,24 @@ def _decode_group(type_name, buf, starts, size):
     first = memoryview(buf)[starts[0] + 4 : starts[0] + size]
     fields, lengths = _layout(type_name, first)
     arr = np.frombuffer(buf, dtype=np.uint8)
-    out = {}
+    steps = np.diff(starts)
+    stride = int(steps[0]) if steps.size and steps[0] > 0 and np.all(steps == steps[0]) else None
+
+    def column(off, dtype):
+        """Field at byte ``off`` of every message's CDR body (after the 4-byte encapsulation)."""
+        if stride is not None or starts.size == 1:  # evenly spaced records: a strided view, no index arrays
+            view = np.ndarray((starts.size,), dtype=dtype, buffer=buf, offset=int(starts[0]) + 4 + off,
+                              strides=(stride or 1,))
+            return view.copy()
+        width = np.dtype(dtype).itemsize
+        return arr[starts[:, None] + 4 + off + np.arange(width)].view(dtype).ravel()
+
     # Same layout check: every length word equals the first message's.
     same = np.ones(starts.size, dtype=bool)
     for off in lengths:
-        idx = starts[:, None] + 4 + off + np.arange(4)
-        words = arr[idx].view("<u4").ravel()
+        words = column(off, "<u4")
         same &= words == words[0]
-    for name, (off, dtype) in fields.items():
-        width = np.dtype(dtype).itemsize
-        idx = starts[:, None] + 4 + off + np.arange(width)
-        out[name] = arr[idx].view(dtype).ravel()
-    return out, same
+    return {name: column(off, dtype) for name, (off, dtype) in fields.items()}, same
 
 
 @dataclass
@@ -278,7 +284,8 @@ def _scan(raw, on_messages, schemas=None, channels=None):
 
     def scan(buf, base, in_chunk):
         pos, n = 0, len(buf)
-        msg_pos, msg_len = [], []
+        runs, singles, single_len = [], [], []  # message records: bulk runs and single ones, in file order
+        previous = None
         while pos + 9 <= n:
             op, length = _REC.unpack_from(buf, pos)
             body = pos + 9
@@ -289,17 +296,31 @@ def _scan(raw, on_messages, schemas=None, channels=None):
                     warnings.append(f"chunk at byte {base} is cut short: its last messages are lost")
                 break
             if op == 5:  # Message
-                msg_pos.append(body)
-                msg_len.append(length)
-            elif op in (3, 4):  # Schema, Channel
+                if previous == length:  # a run of equal messages (one topic written in a series)
+                    count = _equal_message_run(buf, pos, length)
+                    if singles:
+                        runs.append((np.array(singles, dtype=np.int64), np.array(single_len, dtype=np.int64)))
+                        singles, single_len = [], []
+                    runs.append((body + (9 + length) * np.arange(count, dtype=np.int64), np.full(count, length, dtype=np.int64)))
+                    pos += count * (9 + length)
+                    continue
+                singles.append(body)
+                single_len.append(length)
+                previous = length
+                pos = body + length
+                continue
+            previous = None
+            if op in (3, 4):  # Schema, Channel
                 _table_record(op, buf, body, schemas, channels)
             elif op == 6 and not in_chunk:  # Chunk
                 read_chunk(buf, body, base + pos)
             elif op == 2:  # Footer
                 break
             pos = body + length
-        if msg_pos:
-            on_messages(buf, np.asarray(msg_pos, dtype=np.int64), np.asarray(msg_len, dtype=np.int64))
+        if singles:
+            runs.append((np.array(singles, dtype=np.int64), np.array(single_len, dtype=np.int64)))
+        if runs:
+            on_messages(buf, np.concatenate([r[0] for r in runs]), np.concatenate([r[1] for r in runs]))
 
     def read_chunk(buf, body, at):
         try:
@@ -320,6 +341,22 @@ def _scan(raw, on_messages, schemas=None, channels=None):
     return schemas, channels, warnings
 
 
+def _equal_message_run(buf, pos, length, max_run=1 << 14):
+    """How many message records of body ``length`` follow each other from ``pos`` (at least 1).
+
+    Exactly what the record-by-record walk would find, checked in bulk: candidate k sits
+    at ``pos + k (9 + length)`` and counts only if it, and every candidate before it, is a
+    complete Message record of that length.
+    """
+    stride = 9 + length
+    count = min(max_run, (len(buf) - pos) // stride)
+    if count <= 1:
+        return 1
+    heads = np.ndarray((count, 9), dtype=np.uint8, buffer=buf, offset=pos, strides=(stride, 1))
+    ok = (heads[:, 0] == 5) & (heads[:, 1:].copy().view("<u8")[:, 0] == length)
+    return int(count if ok.all() else max(1, np.argmin(ok)))
+
+
 def read_bag(path, topics=None, expected_types=None, optional=()) -> BagData:
     """Read topics of an MCAP bag into arrays.
 
@@ -332,16 +369,27 @@ def read_bag(path, topics=None, expected_types=None, optional=()) -> BagData:
     raw = _read_file(path)
     expected = dict(CONTRACT)
     expected.update(expected_types or {})
-    pieces = {}  # channel id -> [(buffer, record starts, record lengths)]
+    wanted_names = None if topics is None else set(topics) | set(optional)
+    decoded = {}  # channel id -> [_Piece] decoded chunk by chunk, so no decompressed chunk is kept
+    failed = {}  # channel id -> BagError of a type we cannot decode
 
     def collect(buf, starts, lens):
         arr = np.frombuffer(buf, dtype=np.uint8)
         cids = arr[starts[:, None] + np.arange(2)].view("<u2").ravel()
-        for cid in np.unique(cids):
+        for cid in np.unique(cids).tolist():
+            if cid not in channels or cid in failed:
+                continue
+            topic, sid = channels[cid]
+            if wanted_names is not None and topic not in wanted_names:
+                continue
             sel = cids == cid
-            pieces.setdefault(int(cid), []).append((buf, starts[sel], lens[sel]))
+            try:
+                decoded.setdefault(cid, []).append(_decode_piece(schemas.get(sid, ("", b""))[0], buf, starts[sel], lens[sel]))
+            except BagError as exc:
+                failed[cid] = exc
 
-    schemas, channels, warnings = _scan(raw, collect)
+    schemas, channels = {}, {}
+    warnings = _scan(raw, collect, schemas, channels)[2]
     types = {topic: schemas.get(sid, ("", b""))[0] for topic, sid in channels.values()}
     result = BagData(types=types, warnings=warnings)
     wanted = list(types) if topics is None else list(topics) + [t for t in optional if t in types]
@@ -353,13 +401,11 @@ def read_bag(path, topics=None, expected_types=None, optional=()) -> BagData:
     for cid, (topic, sid) in channels.items():
         if topic not in wanted:
             continue
-        type_name = schemas.get(sid, ("", b""))[0]
-        try:
-            result.topics[topic] = _decode_topic(topic, type_name, pieces.get(cid, []))
-        except BagError:
+        if cid in failed:
             if topics is None:
                 continue  # a type we cannot decode, not asked for by name
-            raise
+            raise failed[cid]
+        result.topics[topic] = _join_pieces(topic, schemas.get(sid, ("", b""))[0], decoded.get(cid, []))
     return result
 
 
@@ -439,38 +485,57 @@ def copy_messages(path, writer) -> list:
     return warnings
 
 
-def _decode_topic(topic, type_name, pieces):
+@dataclass
+class _Piece:
+    """The messages of one topic in one buffer (a chunk), decoded."""
+
+    log_ns: np.ndarray
+    stamp_ns: np.ndarray
+    fields: dict
+
+
+def _decode_piece(type_name, buf, starts, lens) -> _Piece:
+    """Decode the message records at ``starts`` (record bodies) of ``buf``, all of ``type_name``."""
+    arr = np.frombuffer(buf, dtype=np.uint8)
+    log = arr[starts[:, None] + 6 + np.arange(8)].view("<u8").ravel().astype(np.int64)
+    data_starts = starts + 22
+    sizes = lens - 22
+    todo = np.ones(starts.size, dtype=bool)
     logs, stamps, values = [], [], {}
-    for buf, starts, lens in pieces:
-        arr = np.frombuffer(buf, dtype=np.uint8)
-        log = arr[starts[:, None] + 6 + np.arange(8)].view("<u8").ravel().astype(np.int64)
-        data_starts = starts + 22
-        sizes = lens - 22
-        todo = np.ones(starts.size, dtype=bool)
-        while todo.any():
-            i0 = int(np.flatnonzero(todo)[0])
-            group = todo & (sizes == sizes[i0])
-            idx = np.flatnonzero(group)
-            # the group's first message defines the layout; others must match it
-            order = np.concatenate(([i0], idx[idx != i0]))
-            decoded, same = _decode_group(type_name, buf, data_starts[order], int(sizes[i0]))
-            ok = order[same]
-            todo[ok] = False
-            logs.append(log[ok])
-            sec = decoded.pop("sec", None)
-            if sec is not None:
-                stamps.append(sec[same].astype(np.int64) * 1_000_000_000 + decoded.pop("nanosec")[same].astype(np.int64))
-            else:
-                stamps.append(log[ok])
-            for name, column in decoded.items():
-                values.setdefault(name, []).append(column[same])
-    if not logs:
+    while todo.any():
+        i0 = int(np.flatnonzero(todo)[0])
+        group = todo & (sizes == sizes[i0])
+        idx = np.flatnonzero(group)
+        # the group's first message defines the layout; others must match it
+        order = np.concatenate(([i0], idx[idx != i0]))
+        columns, same = _decode_group(type_name, buf, data_starts[order], int(sizes[i0]))
+        ok = order[same]
+        todo[ok] = False
+        logs.append(log[ok])
+        sec = columns.pop("sec", None)
+        if sec is not None:
+            stamps.append(sec[same].astype(np.int64) * 1_000_000_000 + columns.pop("nanosec")[same].astype(np.int64))
+        else:
+            stamps.append(log[ok])
+        for name, column in columns.items():
+            values.setdefault(name, []).append(column[same])
+    return _Piece(np.concatenate(logs), np.concatenate(stamps), {k: np.concatenate(v) for k, v in values.items()})
+
+
+def _join_pieces(topic, type_name, pieces) -> TopicData:
+    """One topic's pieces as one :class:`TopicData`, in log-time order."""
+    if not pieces:
         empty = np.zeros(0, dtype=np.int64)
         return TopicData(topic, type_name, empty, empty, {})
-    log = np.concatenate(logs)
+    log = np.concatenate([p.log_ns for p in pieces])
     order = np.argsort(log, kind="stable")
-    fields = {k: np.concatenate(v)[order] for k, v in values.items() if sum(map(len, v)) == log.size}
-    return TopicData(topic, type_name, log[order], np.concatenate(stamps)[order], fields)
+    names = set().union(*(p.fields for p in pieces))
+    fields = {}
+    for name in names:
+        parts = [p.fields[name] for p in pieces if name in p.fields]
+        if sum(map(len, parts)) == log.size:
+            fields[name] = np.concatenate(parts)[order]
+    return TopicData(topic, type_name, log[order], np.concatenate([p.stamp_ns for p in pieces])[order], fields)
 
 
 # ----------------------------------------------------------------------------- writing

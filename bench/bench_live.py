@@ -148,54 +148,77 @@ def run_path(kind, rate_hz, seconds, tmp, sample_rss=False):
     return result
 
 
+def latency_pairs(repeats, seconds, tmp):
+    """Benchmark 1: interleaved relay/compensation pairs at 1 kHz, pooled p99 ratio."""
+    report, ratios, hists, warmups, lost = {}, [], {"relay": [], "compensation": []}, [], 0
+    for rep in range(repeats):  # interleaved: both see the same machine state
+        pair = {}
+        for kind in ("relay", "compensation"):
+            r = pair[kind] = run_path(kind, 1000.0, seconds, tmp)
+            hists[kind].append(r.pop("hist"))
+            warmups.append(r["warmup"])
+            lost += r["lost"]
+            print(f"1 kHz {kind:<13} p50 {r['p50_us']:7.0f} us  p99 {r['p99_us']:7.0f} us  max {r['max_us']:8.0f} us  "
+                  f"node CPU {100 * r['node_cpu_fraction']:4.1f} %  lost {r['lost']} of {r['sent']} "
+                  f"(largest gap {r['largest_gap_ms']:.0f} ms at {r['largest_gap_at_s']:.1f} s)", flush=True)
+        ratios.append(pair["compensation"]["p99_us"] / pair["relay"]["p99_us"])
+        report[f"pair{rep}"] = pair
+    ratio, low, high = pooled_p99_ratio(hists["compensation"], hists["relay"])
+    print(f"p99(compensation) / p99(relay) per pair: {', '.join(f'{r:.2f}' for r in ratios)}", flush=True)
+    print(f"pooled over {repeats} pairs: {ratio:.3f} (90 % bootstrap interval {low:.3f}-{high:.3f}; target <= 1.10); "
+          f"lost {lost} in total; warm-up before the chain flowed: {min(warmups)}-{max(warmups)} samples", flush=True)
+    report.update(ratio_p99=ratio, ratio_p99_interval=[low, high], ratios_per_pair=ratios, lost_1khz=lost,
+                  warmup_samples=[min(warmups), max(warmups)])
+    return report
+
+
+def max_rates(rates, seconds, tmp):
+    """Benchmark 1, second part: the highest of ``rates`` each path carries without a loss."""
+    report = {}
+    for kind in ("relay", "compensation"):
+        best = None
+        for rate in rates:
+            r = run_path(kind, rate, seconds, tmp)
+            r.pop("hist")
+            print(f"  {kind:<13} {rate:6.0f} Hz: lost {r['lost']} of {r['sent']}, p99 {r['p99_us']:.0f} us, "
+                  f"node CPU {100 * r['node_cpu_fraction']:.0f} %", flush=True)
+            if r["lost"] == 0:
+                best = rate
+            else:
+                break
+        report[f"{kind}_max_zero_loss_hz"] = best
+        top = " (the highest rate tried)" if best == rates[-1] else ""
+        print(f"highest rate with zero loss, {kind}: {best} Hz{top}", flush=True)
+    return report
+
+
+def memory(minutes, tmp):
+    """Benchmark 6: RSS of the compensation node over a long 1 kHz run."""
+    mem = run_path("compensation", 1000.0, minutes * 60.0, tmp, sample_rss=True)
+    mem.pop("hist")
+    print(f"memory over {minutes:.0f} min at 1 kHz: RSS {mem['rss_start_kb']} kB -> {mem['rss_end_kb']} kB, "
+          f"lost {mem['lost']} of {mem['sent']}", flush=True)
+    return {"memory": mem}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seconds", type=float, default=20.0)
-    ap.add_argument("--memory-minutes", type=float, default=10.0)
-    ap.add_argument("--rates", default="1000,2000,4000,8000")
-    ap.add_argument("--repeats", type=int, default=10, help="interleaved relay/compensation pairs at 1 kHz")
+    ap.add_argument("--repeats", type=int, default=10, help="interleaved relay/compensation pairs at 1 kHz (0: skip)")
+    ap.add_argument("--rates", default="1000,2000,4000,8000,16000,32000", help="rates tried in turn (empty: skip)")
+    ap.add_argument("--memory-minutes", type=float, default=10.0, help="0: skip")
     ap.add_argument("--quick", action="store_true", help="5 s runs, 3 pairs, 1 min memory run")
     args = ap.parse_args()
     if args.quick:
         args.seconds, args.memory_minutes, args.repeats = 5.0, 1.0, 3
     report = {}
     with tempfile.TemporaryDirectory() as tmp:
-        ratios, hists, warmups, lost = [], {"relay": [], "compensation": []}, [], 0
-        for rep in range(args.repeats):  # interleaved: both see the same machine state
-            pair = {}
-            for kind in ("relay", "compensation"):
-                r = pair[kind] = run_path(kind, 1000.0, args.seconds, tmp)
-                hists[kind].append(r.pop("hist"))
-                warmups.append(r["warmup"])
-                lost += r["lost"]
-                print(f"1 kHz {kind:<13} p50 {r['p50_us']:7.0f} us  p99 {r['p99_us']:7.0f} us  max {r['max_us']:8.0f} us  "
-                      f"node CPU {100 * r['node_cpu_fraction']:4.1f} %  lost {r['lost']} of {r['sent']} "
-                      f"(largest gap {r['largest_gap_ms']:.0f} ms at {r['largest_gap_at_s']:.1f} s)", flush=True)
-            ratios.append(pair["compensation"]["p99_us"] / pair["relay"]["p99_us"])
-            report[f"pair{rep}"] = pair
-        ratio, low, high = pooled_p99_ratio(hists["compensation"], hists["relay"])
-        print(f"p99(compensation) / p99(relay) per pair: {', '.join(f'{r:.2f}' for r in ratios)}", flush=True)
-        print(f"pooled over {args.repeats} pairs: {ratio:.3f} (90 % bootstrap interval {low:.3f}-{high:.3f}; target <= 1.10); "
-              f"lost {lost} in total; warm-up before the chain flowed: {min(warmups)}-{max(warmups)} samples", flush=True)
-        report.update(ratio_p99=ratio, ratio_p99_interval=[low, high], ratios_per_pair=ratios, lost_1khz=lost,
-                      warmup_samples=[min(warmups), max(warmups)])
-        for kind in ("relay", "compensation"):
-            best = None
-            for rate in [float(r) for r in args.rates.split(",")]:
-                r = run_path(kind, rate, min(args.seconds, 5.0), tmp)
-                r.pop("hist")
-                print(f"  {kind:<13} {rate:6.0f} Hz: lost {r['lost']} of {r['sent']}, p99 {r['p99_us']:.0f} us", flush=True)
-                if r["lost"] == 0:
-                    best = rate
-                else:
-                    break
-            report[f"{kind}_max_zero_loss_hz"] = best
-            print(f"highest rate with zero loss, {kind}: {best} Hz", flush=True)
-        mem = run_path("compensation", 1000.0, args.memory_minutes * 60.0, tmp, sample_rss=True)
-        mem.pop("hist")
-        print(f"memory over {args.memory_minutes:.0f} min at 1 kHz: RSS {mem['rss_start_kb']} kB -> {mem['rss_end_kb']} kB, "
-              f"lost {mem['lost']} of {mem['sent']}", flush=True)
-        report["memory"] = mem
+        if args.repeats > 0:
+            report.update(latency_pairs(args.repeats, args.seconds, tmp))
+        if args.rates:
+            report.update(max_rates([float(r) for r in args.rates.split(",")], min(args.seconds, 5.0), tmp))
+        if args.memory_minutes > 0:
+            report.update(memory(args.memory_minutes, tmp))
     print(json.dumps(report))
 
 

@@ -448,7 +448,9 @@ def compensate(model: ViscoelasticModel, t_s, deformation_v, state=None):
     evaluated exactly for gamma linear between samples (see expconv). For a
     Kelvin-Voigt model the impulsive term eta * dgamma/dt is added as the slope
     over the last interval (this differentiates noise; prefer a model with
-    instantaneous elasticity).
+    instantaneous elasticity). Uniformly stamped blocks run as one IIR cascade
+    in a single pass (:class:`_UniformCascade`), others through the general
+    recursion; both give the same result to float64 rounding.
 
     state : :class:`BackwardState`, optional
         Carries the history across calls (block-wise compensation of long
@@ -462,12 +464,11 @@ def compensate(model: ViscoelasticModel, t_s, deformation_v, state=None):
         return rel.g0_n_per_v * g
     force = None
     if rel.r_per_s:
-        fresh = st.t_prev_s is None  # the first sample is then the step from rest: no history yet
         cascade = _UniformCascade.for_record(rel, t, st)
         if cascade is not None:
             force = cascade.run(g, st)
         else:
-            if fresh:
+            if st.t_prev_s is None:  # the first sample is the step from rest: no history yet
                 y = exp_convolve(t, g, rel.r_per_s, y0=st.y)
             else:
                 y = exp_convolve(t, g, rel.r_per_s, y0=st.y, u_prev=st.g_prev_v, t_prev_s=st.t_prev_s)

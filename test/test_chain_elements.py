@@ -113,3 +113,41 @@ def test_preisach_element_in_a_chain_yaml_and_streaming(tmp_path):
     bad["density"] = bad["density"][:5]
     with pytest.raises(ModelError, match="preisach: density needs"):
         SensorChain.from_dict({"elements": [bad]})
+
+
+def test_sensor_lag_noise_filter_is_the_inverse_followed_by_a_lag_and_bounds_noise():
+    """(1 + tau s)/(1 + tau_f s) after the sensor's 1/(1 + tau s): the input seen through a lag of tau_f."""
+    t, x, _ = signals()
+    sensor = SensorLagElement(tau_s=0.03)
+    filtered = SensorLagElement(tau_s=0.03, noise_filter_tau_s=0.003)
+    y = sensor.forward(t, x)
+    expected = SensorLagElement(tau_s=0.003).forward(t, x)
+    # Both runs are exact for piecewise-linear signals, but y is curved: O(h^2 y'') apart, large
+    # only while the sensor output rises from rest after the first sample; judged after 10 tau.
+    settled = t > 10 * sensor.tau_s
+    assert np.abs(filtered.backward(t, y) - expected)[settled].max() < 1e-5
+    assert np.abs(filtered.backward(t, y) - x)[t > 0.1].max() < 0.01  # tau_f |x'| at most
+    noise = np.random.default_rng(3).normal(0.0, 1e-3, t.size)
+    gain_filtered = np.std(filtered.backward(t, noise)) / 1e-3
+    gain_slope = np.std(sensor.backward(t, noise)) / 1e-3
+    assert gain_filtered <= 0.03 / 0.003
+    assert gain_slope > 3 * gain_filtered  # the slope form amplifies noise by ~ sqrt(2) tau / h
+
+
+def test_sensor_lag_noise_filter_streams_like_batch_and_round_trips_in_yaml(tmp_path):
+    t, x, _ = signals(3000)
+    element = SensorLagElement(tau_s=0.03, noise_filter_tau_s=0.005)
+    y = SensorLagElement(tau_s=0.03).forward(t, x) + 0.4 + np.random.default_rng(0).normal(0, 1e-3, t.size)
+    batch = element.backward(t, y)
+    assert batch[0] == pytest.approx(y[0])  # settled at the first sample: no start-up spike
+    stream = element.streaming()
+    np.testing.assert_allclose([stream.step(ti, yi) for ti, yi in zip(t, y)], batch, rtol=1e-12, atol=1e-12)
+    chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), element])
+    path = tmp_path / "lag.yaml"
+    save_model(path, SensorModel(chain, {"source": "test"}))
+    assert load_model(path).chain.elements[-1].to_dict() == element.to_dict()
+    assert "noise_filter_tau_s" not in SensorLagElement(tau_s=0.03).to_dict()  # default stays out of files
+    with pytest.raises(ModelError, match="noise_filter_tau_s must be >= 0"):
+        SensorChain.from_dict({"elements": [{"type": "sensor_lag", "tau_s": 0.03, "noise_filter_tau_s": -1.0}]})
+    with pytest.raises(ModelError, match="unknown keys"):
+        SensorChain.from_dict({"elements": [{"type": "sensor_lag", "tau_s": 0.03, "filter": 1.0}]})

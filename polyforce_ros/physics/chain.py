@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from .expconv import exp_convolve
+from .expconv import ExpConvState, exp_convolve
 from .viscoelastic import (
     MODEL_TYPES,
     ForwardState,
@@ -41,13 +41,15 @@ def _number(kind, key, value, positive):
     return value
 
 
-def _check_keys(kind, mapping, expected):
+def _check_keys(kind, mapping, expected, optional=()):
     keys = set(mapping) - {"type"}
-    missing, unknown = sorted(set(expected) - keys), sorted(keys - set(expected))
+    allowed = set(expected) | set(optional)
+    missing, unknown = sorted(set(expected) - keys), sorted(keys - allowed)
     if missing:
         raise ModelError(f"{kind}: missing keys {missing}")
     if unknown:
-        raise ModelError(f"{kind}: unknown keys {unknown} (expected {sorted(expected)})")
+        raise ModelError(f"{kind}: unknown keys {unknown} (expected {sorted(expected)}"
+                         + (f", optional {sorted(optional)})" if optional else ")"))
 
 
 class ViscoelasticElement:
@@ -134,25 +136,34 @@ class _OffsetStream:
 
 
 class _SimpleElement:
-    """Base of the effect elements: parameters declared in PARAMS as (name, must_be_positive)."""
+    """Base of the effect elements: parameters declared in PARAMS as (name, must_be_positive),
+    optional ones in OPTIONAL as name -> default (numbers >= 0; the default leaves them out of files)."""
 
     kind = ""
     PARAMS: tuple = ()
+    OPTIONAL: dict = {}
 
     def __init__(self, **values):
         for name, positive in self.PARAMS:
             setattr(self, name, _number(self.kind, name, values[name], positive))
+        for name, default in self.OPTIONAL.items():
+            value = _number(self.kind, name, values.get(name, default), False)
+            if value < 0.0:
+                raise ModelError(f"{self.kind}: {name} must be >= 0, got {value!r}")
+            setattr(self, name, value)
 
     def forward_state(self):
         return None
 
     def to_dict(self):
-        return {"type": self.kind, **{name: getattr(self, name) for name, _ in self.PARAMS}}
+        out = {"type": self.kind, **{name: getattr(self, name) for name, _ in self.PARAMS}}
+        out.update({name: getattr(self, name) for name, default in self.OPTIONAL.items() if getattr(self, name) != default})
+        return out
 
     @classmethod
     def from_dict(cls, d):
-        _check_keys(cls.kind, d, [name for name, _ in cls.PARAMS])
-        return cls(**{name: d[name] for name, _ in cls.PARAMS})
+        _check_keys(cls.kind, d, [name for name, _ in cls.PARAMS], cls.OPTIONAL)
+        return cls(**{name: d[name] for name in [n for n, _ in cls.PARAMS] + [n for n in cls.OPTIONAL if n in d]})
 
 
 class _FunctionStream:
@@ -208,12 +219,21 @@ class SensorLagElement(_SimpleElement):
     """First-order sensor/electronics dynamics (seed 002, eq. 10-11 with unit gain): tau y' + y = x.
 
     Forward: exact for piecewise-linear x (the shared recursion), output zero
-    before the first sample. Backward: x = y + tau dy/dt with the slope over the
-    last sample interval; it amplifies white noise by about tau / h.
+    before the first sample.
+
+    Backward, ``noise_filter_tau_s = 0`` (default): x = y + tau dy/dt with the
+    slope over the last sample interval; white noise grows by about sqrt(2) tau / h.
+    With ``noise_filter_tau_s = tau_f > 0`` the inverse is rolled off into
+    (1 + tau s) / (1 + tau_f s) = tau/tau_f + (1 - tau/tau_f) / (1 + tau_f s):
+    a weighted sum of y and of y through a lag of tau_f, run with the same
+    exact recursion. Noise then grows by at most tau / tau_f, and the
+    bandwidth ends near 1 / (2 pi tau_f). Both assume y constant before its
+    first sample (no start-up transient).
     """
 
     kind = "sensor_lag"
     PARAMS = (("tau_s", True),)
+    OPTIONAL = {"noise_filter_tau_s": 0.0}
 
     def forward_state(self):
         return {"y": np.zeros(1), "t_prev": None, "x_prev": 0.0}
@@ -234,6 +254,13 @@ class SensorLagElement(_SimpleElement):
 
     def backward(self, t_s, y, aux=None):
         t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+        tau_f = self.noise_filter_tau_s
+        if tau_f > 0.0:
+            if y.size == 0:
+                return y.copy()
+            # the lag starts settled at y[0]: its integral state is y[0] * tau_f
+            lagged = exp_convolve(t, y, [1.0 / tau_f], y0=[y[0] * tau_f])[:, 0] / tau_f
+            return (self.tau_s / tau_f) * y + (1.0 - self.tau_s / tau_f) * lagged
         slope = np.zeros_like(y)
         if y.size > 1:
             dt = np.diff(t)
@@ -241,8 +268,22 @@ class SensorLagElement(_SimpleElement):
         return y + self.tau_s * slope
 
     def streaming(self):
+        tau, tau_f = self.tau_s, self.noise_filter_tau_s
+        if tau_f > 0.0:
+            lag = ExpConvState([1.0 / tau_f])
+            w_direct, w_lag = tau / tau_f, 1.0 - tau / tau_f
+
+            def filtered(t_s, y, aux=None):
+                if lag.t_prev_s is None:
+                    lag.reset([y * tau_f])
+                state = lag.update(t_s, y)
+                if state is None:  # time went backwards: the lag holds, as over a zero-length step
+                    state = lag.y
+                return w_direct * y + w_lag * state[0] / tau_f
+
+            return _FunctionStream(filtered, lag.reset)
+
         prev = {"t": None, "y": 0.0}
-        tau = self.tau_s
 
         def step(t_s, y, aux=None):
             slope = 0.0

@@ -24,6 +24,8 @@ CASES = [
     ("viscous_flow", "elastic", 4),
     ("delayed_elasticity", "maxwell", 5),
     ("delayed_elasticity", "elastic", 6),
+    ("delayed_elasticity", "zener", 12),
+    ("delayed_elasticity", "burgers", 13),
     ("hysteresis", "burgers", 7),
     ("sensor_lag", "burgers", 8),
     ("nonlinear_gain", "burgers", 9),

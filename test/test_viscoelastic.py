@@ -11,11 +11,14 @@ from polyforce_ros.physics.viscoelastic import (
     Maxwell,
     StreamingCompensator,
     Zener,
+    Zener2,
+    Burgers2,
     compensate,
     simulate_deformation,
 )
 
-MODELS = [Maxwell(3.0, 400.0), KelvinVoigt(3.2, 40.0), Zener(4.8, 10.0, 85.12), PAPER_BURGERS]
+MODELS = [Maxwell(3.0, 400.0), KelvinVoigt(3.2, 40.0), Zener(4.8, 10.0, 85.12), PAPER_BURGERS,
+          Zener2(4.8, 10.0, 85.12, 20.0, 30.0), Burgers2(4.8, 10.0, 4627.94, 85.12, 20.0, 30.0)]
 
 
 def test_paper_eq5_to_eq9_at_printed_precision():
@@ -33,6 +36,17 @@ def test_paper_eq5_to_eq9_at_printed_precision():
     # to 1 % (README, "Physics").
     assert r2 == pytest.approx(0.173, rel=0.01)
     assert r2 == pytest.approx(0.17421, abs=5e-5)
+
+
+@pytest.mark.parametrize("model", [m for m in MODELS if m.kind in ("maxwell", "zener", "burgers")], ids=lambda m: m.kind)
+def test_generic_relaxation_from_compliance_equals_the_closed_forms(model):
+    """The residue route used by the two-Kelvin models gives eq. 7-8's G(t) for the classic ones."""
+    from polyforce_ros.physics.viscoelastic import _relaxation_from_compliance
+
+    closed, generic = model.relaxation(), _relaxation_from_compliance(model.compliance())
+    assert generic.g_inf_n_per_v == pytest.approx(closed.g_inf_n_per_v, rel=1e-12, abs=1e-12)
+    np.testing.assert_allclose(generic.r_per_s, closed.r_per_s, rtol=1e-12)
+    np.testing.assert_allclose(generic.a_n_per_v, closed.a_n_per_v, rtol=1e-12)
 
 
 @pytest.mark.parametrize("model", MODELS, ids=lambda m: m.kind)

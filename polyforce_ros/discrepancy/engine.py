@@ -30,7 +30,7 @@ from ..physics.chain import (
     ThermalDriftElement, ViscoelasticElement,
 )
 from ..physics.identification import block_average
-from ..physics.viscoelastic import MODEL_TYPES, Burgers, Maxwell, Zener, simulate_deformation_columns
+from ..physics.viscoelastic import MODEL_TYPES, Burgers, Burgers2, Maxwell, Zener, Zener2, simulate_deformation_columns
 
 EFFECTS = ("viscous_flow", "delayed_elasticity", "hysteresis", "sensor_lag", "nonlinear_gain", "thermal_drift", "offset_drift")
 BASES = ("elastic", "maxwell", "kelvin", "zener", "burgers")
@@ -164,6 +164,9 @@ def _augmented_core(base, effect, base_params):
             return Zener, [np.log([p[0], 3 * p[0], 3 * p[0] * tau]) for tau in (2.0, 8.0, 30.0)]
         if base == "maxwell":
             return Burgers, [np.log([p[0], 3 * p[0], p[1], 3 * p[0] * tau]) for tau in (2.0, 8.0, 30.0)]
+        if base in ("zener", "burgers"):  # a second Kelvin element beside the fitted one
+            model_type = Zener2 if base == "zener" else Burgers2
+            return model_type, [np.log(p + [3 * p[0], 3 * p[0] * tau]) for tau in (1.0, 4.0, 30.0)]
         return None
     raise ValueError(effect)
 

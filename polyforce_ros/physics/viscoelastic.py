@@ -249,8 +249,82 @@ class Burgers(ViscoelasticModel):
         return RelaxationModulus(0.0, a, r)
 
 
+def _relaxation_from_compliance(comp: CreepCompliance) -> RelaxationModulus:
+    """G(t) of any creep compliance with instantaneous elasticity (j0 > 0), via Laplace.
+
+    s J(s) = j0 + sum_k c_k / (1 + tau_k s) + fluidity / s = N(s) / D(s), and
+    s G(s) s J(s) = 1, so G(s) = D(s) / (s N(s)): the rates are the roots of N
+    and each coefficient is a residue, a_i = D(p_i) / (p_i N'(p_i)) at p_i = -r_i;
+    G(inf) = D(0) / N(0) (zero for a fluid).
+    """
+    factors = [np.array([tau, 1.0]) for tau in comp.tau_s]  # 1 + tau s, highest power first
+    flow = np.array([1.0, 0.0]) if comp.fluidity_v_per_n_s else np.ones(1)  # the 1/s of the dashpot
+    den = np.polymul(flow, _polyprod(factors))
+    num = comp.j0_v_per_n * den
+    for k, c in enumerate(comp.c_v_per_n):
+        num = np.polyadd(num, c * np.polymul(flow, _polyprod(factors[:k] + factors[k + 1:])))
+    if comp.fluidity_v_per_n_s:
+        num = np.polyadd(num, comp.fluidity_v_per_n_s * _polyprod(factors))
+    poles = np.roots(num)
+    if np.any(np.abs(poles.imag) > 1e-9 * np.abs(poles.real)) or np.any(poles.real >= 0):
+        raise ValueError("compliance without a passive relaxation (complex or non-negative rates)")
+    poles = np.sort(poles.real)[::-1]  # slowest first, like the closed forms
+    dnum = np.polyder(num)
+    a = tuple(float(np.polyval(den, p) / (p * np.polyval(dnum, p))) for p in poles)
+    g_inf = 0.0 if comp.fluidity_v_per_n_s else float(np.polyval(den, 0.0) / np.polyval(num, 0.0))
+    return RelaxationModulus(g_inf, a, tuple(float(-p) for p in poles))
+
+
+@dataclass(frozen=True)
+class Zener2(ViscoelasticModel):
+    """Spring k1 in series with two Kelvin elements (k2, eta2) and (k3, eta3): a solid with two
+    retardation times, i.e. a Zener sensor with a second delayed elasticity."""
+
+    kind: ClassVar[str] = "zener2"
+    k1_n_per_v: float
+    k2_n_per_v: float
+    eta2_n_s_per_v: float
+    k3_n_per_v: float
+    eta3_n_s_per_v: float
+
+    def compliance(self):
+        return CreepCompliance(
+            1.0 / self.k1_n_per_v,
+            (1.0 / self.k2_n_per_v, 1.0 / self.k3_n_per_v),
+            (self.eta2_n_s_per_v / self.k2_n_per_v, self.eta3_n_s_per_v / self.k3_n_per_v),
+        )
+
+    def relaxation(self):
+        return _relaxation_from_compliance(self.compliance())
+
+
+@dataclass(frozen=True)
+class Burgers2(ViscoelasticModel):
+    """Burgers (k1, eta1, Kelvin k2/eta2) with a second Kelvin element (k3, eta3): a Burgers
+    sensor with a second delayed elasticity."""
+
+    kind: ClassVar[str] = "burgers2"
+    k1_n_per_v: float
+    k2_n_per_v: float
+    eta1_n_s_per_v: float
+    eta2_n_s_per_v: float
+    k3_n_per_v: float
+    eta3_n_s_per_v: float
+
+    def compliance(self):
+        return CreepCompliance(
+            1.0 / self.k1_n_per_v,
+            (1.0 / self.k2_n_per_v, 1.0 / self.k3_n_per_v),
+            (self.eta2_n_s_per_v / self.k2_n_per_v, self.eta3_n_s_per_v / self.k3_n_per_v),
+            1.0 / self.eta1_n_s_per_v,
+        )
+
+    def relaxation(self):
+        return _relaxation_from_compliance(self.compliance())
+
+
 MODEL_TYPES: dict[str, type[ViscoelasticModel]] = {
-    cls.kind: cls for cls in (Elastic, Maxwell, KelvinVoigt, Zener, Burgers)
+    cls.kind: cls for cls in (Elastic, Maxwell, KelvinVoigt, Zener, Burgers, Zener2, Burgers2)
 }
 
 #: Seed 000, eq. 5: the Burgers parameters identified from the 5 N creep test.

@@ -18,7 +18,7 @@ from ..physics.chain import (
     ThermalDriftElement, ViscoelasticElement,
 )
 from ..physics.preisach import PreisachModel
-from ..physics.viscoelastic import PAPER_BURGERS, Burgers, Elastic, Maxwell, Zener
+from ..physics.viscoelastic import PAPER_BURGERS, Burgers, Burgers2, Elastic, Maxwell, Zener, Zener2
 from .sensor import BridgeSimulator
 
 EFFECTS = ("none", "viscous_flow", "delayed_elasticity", "hysteresis", "sensor_lag", "nonlinear_gain", "thermal_drift",
@@ -135,11 +135,17 @@ def truth_chain(effect, magnitude, base="burgers", seed=0, force_range_n=10.0):
         eta1 = float(np.exp(np.interp(m, [0, 1], np.log([40000.0, 1500.0]))))
         core = Maxwell(core.k_n_per_v, eta1) if base == "elastic" else Burgers(core.k1_n_per_v, core.k2_n_per_v, eta1, core.eta2_n_s_per_v)
     elif effect == "delayed_elasticity":
-        if base not in ("elastic", "maxwell"):
-            raise ValueError("delayed_elasticity is hidden against an elastic or maxwell base")
-        k2 = float(np.interp(m, [0, 1], [60.0, 6.0]))
-        tau = rng.uniform(3.0, 15.0)
-        core = Zener(core.k_n_per_v, k2, k2 * tau) if base == "elastic" else Burgers(core.k_n_per_v, k2, core.eta_n_s_per_v, k2 * tau)
+        if base == "kelvin":
+            raise ValueError("delayed_elasticity is hidden against an elastic, maxwell, zener or burgers base")
+        k_new = float(np.interp(m, [0, 1], [60.0, 6.0]))
+        if base in ("elastic", "maxwell"):
+            tau = rng.uniform(3.0, 15.0)
+            core = (Zener(core.k_n_per_v, k_new, k_new * tau) if base == "elastic"
+                    else Burgers(core.k_n_per_v, k_new, core.eta_n_s_per_v, k_new * tau))
+        else:  # a second Kelvin element, faster than the base's own (8.5 s)
+            tau = rng.uniform(0.8, 2.5)
+            core = (Zener2(core.k1_n_per_v, core.k2_n_per_v, core.eta2_n_s_per_v, k_new, k_new * tau) if base == "zener"
+                    else Burgers2(core.k1_n_per_v, core.k2_n_per_v, core.eta1_n_s_per_v, core.eta2_n_s_per_v, k_new, k_new * tau))
     elif effect == "hysteresis":
         # rate-independent hysteresis of the force path (friction in the mechanism), before the core
         before.append(PreisachElement(hysteretic_identity(0.0, force_range_n, loop_fraction=0.01 + 0.07 * m), continuous=True))

@@ -1,12 +1,13 @@
 """The YAML model file: shipped default, round trip, atomic write, validation messages."""
 import os
 
+import numpy as np
 import pytest
 import yaml
 
-from polyforce_ros.model_file import default_model_path, load_model, model_to_mapping, save_model
+from polyforce_ros.model_file import SensorModel, default_model_path, load_model, model_to_mapping, save_model
 from polyforce_ros.physics.chain import ModelError, SensorChain
-from polyforce_ros.physics.viscoelastic import PAPER_BURGERS, Zener
+from polyforce_ros.physics.viscoelastic import MODEL_TYPES, PAPER_BURGERS, Zener
 
 
 def test_shipped_default_is_the_paper_model():
@@ -78,3 +79,14 @@ def test_failed_write_keeps_the_good_file(tmp_path, monkeypatch):
         save_model(path, load_model(default_model_path()))
     assert path.read_text() == good
     assert sorted(p.name for p in tmp_path.iterdir()) == ["model.yaml"]
+
+
+@pytest.mark.parametrize("kind", sorted(MODEL_TYPES))
+def test_every_core_type_round_trips_through_yaml(tmp_path, kind):
+    """Every core a diagnosis may save (incl. the two-Kelvin types) loads back equal."""
+    model_type = MODEL_TYPES[kind]
+    core = model_type.from_vector(1.0 + 3.0 * np.arange(len(model_type.parameter_names())))
+    path = tmp_path / f"{kind}.yaml"
+    save_model(path, SensorModel(SensorChain.from_model(core, offset_v=0.02), {"source": "test"}))
+    loaded = load_model(path).chain
+    assert loaded.viscoelastic == core and loaded.offset.voltage_v == 0.02

@@ -45,9 +45,13 @@ def test_compensating_the_simulated_output_recovers_the_force(model, history):
     # the deformation of a piecewise-linear force is not piecewise linear: the round trip errs by
     # O((r h)^2) of the force range, r the model's fastest rate, h the longest step.
     # (Found by hypothesis: Maxwell k = eta = 1 with 0.34 s steps errs by 7 mN on a 1.7 N range.)
+    # The range includes the unloaded state before the first sample: the first step is from rest.
+    # (Also found by hypothesis: Zener(1, 1, 1) stepped to 7.4 N, then a 1.7 s step, errs by 0.32 N
+    # while the force itself only moves by 0.15 N.)
     assert np.all(np.isfinite(est))
     rh = fastest_rate(model) * np.diff(t).max()
-    bound = 0.1 * min(rh * rh, 10.0) * np.ptp(f) + 1e-9 * max(1.0, np.abs(f).max())
+    force_range = np.ptp(np.concatenate(([0.0], f)))
+    bound = 0.1 * min(rh * rh, 10.0) * force_range + 1e-9 * max(1.0, np.abs(f).max())
     assert np.abs(est - f).max() <= bound
 
 

@@ -288,14 +288,20 @@ class Zener2(ViscoelasticModel):
     eta3_n_s_per_v: float
 
     def compliance(self):
-        return CreepCompliance(
-            1.0 / self.k1_n_per_v,
-            (1.0 / self.k2_n_per_v, 1.0 / self.k3_n_per_v),
-            (self.eta2_n_s_per_v / self.k2_n_per_v, self.eta3_n_s_per_v / self.k3_n_per_v),
-        )
+        return _two_kelvin_compliance(self)
 
     def relaxation(self):
         return _relaxation_from_compliance(self.compliance())
+
+
+def _two_kelvin_compliance(model, fluidity_v_per_n_s=0.0) -> CreepCompliance:
+    """J(t) of spring k1 + Kelvin (k2, eta2) + Kelvin (k3, eta3) [+ a free dashpot]."""
+    return CreepCompliance(
+        1.0 / model.k1_n_per_v,
+        (1.0 / model.k2_n_per_v, 1.0 / model.k3_n_per_v),
+        (model.eta2_n_s_per_v / model.k2_n_per_v, model.eta3_n_s_per_v / model.k3_n_per_v),
+        fluidity_v_per_n_s,
+    )
 
 
 @dataclass(frozen=True)
@@ -312,12 +318,7 @@ class Burgers2(ViscoelasticModel):
     eta3_n_s_per_v: float
 
     def compliance(self):
-        return CreepCompliance(
-            1.0 / self.k1_n_per_v,
-            (1.0 / self.k2_n_per_v, 1.0 / self.k3_n_per_v),
-            (self.eta2_n_s_per_v / self.k2_n_per_v, self.eta3_n_s_per_v / self.k3_n_per_v),
-            1.0 / self.eta1_n_s_per_v,
-        )
+        return _two_kelvin_compliance(self, 1.0 / self.eta1_n_s_per_v)
 
     def relaxation(self):
         return _relaxation_from_compliance(self.compliance())

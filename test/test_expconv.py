@@ -82,3 +82,14 @@ def test_no_overflow_far_beyond_paper_recursion_limit():
     assert np.all(np.isfinite(y))
     # Uniform stamps are integrated with their common step, i.e. at the intended elapsed times.
     np.testing.assert_allclose(y, -np.expm1(-r * elapsed) / r, rtol=1e-10)
+
+
+def test_uniform_step_after_a_previous_sample():
+    from polyforce_ros.physics.expconv import uniform_step_after
+
+    t = 1e5 + np.arange(1, 1001) * 1e-3  # stamps far from zero: rounding of the times themselves
+    assert uniform_step_after(1e5, t) == pytest.approx(1e-3)
+    assert uniform_step_after(None, t) == pytest.approx(1e-3)
+    assert uniform_step_after(1e5 - 1e-3, t) is None  # the gap to the block is two steps
+    assert uniform_step_after(1e5, t[:1]) == pytest.approx(1e-3)  # one sample: the gap is the step
+    assert uniform_step_after(t[0], t[:1]) is None  # a duplicate stamp is no step

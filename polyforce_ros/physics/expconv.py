@@ -55,10 +55,32 @@ def uniform_step(t):
     if span <= 0:
         return None
     lo, hi = _spacing_range(t)
-    rounding = 8 * np.finfo(float).eps * max(abs(float(t[0])), abs(float(t[-1])))
-    if hi - lo <= _UNIFORM_RTOL * float(t[1] - t[0]) + rounding:
+    if hi - lo <= _UNIFORM_RTOL * float(t[1] - t[0]) + _rounding_s(t[0], t[-1]):
         return span / (t.size - 1)
     return None
+
+
+def uniform_step_after(t_prev_s, t):
+    """The common step (s) of a previous sample time ``t_prev_s`` followed by ``t``, else None.
+
+    As :func:`uniform_step` of the joined times (``t`` alone when ``t_prev_s`` is None),
+    without copying ``t``.
+    """
+    t = np.asarray(t, dtype=float)
+    if t_prev_s is None:
+        return uniform_step(t)
+    if t.size == 0:
+        return None
+    gap = float(t[0]) - float(t_prev_s)
+    step = uniform_step(t) if t.size > 1 else (gap if gap > 0 else None)
+    if step is not None and abs(gap - step) <= _UNIFORM_RTOL * step + _rounding_s(t_prev_s, t[-1]):
+        return step
+    return None
+
+
+def _rounding_s(t_first_s, t_last_s):
+    """Spacing differences within float64 rounding of the stamps themselves."""
+    return 8 * np.finfo(float).eps * max(abs(float(t_first_s)), abs(float(t_last_s)))
 
 
 def _spacing_range(t, chunk=_MAX_CHUNK_LEN):

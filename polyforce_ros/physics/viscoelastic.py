@@ -31,7 +31,7 @@ import numpy as np
 
 from scipy import linalg, signal
 
-from .expconv import ExpConvState, exp_convolve, exp_convolve_columns, step_weights, uniform_step
+from .expconv import ExpConvState, exp_convolve, exp_convolve_columns, step_weights, uniform_step_after
 
 
 @dataclass(frozen=True)
@@ -438,18 +438,8 @@ class _UniformCascade:
     def for_record(cls, rel: RelaxationModulus, t_s, state: BackwardState):
         """The cascade for stamps ``t_s`` continuing ``state``, or None if the stamps are not
         uniform (or too few) or the model falls outside the positive case treated here."""
-        if state.t_prev_s is None:
-            h = uniform_step(t_s)
-        else:
-            gap = float(t_s[0]) - state.t_prev_s
-            h = uniform_step(t_s) if t_s.size > 1 else (gap if gap > 0 else None)
-            if h is not None:
-                rounding = 8 * np.finfo(float).eps * max(abs(state.t_prev_s), abs(float(t_s[-1])))
-                if abs(gap - h) > 1e-12 * h + rounding:
-                    h = None
-        if h is None:
-            return None
-        return cls.build(rel, h)
+        h = uniform_step_after(state.t_prev_s, t_s)
+        return None if h is None else cls.build(rel, h)
 
     @classmethod
     def build(cls, rel: RelaxationModulus, h_s: float):

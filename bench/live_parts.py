@@ -40,9 +40,9 @@ def source(rate_hz, seconds, flowing_path):
     period = 1.0 / rate_hz
     n = int(rate_hz * seconds)
     start = time.perf_counter()
-    k, warmup, measured, t0_ns = 0, 0, 0, None
+    k, warmup, t0_ns = 0, 0, None  # k: samples published, the first ``warmup`` of them not measured
     flowing_deadline = time.monotonic() + 20.0
-    while measured < n:
+    while k - warmup < n:
         target = start + k * period
         while True:  # sleep most of the wait, spin the last 200 us for a steady rate
             left = target - time.perf_counter()
@@ -58,8 +58,6 @@ def source(rate_hz, seconds, flowing_path):
         k += 1
         if t0_ns is None:
             warmup += 1
-        else:
-            measured += 1
     time.sleep(1.0)
     print(json.dumps({"sent": n, "warmup": warmup, "t0_ns": t0_ns}), flush=True)
 

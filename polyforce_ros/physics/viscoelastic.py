@@ -429,7 +429,7 @@ class _UniformCascade:
     """
 
     def __init__(self, rel: RelaxationModulus, h_s: float, sos, residues, order, e, alpha, beta):
-        self.rel, self.h_s, self.sos, self.residues = rel, h_s, sos, residues
+        self.h_s, self.sos, self.residues = h_s, sos, residues
         self.order = order  # section i carries mode order[i]
         self.e, self.alpha, self.beta = e, alpha, beta
         self.ar = np.array(rel.a_n_per_v)[order] * np.array(rel.r_per_s)[order]

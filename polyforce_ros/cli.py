@@ -4,7 +4,7 @@
     polyforce simulate                           offline: simulate, compensate, print errors
     polyforce calibrate CREEP.mcap --output M.yaml
     polyforce compensate IN.mcap OUT.mcap [--model M.yaml]
-    polyforce replay BAG.mcap [--rate 2.0]
+    polyforce replay BAG.mcap [--rate 2.0] [--loop] [--lossless]
     polyforce evaluate [--out DIR] [--bag BAG.mcap ...]
     polyforce diagnose BAG.mcap --base {elastic,maxwell,kelvin,zener,burgers} [--json OUT] [--report DIR] [--save-model M.yaml]
     polyforce make-bags [--out bags/]
@@ -109,7 +109,8 @@ def cmd_replay(args) -> int:
     from .nodes.replay_node import main as replay_main
 
     ros_args = ["polyforce-replay", "--ros-args", "-p", f"bag_path:={args.bag}", "-p", f"rate_factor:={args.rate}",
-                "-p", f"loop:={'true' if args.loop else 'false'}"]
+                "-p", f"loop:={'true' if args.loop else 'false'}",
+                "-p", f"lossless:={'true' if args.lossless else 'false'}"]
     return replay_main(ros_args)
 
 
@@ -204,6 +205,8 @@ def build_parser():
     rep.add_argument("bag")
     rep.add_argument("--rate", type=float, default=1.0, help="playback speed factor")
     rep.add_argument("--loop", action="store_true")
+    rep.add_argument("--lossless", action="store_true",
+                     help="pace by the compensation node's answers on wrench: never lose a sample, --rate is an upper bound")
     rep.set_defaults(func=cmd_replay)
 
     ev = sub.add_parser("evaluate", help="run the seed papers' experiments and write a report (Markdown + JSON + figures)")

@@ -94,10 +94,11 @@ def cmd_calibrate(args) -> int:
 
 
 def cmd_compensate(args) -> int:
+    from .runtime import CompensatorConfig
     from .workflows import compensate_bag
 
     model = load_model(args.model or default_model_path())
-    n, warnings = compensate_bag(args.input, args.output, model, force_limit_n=args.force_limit)
+    n, warnings = compensate_bag(args.input, args.output, model, CompensatorConfig(force_limit_n=args.force_limit))
     for warning in warnings:
         print(f"warning: {warning}", file=sys.stderr)
     print(f"{args.output}: copied {args.input} and added {n} /polyforce/wrench messages "

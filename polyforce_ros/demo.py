@@ -75,7 +75,7 @@ def run_live_demo(profile="needle_insertion", model_file="", seed=0, progress=Tr
         if bar is not None:
             bar.close()
         tare_ok = tare_future is not None and tare_future.done() and tare_future.result().success
-        tare_offset = comp.model.chain.offset.voltage_v
+        tare_offset = comp.compensator.offset_v
     finally:
         for node in nodes:
             node.destroy_node()

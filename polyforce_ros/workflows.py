@@ -3,7 +3,7 @@
 * :func:`calibrate_bag`: creep bag -> fitted, selected model -> YAML, never
   replacing a good model by a failed or worse one;
 * :func:`compensate_bag`: copy a bag and add the compensated ``wrench`` topic;
-* :func:`clean_samples`: the sample rules of compensation_node, vectorised.
+* :func:`clean_samples`: the runtime's sample rules as a mask (for records).
 """
 from __future__ import annotations
 
@@ -17,20 +17,21 @@ from .model_file import SensorModel, load_model, now_iso, save_model
 from .physics.chain import ModelError, SensorChain
 from .physics.identification import select_model
 from .physics.viscoelastic import simulate_deformation
+from .runtime import Compensator, CompensatorConfig, SampleGate
 
 
-def clean_samples(stamp_ns, values, limit=np.inf):
-    """Mask of samples compensation_node would use.
+def clean_samples(stamp_ns, values, receive_ns=None, config: CompensatorConfig = CompensatorConfig()):
+    """Mask of the samples the compensation runtime would use (:meth:`SampleGate.mask`).
 
-    Dropped: non-finite values, ``|value| > limit``, and stamps not later than
-    every earlier kept stamp (backwards or duplicate).
+    Dropped: non-finite values, ``|value| > config.input_limit_v``, implausible
+    stamps (against ``receive_ns``, e.g. the log times), and stamps not later
+    than the last used one (backwards or duplicate).
     """
-    stamp_ns = np.asarray(stamp_ns, dtype=np.int64)
-    values = np.asarray(values, dtype=float)
-    ok = np.isfinite(values) & (np.abs(values) <= limit)
-    kept_stamps = np.where(ok, stamp_ns, np.iinfo(np.int64).min)
-    prev_max = np.concatenate(([np.iinfo(np.int64).min], np.maximum.accumulate(kept_stamps)[:-1]))
-    return ok & (stamp_ns > prev_max)
+    return SampleGate(config).mask(stamp_ns, values, receive_ns)
+
+
+#: Gate settings for the reference force of a record: a force, not a bridge voltage, so no input limit.
+REFERENCE_GATE = CompensatorConfig(input_limit_v=np.inf)
 
 
 #: Seconds at the start of a record over which the unloaded bridge output is averaged (tare).
@@ -46,9 +47,9 @@ def tare_offset_v(t_s, voltage_v, window_s=TARE_WINDOW_S) -> float:
 def static_and_compensated(chain, t_s, voltage_v, offset_v):
     """Force (N) read by static gain and by the chain's inverse, both with bridge offset ``offset_v``.
 
-    Sets the chain's offset element. Returns ``(static_n, compensated_n)``.
+    The chain itself is not changed. Returns ``(static_n, compensated_n)``.
     """
-    chain.offset.voltage_v = offset_v
+    chain = chain.with_offset(offset_v)
     static = (np.asarray(voltage_v) - offset_v) / chain.static_gain_v_per_n()
     return static, chain.backward(t_s, voltage_v)
 
@@ -57,7 +58,7 @@ def resample_onto(t_s, t0_ns, stamp_ns, values, what):
     """Samples of another topic, cleaned (see :func:`clean_samples`) and linearly
     interpolated onto ``t_s`` (seconds since ``t0_ns``)."""
     stamp_ns, values = np.asarray(stamp_ns, dtype=np.int64), np.asarray(values, dtype=float)
-    keep = clean_samples(stamp_ns, values)
+    keep = clean_samples(stamp_ns, values, config=REFERENCE_GATE)
     if keep.sum() < 2:
         raise bags.BagError(f"no usable samples on {what}")
     return np.interp(t_s, (stamp_ns[keep] - t0_ns) * 1e-9, values[keep])
@@ -72,11 +73,12 @@ def record_from_bag(bag, bag_path, need_reference=True):
     raw = bag[bags.BRIDGE_VOLTAGE]
     if len(raw) == 0 or "position" not in raw.fields:
         raise bags.BagError(f"{bag_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
-    keep = clean_samples(raw.stamp_ns, raw.fields["position"])
+    keep = clean_samples(raw.stamp_ns, raw.fields["position"], raw.log_time_ns)
     stamps, volts = raw.stamp_ns[keep], raw.fields["position"][keep]
     warnings = list(bag.warnings)
     if (~keep).any():
-        warnings.append(f"{int((~keep).sum())} raw samples dropped (non-finite, backwards or duplicate stamps)")
+        warnings.append(f"{int((~keep).sum())} raw samples dropped (non-finite, out of range, implausible, backwards "
+                        "or duplicate stamps)")
     t0 = stamps[0]
     t_s = (stamps - t0) * 1e-9
     force = None
@@ -169,26 +171,35 @@ def calibrate_bag(bag_path, output, **kwargs) -> CalibrationResult:
     return calibrate_record(t_s, force, volts, output, source=bag_path, warnings=warnings, **kwargs)
 
 
-def compensate_bag(in_path, out_path, model: SensorModel, force_limit_n=np.inf):
+def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorConfig = CompensatorConfig()):
     """Copy every message of ``in_path`` to ``out_path`` and add ``/polyforce/wrench``.
 
-    Each kept raw sample (see :func:`clean_samples`) gets a wrench with the
-    same header stamp and log time; force.z is the chain's inverse, clamped to
-    ``force_limit_n``. Returns the number of wrench messages written and the
-    reader's warnings (truncation, corrupt chunks: what could be read is used).
+    The raw samples go through the same :class:`Compensator` as in
+    compensation_node (log time as the receive clock), so the wrench equals the
+    node's for the same stream: each used raw sample gets a wrench with the
+    same header stamp and log time. Returns the number of wrench messages
+    written and the warnings (reader: truncation, corrupt chunks; runtime:
+    dropped samples).
     """
     bag = bags.read_bag(in_path, topics=[bags.BRIDGE_VOLTAGE])
     raw = bag[bags.BRIDGE_VOLTAGE]
     if bags.WRENCH in bag.types:
         raise bags.BagError(f"{in_path} already holds {bags.WRENCH}")
-    keep = clean_samples(raw.stamp_ns, raw.fields.get("position", np.zeros(len(raw))))
-    stamps = raw.stamp_ns[keep]
-    t_s = (stamps - stamps[0]) * 1e-9 if stamps.size else np.zeros(0)
-    if stamps.size == 0:
+    volts = raw.fields.get("position", np.zeros(len(raw)))
+    compensator = Compensator(model.chain, config)
+    used, force = compensator.run(raw.stamp_ns, volts, raw.log_time_ns)
+    if not used.any():
         raise bags.BagError(f"{in_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
-    force = np.clip(model.chain.backward(t_s, raw.fields["position"][keep]), -force_limit_n, force_limit_n)
+    warnings = list(bag.warnings) + runtime_warnings(compensator.counts)
     with bags.BagWriter(out_path) as writer:
         bags.copy_messages(in_path, writer)  # survives truncation and corrupt chunks, like read_bag
-        writer.write_series(bags.WRENCH, bags.WRENCH_STAMPED, stamps, force, log_time_ns=raw.log_time_ns[keep],
-                            frame_id="polyforce_sensor")
-    return int(stamps.size), list(bag.warnings)
+        writer.write_series(bags.WRENCH, bags.WRENCH_STAMPED, raw.stamp_ns[used], force[used],
+                            log_time_ns=raw.log_time_ns[used], frame_id="polyforce_sensor")
+    return int(used.sum()), warnings
+
+
+def runtime_warnings(counts) -> list:
+    """One line per nonzero drop/fault counter of a :class:`Compensator`."""
+    names = ("nonfinite", "out_of_range", "implausible_stamp", "backwards", "duplicate", "reanchored",
+             "nonfinite_output", "clamped")
+    return [f"{counts[name]} samples {name.replace('_', ' ')}" for name in names if counts.get(name)]

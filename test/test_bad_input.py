@@ -39,7 +39,8 @@ def test_node_input_matrix(case):
     last = max(s for s, _ in bad + [(T0_NS, 0)])
     sequence = [(T0_NS, 0.2)] + bad + [(last + 1 * MS, 0.2)]  # the node must go on after the bad sample
     with ros() as h:
-        node, probe = start(h, stale_timeout_s=60.0)
+        # the 10 s gap is sent without waiting 10 s: the stamp plausibility check must allow that much
+        node, probe = start(h, stale_timeout_s=60.0, stamp_tolerance_s=30.0)
         send_all(h, probe, [s for s, _ in sequence], [v for _, v in sequence], expect=2)
         h.spin_for(0.1)
         got = probe.sample_wrenches()

@@ -90,7 +90,7 @@ class _Problem:
         sim = chain.forward(self.rec.t_s, self.rec.force_n, self.rec.aux())
         resid = self.rec.voltage_v - sim
         offset = float(resid[self.fit_full].mean())
-        chain.offset.voltage_v += offset
+        chain = chain.with_offset(chain.offset_v + offset)
         resid = resid - offset
         rmse = lambda m: float(np.sqrt(np.mean(resid[m] ** 2)))  # noqa: E731
         return Candidate(effect, chain, n_params + 1, self.bic(rss_d, n_params + 1), rmse(self.fit_full),

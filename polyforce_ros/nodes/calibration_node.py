@@ -26,7 +26,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
-from ..workflows import calibrate_bag, calibrate_record, clean_samples, resample_onto
+from ..workflows import REFERENCE_GATE, calibrate_bag, calibrate_record, clean_samples, resample_onto
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run, stamp_to_ns
 
 DEFAULT_OUTPUT = str(Path.home() / ".ros" / "polyforce_model.yaml")
@@ -109,7 +109,7 @@ class CalibrationNode(Node):
         ref_t, ref_f = np.frombuffer(self._ref_t, np.int64), np.frombuffer(self._ref_f)
 
         def job():
-            keep, rk = clean_samples(raw_t, raw_v), clean_samples(ref_t, ref_f)
+            keep, rk = clean_samples(raw_t, raw_v), clean_samples(ref_t, ref_f, config=REFERENCE_GATE)
             if keep.sum() < 10 or rk.sum() < 2:
                 raise ValueError(f"recorded {int(keep.sum())} raw and {int(rk.sum())} reference samples: too few to fit")
             t0 = raw_t[keep][0]

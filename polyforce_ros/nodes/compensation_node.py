@@ -7,15 +7,11 @@ latest value is used); publishes ``wrench`` (geometry_msgs/WrenchStamped, force.
 compression positive, stamped like the raw sample). Services ``~/tare`` and
 ``~/reset`` (std_srvs/Trigger). Diagnostics on /diagnostics.
 
-Safety rules (the haptic master renders whatever arrives and holds it):
-* a sample that is NaN/inf or beyond ``input_limit_v`` is dropped and counted;
-* a stamp earlier than or equal to the previous one is dropped and counted
-  (no two wrenches with one stamp, no history rewritten);
-* a gap longer than ``gap_warn_s`` is integrated as a linear change of the
-  bridge output across it (the compensator's exact assumption) and counted;
-* the force is clamped to +-``force_limit_n`` (counted, WARN);
-* no valid input for ``stale_timeout_s`` -> zero wrench, ERROR, until input returns;
-* shutdown -> a final zero wrench.
+A thin shell: every rule about samples (bad values, implausible and backwards
+stamps and their healing, gaps, tare, drift, clamp, staleness) lives in
+:class:`polyforce_ros.runtime.Compensator`, which ``polyforce compensate`` runs
+over bags too. The node subscribes, steps it with the host receive time,
+publishes, and reports its counters. On shutdown it publishes a final zero wrench.
 """
 from __future__ import annotations
 
@@ -23,7 +19,6 @@ import math
 import os
 import time
 from pathlib import Path
-from collections import deque
 
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
@@ -34,6 +29,7 @@ from std_srvs.srv import Trigger
 
 from ..model_file import default_model_path, load_model
 from ..physics.chain import ModelError
+from ..runtime import Compensator, CompensatorConfig
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run, stamp_to_ns
 
 
@@ -46,6 +42,11 @@ class CompensationNode(Node):
         declare(self, "input_limit_v", 10.0, "Samples with |voltage| above this are dropped (V)", 0.001, 1000.0)
         declare(self, "stale_timeout_s", 0.1, "No valid input for this long -> zero wrench and ERROR (s)", 0.002, 60.0)
         declare(self, "gap_warn_s", 0.05, "Stamp gaps longer than this are counted as gaps (s)", 0.0001, 3600.0)
+        declare(self, "stamp_tolerance_s", 1.0,
+                "A sample whose (stamp - receive time) moves by more than this from the last used one is an implausible "
+                "stamp and is dropped (s); 0 = no check (fast replays of bags with gaps)", 0.0, 3600.0)
+        declare(self, "reanchor_after_s", 0.2,
+                "Rejected but self-consistent samples for this long re-anchor the stamp history (s)", 0.001, 60.0)
         declare(self, "tare_window", 200, "Samples averaged by ~/tare", 1, 100000)
         declare(self, "drift_tracking", False,
                 "Re-zero the bridge offset whenever the force rests inside +-drift_band_n for drift_window_s "
@@ -61,18 +62,12 @@ class CompensationNode(Node):
         # callback (a get_parameter call per value and sample costs latency at 1 kHz).
         self.p = {name: param.value for name, param in self._parameters.items()}
         self.diag = Diagnostics(self, "polyforce_ros: compensation")
-        self.counts = dict(samples=0, published=0, nonfinite=0, out_of_range=0, backwards=0, duplicate=0, gaps=0,
-                           clamped=0, stale_events=0, bad_joint=0, model_reloads=0, drift_corrections=0)
-        self._recent_v = deque(maxlen=int(self.get_parameter("tare_window").value))
-        self._tare_offset_v = None
-        self._epoch_ns = None
-        self._last_stamp_ns = None
-        self._last_rx = None  # monotonic time of the last valid sample
+        self.node_counts = dict(published=0, stale_events=0, bad_joint=0, model_reloads=0)
+        self.compensator = None
         self._stale = True
         self._model_error = ""
         self._model_path, self._model_mtime = None, None
         self._aux = {"temperature_c": None}  # latest auxiliary signals for the chain (thermal elements)
-        self._rest_since_ns, self._rest_force_sum, self._rest_count = None, 0.0, 0
         self._load_model(self.get_parameter("model_file").value)  # raises on a bad file at start-up
         qos = data_qos(self)
         self.pub = self.create_publisher(WrenchStamped, "wrench", qos)
@@ -95,11 +90,17 @@ class CompensationNode(Node):
         model = load_model(path)
         self.model, self._model_path = model, path
         self._model_mtime = _mtime(path)
-        self._stream = model.chain.streaming()
         self._needs_temperature = any(e.kind == "thermal_drift" for e in model.chain.elements)
-        if self._tare_offset_v is not None:
-            model.chain.offset.voltage_v = self._tare_offset_v
-        self._last_stamp_ns = None  # the history belongs to the old model
+        if self.compensator is None:
+            config = CompensatorConfig(**{name: self.p[name] for name in CompensatorConfig.names()})
+            self.compensator = Compensator(model.chain, config)
+        else:
+            self.compensator.set_chain(model.chain)  # a tare is kept; the history belongs to the old model
+
+    @property
+    def counts(self):
+        """The runtime's counters and the node's own (published, stale events, ...)."""
+        return {**self.compensator.counts, **self.node_counts}
 
     def _check_model_file(self):
         mtime = _mtime(self._model_path)
@@ -107,7 +108,7 @@ class CompensationNode(Node):
             return
         try:
             self._load_model(self.get_parameter("model_file").value)
-            self.counts["model_reloads"] += 1
+            self.node_counts["model_reloads"] += 1
             self._model_error = ""
             self.get_logger().info(f"model file changed, reloaded {self._model_path}")
         except ModelError as exc:
@@ -122,13 +123,14 @@ class CompensationNode(Node):
                     self._load_model(p.value)
                 except ModelError as exc:
                     return SetParametersResult(successful=False, reason=str(exc))
-                self.counts["model_reloads"] += 1
+                self.node_counts["model_reloads"] += 1
                 self._model_error = ""
                 self.get_logger().info(f"model set to {self._model_path}")
-            elif p.name == "tare_window":
-                self._recent_v = deque(self._recent_v, maxlen=int(p.value))
         for p in params:
             self.p[p.name] = p.value
+        changes = {p.name: p.value for p in params if p.name in CompensatorConfig.names()}
+        if changes:
+            self.compensator.configure(**changes)
         return SetParametersResult(successful=True)
 
     # ------------------------------------------------------------------ input
@@ -138,12 +140,12 @@ class CompensationNode(Node):
             try:
                 index = list(msg.name).index(joint)
             except ValueError:
-                self.counts["bad_joint"] += 1
+                self.node_counts["bad_joint"] += 1
                 return
         else:
             index = 0
         if len(msg.position) <= index:
-            self.counts["bad_joint"] += 1
+            self.node_counts["bad_joint"] += 1
             return
         self._process(stamp_to_ns(msg.header.stamp), msg.position[index], msg.header.frame_id)
 
@@ -152,66 +154,15 @@ class CompensationNode(Node):
             self._aux["temperature_c"] = msg.temperature
 
     def _on_scalar(self, msg: Float64):
-        self._process(self.get_clock().now().nanoseconds, msg.data, "")
+        self._process(time.time_ns(), msg.data, "")
 
     def _process(self, stamp_ns, voltage_v, frame_id):
-        self.counts["samples"] += 1
-        if not math.isfinite(voltage_v):
-            self.counts["nonfinite"] += 1
+        # The receive clock is the system clock, as the driver's stamps are (ROS time without sim time).
+        force = self.compensator.step(stamp_ns, voltage_v, time.time_ns(), self._aux)
+        if force is None:
             return
-        if abs(voltage_v) > self.p["input_limit_v"]:
-            self.counts["out_of_range"] += 1
-            return
-        last = self._last_stamp_ns
-        if last is not None:
-            if stamp_ns < last:
-                self.counts["backwards"] += 1
-                return
-            if stamp_ns == last:
-                self.counts["duplicate"] += 1
-                return
-            if (stamp_ns - last) * 1e-9 > self.p["gap_warn_s"]:
-                self.counts["gaps"] += 1
-        else:
-            self._stream.reset()
-            if self._epoch_ns is None:
-                self._epoch_ns = stamp_ns
-        self._last_stamp_ns = stamp_ns
-        self._recent_v.append(voltage_v)
-        self._last_rx = time.monotonic()
         self._stale = False
-        force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v, self._aux)
-        if force is not None and math.isfinite(force) and self.p["drift_tracking"]:
-            force = self._track_drift(stamp_ns, force)
-        if force is None or not math.isfinite(force):
-            # Cannot happen for finite input; if it did, the state is unusable.
-            self._stream.reset()
-            self._last_stamp_ns = None
-            force = 0.0
-        limit = self.p["force_limit_n"]
-        if abs(force) > limit:
-            self.counts["clamped"] += 1
-            force = math.copysign(limit, force)
         self._publish(stamp_ns, force, frame_id)
-
-    def _track_drift(self, stamp_ns, force):
-        """Fold a resting force into the bridge offset (see the drift_tracking parameter)."""
-        if abs(force) > self.p["drift_band_n"]:
-            self._rest_since_ns, self._rest_force_sum, self._rest_count = None, 0.0, 0
-            return force
-        if self._rest_since_ns is None:
-            self._rest_since_ns = stamp_ns
-        self._rest_force_sum += force
-        self._rest_count += 1
-        if (stamp_ns - self._rest_since_ns) * 1e-9 >= self.p["drift_window_s"]:
-            mean_force = self._rest_force_sum / self._rest_count
-            # F = G(0) (V - offset) - history: a resting force of F reads as an offset error of F / G(0).
-            g0 = self.model.chain.viscoelastic.relaxation().g0_n_per_v if self.model.chain.viscoelastic else 1.0
-            self.model.chain.offset.voltage_v += mean_force / g0
-            self.counts["drift_corrections"] += 1
-            self._rest_since_ns, self._rest_force_sum, self._rest_count = stamp_ns, 0.0, 0
-            force -= mean_force
-        return force
 
     def _publish(self, stamp_ns, force_n, frame_id=""):
         # One message object, reused: publish() serialises at once, and building a
@@ -221,16 +172,15 @@ class CompensationNode(Node):
         msg.header.frame_id = self.p["frame_id"] or frame_id
         msg.wrench.force.z = float(force_n)
         self.pub.publish(msg)
-        self.counts["published"] += 1
+        self.node_counts["published"] += 1
 
     # ------------------------------------------------------------------ safety
     def _check_stale(self):
-        timeout = self.p["stale_timeout_s"]
-        if self._last_rx is not None and time.monotonic() - self._last_rx <= timeout:
+        if not self.compensator.stale(time.time_ns()):
             return
         if not self._stale:
-            self.counts["stale_events"] += 1
-            self.get_logger().error(f"no valid input for {timeout:.3f} s: publishing zero force")
+            self.node_counts["stale_events"] += 1
+            self.get_logger().error(f"no valid input for {self.p['stale_timeout_s']:.3f} s: publishing zero force")
         self._stale = True
         self._publish(self.get_clock().now().nanoseconds, 0.0)
 
@@ -244,22 +194,15 @@ class CompensationNode(Node):
 
     # ------------------------------------------------------------------ services
     def _on_tare(self, request, response):
-        if not self._recent_v:
-            response.success, response.message = False, "no valid samples received yet; nothing to tare"
-            return response
-        offset = sum(self._recent_v) / len(self._recent_v)
-        self._tare_offset_v = offset
-        self.model.chain.offset.voltage_v = offset
-        self._stream.reset()
-        self._last_stamp_ns = None
-        response.success = True
-        response.message = f"tared: bridge offset {offset:.6f} V from {len(self._recent_v)} samples; history cleared"
-        self.get_logger().info(response.message)
+        response.success, response.message = self.compensator.tare()
+        if response.success:
+            self.get_logger().info(response.message)
+        else:
+            self.get_logger().warn(response.message)
         return response
 
     def _on_reset(self, request, response):
-        self._stream.reset()
-        self._last_stamp_ns = None
+        self.compensator.reset()
         response.success, response.message = True, "compensator history cleared"
         self.get_logger().info(response.message)
         return response
@@ -273,12 +216,12 @@ class CompensationNode(Node):
             level, message = WARN, "model has a thermal_drift element but no temperature received: not corrected"
         elif self._model_error:
             level, message = WARN, f"model file invalid, previous model kept: {self._model_error}"
-        elif c["clamped"] or c["nonfinite"] or c["out_of_range"] or c["backwards"] or c["duplicate"] or c["gaps"]:
+        elif any(c[k] for k in _WARN_COUNTERS):
             level, message = WARN, "running; bad or clamped samples seen (see counters)"
         else:
             level, message = OK, "running"
         values = dict(c, model_file=self._model_path, model=self.model.chain.viscoelastic,
-                      offset_v=self.model.chain.offset.voltage_v, tared=self._tare_offset_v is not None)
+                      offset_v=self.compensator.offset_v, tared=self.compensator.tare_offset_v is not None)
         return self.diag.publish(level, message, values)
 
     def destroy_node(self):
@@ -287,6 +230,10 @@ class CompensationNode(Node):
         except Exception:  # noqa: BLE001 - context may already be gone; nothing else to do
             pass
         super().destroy_node()
+
+
+_WARN_COUNTERS = ("clamped", "nonfinite", "out_of_range", "implausible_stamp", "backwards", "duplicate", "gaps",
+                  "reanchored", "nonfinite_output")
 
 
 def _mtime(path):

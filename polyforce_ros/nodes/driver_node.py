@@ -92,8 +92,7 @@ class DriverNode(Node):
         self.pub_ref = self.create_publisher(WrenchStamped, "reference_force", qos)
         self.pub_temp = self.create_publisher(Temperature, "temperature", 10)
         path = self._param("truth_model_file") or str(default_model_path())
-        chain = load_model(path).chain
-        chain.offset.voltage_v = self._param("offset_v")  # the bridge zero is a property of this sensor
+        chain = load_model(path).chain.with_offset(self._param("offset_v"))  # the bridge zero is a property of this sensor
         truth = chain.viscoelastic
         self.rate_hz = float(self._param("rate_hz"))
         self.sim = BridgeSimulator(chain=chain, noise_std_v=self._param("noise_std_v"),

@@ -100,7 +100,11 @@ class OffsetElement:
     kind = "offset"
 
     def __init__(self, voltage_v: float = 0.0):
-        self.voltage_v = float(voltage_v)
+        object.__setattr__(self, "voltage_v", float(voltage_v))
+
+    def __setattr__(self, name, value):
+        # A model is a description: a new offset is a new chain (SensorChain.with_offset).
+        raise AttributeError(f"OffsetElement is immutable; use SensorChain.with_offset (tried to set {name})")
 
     def forward_state(self):
         return None
@@ -125,13 +129,13 @@ class OffsetElement:
 
 class _OffsetStream:
     def __init__(self, element):
-        self.element = element  # read live, so a tare applies at once
+        self.voltage_v = element.voltage_v
 
     def reset(self):
         pass
 
     def step(self, t_s, value, aux=None):
-        return value - self.element.voltage_v
+        return value - self.voltage_v
 
 
 
@@ -454,13 +458,27 @@ class SensorChain:
 
     @property
     def offset(self) -> OffsetElement:
-        """The offset element (added at the end when the model has none)."""
+        """The offset element (a zero offset when the model has none; never added to the chain)."""
         for e in self.elements:
             if isinstance(e, OffsetElement):
                 return e
-        element = OffsetElement(0.0)
-        self.elements.append(element)
-        return element
+        return OffsetElement(0.0)
+
+    @property
+    def offset_v(self) -> float:
+        """Bridge output at zero force, V (0 without an offset element)."""
+        return self.offset.voltage_v
+
+    def with_offset(self, voltage_v: float) -> "SensorChain":
+        """A new chain with the bridge offset ``voltage_v`` (V); this one is left as it is.
+
+        The offset element is replaced where it stands, or appended at the
+        voltage end when the chain has none.
+        """
+        element = OffsetElement(voltage_v)
+        if any(isinstance(e, OffsetElement) for e in self.elements):
+            return SensorChain([element if isinstance(e, OffsetElement) else e for e in self.elements])
+        return SensorChain(self.elements + [element])
 
     def forward_states(self):
         """Fresh element states for block-wise forward runs (relaxed, unloaded sensor)."""

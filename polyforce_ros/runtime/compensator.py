@@ -1,0 +1,299 @@
+"""What to do with each raw sample: the compensation policy, ROS-free.
+
+One home for the rules that decide which bridge samples are used and what force
+leaves the compensator. ``compensation_node`` is subscribe -> :meth:`Compensator.step`
+-> publish; ``polyforce compensate`` runs the same object over a bag
+(:meth:`Compensator.run`), so a bag and a live stream with the same samples give
+the same wrench, bit for bit.
+
+Rules, in the order they are applied:
+
+1. a non-finite voltage, or one beyond ``input_limit_v``, is dropped and counted;
+2. stamps are checked against the receive clock (host time live, log time in a bag):
+   a sample whose ``stamp - receive`` differs from that of the last used sample by
+   more than ``stamp_tolerance_s`` is implausible (a DAQ or clock glitch) and is
+   dropped; it never becomes the "last stamp";
+3. a stamp earlier than or equal to the last used one is dropped (backwards /
+   duplicate: never two wrenches with one stamp, no history rewritten);
+4. healing: when rejected samples keep arriving, consistent among themselves
+   (increasing stamps, a steady ``stamp - receive``), for ``reanchor_after_s`` of
+   receive time, the stamp history re-anchors on them (counted, the compensator's
+   history restarts). A glitch therefore blinds the force for at most that long;
+5. a gap longer than ``gap_warn_s`` is integrated as a linear change across it
+   (the compensator's exact assumption) and counted;
+6. a non-finite force resets the history, is counted and is never output;
+7. the force is clamped to +-``force_limit_n`` (counted);
+8. no valid sample for ``stale_timeout_s`` -> the caller outputs zero (:meth:`stale`).
+
+Tare and drift tracking change a bridge offset held here, never the model: the
+model chain is an immutable description (see :meth:`SensorChain.with_offset`).
+"""
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass, fields, replace
+from typing import Any, Mapping, Optional
+
+import numpy as np
+
+from ..physics.chain import SensorChain
+
+__all__ = ["CompensatorConfig", "SampleGate", "Compensator", "GATE_COUNTERS", "COMPENSATOR_COUNTERS",
+           "ACCEPT", "ACCEPT_FRESH"]
+
+#: :meth:`SampleGate.admit` results that use the sample (FRESH: the history restarts with it).
+ACCEPT, ACCEPT_FRESH = 0, 1
+_DROPS = ("nonfinite", "out_of_range", "implausible_stamp", "backwards", "duplicate")
+GATE_COUNTERS = ("samples",) + _DROPS + ("gaps", "reanchored")
+COMPENSATOR_COUNTERS = GATE_COUNTERS + ("nonfinite_output", "clamped", "drift_corrections", "tares")
+
+
+@dataclass(frozen=True)
+class CompensatorConfig:
+    """Policy settings; the compensation node declares each as a parameter of the same name."""
+
+    force_limit_n: float = 12.0       #: output clamp, N
+    input_limit_v: float = 10.0       #: samples with |V| above this are dropped, V
+    gap_warn_s: float = 0.05          #: stamp gaps longer than this are counted, s
+    stale_timeout_s: float = 0.1      #: no valid sample this long -> zero output, s
+    stamp_tolerance_s: float = 1.0    #: allowed change of (stamp - receive time) between samples, s; 0 = off
+    reanchor_after_s: float = 0.2     #: consistent rejected samples this long -> re-anchor the stamps, s
+    tare_window: int = 200            #: raw samples averaged by a tare
+    drift_tracking: bool = False      #: fold resting forces into the bridge offset
+    drift_band_n: float = 0.05        #: |F| counted as at rest, N
+    drift_window_s: float = 5.0       #: rest time before a drift correction, s
+
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        return tuple(f.name for f in fields(cls))
+
+
+class SampleGate:
+    """Rules 1-5: which samples are used, and when the history must restart."""
+
+    def __init__(self, config: CompensatorConfig = CompensatorConfig()):
+        self.config = config
+        self.counts = dict.fromkeys(GATE_COUNTERS, 0)
+        self.last_stamp_ns: Optional[int] = None
+        self._skew_ns = 0                          # stamp - receive of the last used sample
+        self._run: Optional[list] = None           # [first receive, last stamp, skew] of rejected samples
+
+    def restart(self):
+        """Forget the stamp history: the next finite sample starts a fresh one."""
+        self.last_stamp_ns, self._run = None, None
+
+    def admit(self, stamp_ns: int, voltage_v: float, receive_ns: Optional[int] = None) -> Any:
+        """ACCEPT, ACCEPT_FRESH, or the name of the counter of the drop."""
+        c = self.counts
+        c["samples"] += 1
+        if not math.isfinite(voltage_v):
+            c["nonfinite"] += 1
+            return "nonfinite"
+        if abs(voltage_v) > self.config.input_limit_v:
+            c["out_of_range"] += 1
+            return "out_of_range"
+        receive_ns = stamp_ns if receive_ns is None else receive_ns
+        skew = stamp_ns - receive_ns
+        last = self.last_stamp_ns
+        if last is None:
+            return self._anchor(stamp_ns, skew)
+        tol_ns = self.config.stamp_tolerance_s * 1e9
+        if tol_ns > 0 and abs(skew - self._skew_ns) > tol_ns:
+            reason = "implausible_stamp"
+        elif stamp_ns < last:
+            reason = "backwards"
+        elif stamp_ns == last:
+            reason = "duplicate"
+        else:
+            self._run = None
+            if (stamp_ns - last) * 1e-9 > self.config.gap_warn_s:
+                c["gaps"] += 1
+            self.last_stamp_ns, self._skew_ns = stamp_ns, skew
+            return ACCEPT
+        c[reason] += 1
+        if self._heals(stamp_ns, skew, receive_ns, tol_ns):
+            c["reanchored"] += 1
+            return self._anchor(stamp_ns, skew)
+        return reason
+
+    def _anchor(self, stamp_ns, skew):
+        self.last_stamp_ns, self._skew_ns, self._run = stamp_ns, skew, None
+        return ACCEPT_FRESH
+
+    def _heals(self, stamp_ns, skew, receive_ns, tol_ns) -> bool:
+        """Whether this rejected sample completes a run of consistent ones long enough to re-anchor on."""
+        run = self._run
+        consistent = run is not None and stamp_ns > run[1] and (tol_ns <= 0 or abs(skew - run[2]) <= tol_ns)
+        if not consistent:
+            self._run = [receive_ns, stamp_ns, skew]
+            return False
+        run[1], run[2] = stamp_ns, skew
+        return (receive_ns - run[0]) * 1e-9 >= self.config.reanchor_after_s
+
+    def mask(self, stamp_ns, voltage_v, receive_ns=None) -> np.ndarray:
+        """Samples :meth:`admit` would use, for whole arrays (fresh gate state).
+
+        When vectorised checks show that every sample passes (the usual clean
+        record) no per-sample work is done; otherwise the samples are admitted
+        one by one, so this is always exactly the per-sample rule.
+        """
+        stamp_ns = np.asarray(stamp_ns, dtype=np.int64)
+        voltage_v = np.asarray(voltage_v, dtype=float)
+        receive = stamp_ns if receive_ns is None else np.asarray(receive_ns, dtype=np.int64)
+        if self.last_stamp_ns is None and stamp_ns.size:
+            skew = stamp_ns - receive
+            tol_ns = self.config.stamp_tolerance_s * 1e9
+            clean = (np.isfinite(voltage_v).all() and (np.abs(voltage_v) <= self.config.input_limit_v).all()
+                     and (np.diff(stamp_ns) > 0).all() and (tol_ns <= 0 or (np.abs(np.diff(skew)) <= tol_ns).all()))
+            if clean:
+                dt = np.diff(stamp_ns) * 1e-9
+                self.counts["samples"] += stamp_ns.size
+                self.counts["gaps"] += int((dt > self.config.gap_warn_s).sum())
+                self.last_stamp_ns, self._skew_ns = int(stamp_ns[-1]), int(skew[-1])
+                return np.ones(stamp_ns.size, dtype=bool)
+        out = np.zeros(stamp_ns.size, dtype=bool)
+        for i in range(stamp_ns.size):
+            out[i] = self.admit(int(stamp_ns[i]), float(voltage_v[i]), int(receive[i])) in (ACCEPT, ACCEPT_FRESH)
+        return out
+
+
+class Compensator:
+    """Raw bridge samples in, force out: the gate, the chain's inverse, tare, drift, clamp, staleness.
+
+    Parameters
+    ----------
+    chain : SensorChain
+        The sensor model (immutable; never written to).
+    config : CompensatorConfig
+        Policy settings.
+    """
+
+    def __init__(self, chain: SensorChain, config: CompensatorConfig = CompensatorConfig()):
+        self.config = config
+        self.gate = SampleGate(config)
+        self.counts = self.gate.counts
+        for name in COMPENSATOR_COUNTERS:
+            self.counts.setdefault(name, 0)
+        self._recent_v: deque = deque(maxlen=int(config.tare_window))
+        self.tare_offset_v: Optional[float] = None   # bridge offset from the last tare, V
+        self.drift_v = 0.0                           # drift corrections since then, V
+        self.last_valid_receive_ns: Optional[int] = None
+        self.set_chain(chain)
+
+    # ------------------------------------------------------------------ settings
+    def set_chain(self, chain: SensorChain):
+        """Use another model; the history restarts (it belongs to the old model), a tare is kept."""
+        self.chain = chain
+        self._stream = chain.streaming()
+        core = chain.viscoelastic
+        self._g0 = core.relaxation().g0_n_per_v if core is not None else 1.0
+        self._restart()
+
+    def configure(self, **changes):
+        """New policy settings (names of :class:`CompensatorConfig`); take effect at the next sample."""
+        self.config = replace(self.config, **changes)
+        self.gate.config = self.config
+        if "tare_window" in changes:
+            self._recent_v = deque(self._recent_v, maxlen=int(self.config.tare_window))
+
+    @property
+    def offset_v(self) -> float:
+        """Bridge output at zero force now in use (model offset, or tare, plus drift corrections), V."""
+        base = self.tare_offset_v if self.tare_offset_v is not None else self.chain.offset_v
+        return base + self.drift_v
+
+    # ------------------------------------------------------------------ per sample
+    def step(self, stamp_ns: int, voltage_v: float, receive_ns: Optional[int] = None,
+             aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+        """Force (N) for one raw sample, or None when the sample is dropped.
+
+        ``receive_ns`` is the time the sample arrived on the clock its stamps
+        should follow (host time live, the log time in a bag); None = the stamp.
+        """
+        verdict = self.gate.admit(stamp_ns, voltage_v, receive_ns)
+        if verdict == ACCEPT_FRESH:
+            self._stream.reset()
+            self._epoch_ns = stamp_ns
+        elif verdict != ACCEPT:
+            return None
+        self._recent_v.append(voltage_v)
+        self.last_valid_receive_ns = stamp_ns if receive_ns is None else receive_ns
+        shift = self.offset_v - self.chain.offset_v
+        force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v - shift, aux)
+        if force is None or not math.isfinite(force):
+            self.counts["nonfinite_output"] += 1
+            self._restart()
+            return None
+        if self.config.drift_tracking:
+            force = self._track_drift(stamp_ns, force)
+        limit = self.config.force_limit_n
+        if abs(force) > limit:
+            self.counts["clamped"] += 1
+            force = math.copysign(limit, force)
+        return force
+
+    def stale(self, now_ns: int) -> bool:
+        """Whether no valid sample arrived for ``stale_timeout_s`` before ``now_ns`` (receive clock)."""
+        last = self.last_valid_receive_ns
+        return last is None or (now_ns - last) * 1e-9 > self.config.stale_timeout_s
+
+    # ------------------------------------------------------------------ batch
+    def run(self, stamp_ns, voltage_v, receive_ns=None, aux=None):
+        """:meth:`step` over arrays. Returns ``(used, force_n)``: a mask of the samples that
+        gave a force, and those forces (exactly what :meth:`step` gives, sample by sample)."""
+        stamp_ns = np.asarray(stamp_ns, dtype=np.int64)
+        voltage_v = np.asarray(voltage_v, dtype=float)
+        receive = stamp_ns if receive_ns is None else np.asarray(receive_ns, dtype=np.int64)
+        temps = None if not aux or aux.get("temperature_c") is None else np.broadcast_to(
+            np.asarray(aux["temperature_c"], dtype=float), stamp_ns.shape)
+        used = np.zeros(stamp_ns.size, dtype=bool)
+        force = np.zeros(stamp_ns.size)
+        sample_aux: dict = {"temperature_c": None}
+        for i in range(stamp_ns.size):
+            if temps is not None:
+                sample_aux["temperature_c"] = float(temps[i])
+            f = self.step(int(stamp_ns[i]), float(voltage_v[i]), int(receive[i]), sample_aux)
+            if f is not None:
+                used[i], force[i] = True, f
+        return used, force
+
+    # ------------------------------------------------------------------ tare, reset, drift
+    def tare(self) -> tuple[bool, str]:
+        """Take the mean of the last ``tare_window`` used samples as the bridge offset; restart the history."""
+        if not self._recent_v:
+            return False, "no valid samples received yet; nothing to tare"
+        offset = sum(self._recent_v) / len(self._recent_v)
+        self.tare_offset_v, self.drift_v = offset, 0.0
+        self.counts["tares"] += 1
+        self._restart()
+        return True, f"tared: bridge offset {offset:.6f} V from {len(self._recent_v)} samples; history cleared"
+
+    def reset(self):
+        """Forget the deformation and stamp history (sensor assumed relaxed)."""
+        self._restart()
+
+    def _restart(self):
+        self._stream.reset()
+        self.gate.restart()
+        self._epoch_ns = 0
+        self._rest_since_ns, self._rest_force_sum, self._rest_count = None, 0.0, 0
+
+    def _track_drift(self, stamp_ns: int, force: float) -> float:
+        """Fold a resting force into the bridge offset (see ``drift_tracking``)."""
+        cfg = self.config
+        if abs(force) > cfg.drift_band_n:
+            self._rest_since_ns, self._rest_force_sum, self._rest_count = None, 0.0, 0
+            return force
+        if self._rest_since_ns is None:
+            self._rest_since_ns = stamp_ns
+        self._rest_force_sum += force
+        self._rest_count += 1
+        if (stamp_ns - self._rest_since_ns) * 1e-9 >= cfg.drift_window_s:
+            mean_force = self._rest_force_sum / self._rest_count
+            # F = G(0) (V - offset) - history: a resting force F reads as an offset error of F / G(0).
+            self.drift_v += mean_force / self._g0
+            self.counts["drift_corrections"] += 1
+            self._rest_since_ns, self._rest_force_sum, self._rest_count = stamp_ns, 0.0, 0
+            force -= mean_force
+        return force

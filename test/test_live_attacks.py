@@ -1,0 +1,78 @@
+"""A running compensation node under attack heals by itself, and equals the offline path bit for bit."""
+import math
+
+import numpy as np
+
+from polyforce_ros import bags
+from polyforce_ros.model_file import default_model_path, load_model
+from polyforce_ros.nodes.common import stamp_to_ns
+from polyforce_ros.workflows import compensate_bag
+from ros_harness import ros
+from test_compensation_node import T0_NS, start
+
+MS = 1_000_000
+YEARS_3 = 3 * 365 * 86400 * 1_000_000_000
+
+
+def send_paced(h, probe, samples):
+    for s, v in samples:
+        probe.send(int(s), float(v))
+        h.spin_for(0.0005)
+
+
+def wait_for(h, probe, stamps):
+    wanted = set(int(s) for s in stamps)
+    h.spin_until(lambda: wanted <= {stamp_to_ns(w.header.stamp) for w in probe.sample_wrenches()}, 10.0)
+    return {stamp_to_ns(w.header.stamp): w.wrench.force.z for w in probe.sample_wrenches()}
+
+
+def test_far_future_and_max_stamps_among_valid_samples_lose_nothing():
+    stamps = T0_NS + np.arange(600, dtype=np.int64) * MS
+    samples = [(s, 0.3) for s in stamps]
+    samples.insert(400, ((2**31 - 1) * 1_000_000_000, 0.3))
+    samples.insert(200, (T0_NS + YEARS_3, 0.3))
+    with ros() as h:
+        node, probe = start(h, stale_timeout_s=30.0)
+        send_paced(h, probe, samples)
+        got = wait_for(h, probe, stamps)
+        status = node._publish_diagnostics()
+    assert set(stamps.tolist()) <= set(got)  # every valid sample has its wrench
+    assert node.counts["implausible_stamp"] == 2 and node.counts["reanchored"] == 0
+    assert all(math.isfinite(f) and abs(f) <= 12.0 for f in got.values())
+    assert status.level != 2 and "implausible_stamp" in {v.key for v in status.values}
+
+
+def test_a_glitch_as_the_first_sample_heals_within_a_second_without_a_service_call():
+    stamps = T0_NS + np.arange(1500, dtype=np.int64) * MS
+    with ros() as h:
+        node, probe = start(h, stale_timeout_s=30.0)
+        send_paced(h, probe, [(T0_NS + YEARS_3, 0.3)])
+        send_paced(h, probe, [(s, 0.3) for s in stamps])
+        got = wait_for(h, probe, stamps[-700:])
+        status = node._publish_diagnostics()
+    assert node.counts["reanchored"] == 1
+    assert set(stamps[-700:].tolist()) <= set(got)  # flowing again after at most reanchor_after_s (0.2 s)
+    assert status.level != 2
+
+
+def test_offline_compensation_of_a_bag_with_a_spike_equals_the_node_bit_for_bit(tmp_path):
+    n = 800
+    stamps = T0_NS + np.arange(n, dtype=np.int64) * MS
+    t = (stamps - stamps[0]) * 1e-9
+    volts = 1.2 * (t > 0.1) + 0.02 * np.sin(2 * np.pi * 4 * t)
+    volts[[150, 151, 400]] = [1e12, np.nan, -1e308]
+    src = tmp_path / "spike.mcap"
+    with bags.BagWriter(src) as w:
+        w.write_series(bags.BRIDGE_VOLTAGE, bags.JOINT_STATE, stamps, volts)
+    out = tmp_path / "out.mcap"
+    written, warnings = compensate_bag(src, out, load_model(default_model_path()))
+    assert written == n - 3 and any("out of range" in w for w in warnings)
+    wrench = bags.read_bag(out)[bags.WRENCH]
+    offline = dict(zip(wrench.stamp_ns.tolist(), wrench.fields["force_z"].tolist()))
+    with ros() as h:
+        node, probe = start(h, stale_timeout_s=30.0)
+        send_paced(h, probe, zip(stamps, volts))
+        live = wait_for(h, probe, list(offline))
+    assert set(live) == set(offline)
+    assert [live[s] for s in sorted(live)] == [offline[s] for s in sorted(offline)]  # exactly, not approximately
+    assert all(math.isfinite(f) for f in offline.values())

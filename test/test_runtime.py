@@ -1,0 +1,194 @@
+"""The ROS-free compensation runtime: sample rules, stamp healing, finite output, immutable models."""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from polyforce_ros.physics.chain import OffsetElement, SensorChain
+from polyforce_ros.physics.viscoelastic import PAPER_BURGERS, compensate
+from polyforce_ros.runtime import Compensator, CompensatorConfig, SampleGate
+from polyforce_ros.runtime.compensator import ACCEPT, ACCEPT_FRESH
+
+MS = 1_000_000
+T0 = 1_780_000_000 * 1_000_000_000
+YEARS_3 = 3 * 365 * 86400 * 1_000_000_000
+CHAIN = SensorChain.from_model(PAPER_BURGERS, offset_v=0.0)
+
+
+def stream_1khz(n, t0=T0):
+    """Stamps and receive times of a 1 kHz stream with 0.3 ms transport latency."""
+    stamps = t0 + np.arange(n, dtype=np.int64) * MS
+    return stamps, stamps + 300_000
+
+
+def volts_of(stamps):
+    t = (stamps - stamps[0]) * 1e-9
+    return 1.5 * (t > 0.05) + 0.01 * np.sin(2 * np.pi * 5 * t)
+
+
+@pytest.mark.parametrize("glitch_ns", [T0 + YEARS_3, (2**31 - 1) * 1_000_000_000, T0 - YEARS_3])
+def test_one_glitched_stamp_is_dropped_and_never_blinds_the_stream(glitch_ns):
+    stamps, receive = stream_1khz(400)
+    volts = volts_of(stamps)
+    comp = Compensator(CHAIN)
+    forces = []
+    for i in range(400):
+        if i == 200:
+            assert comp.step(glitch_ns, 0.3, int(receive[i]) + 100_000) is None
+        forces.append(comp.step(int(stamps[i]), float(volts[i]), int(receive[i])))
+    assert comp.counts["implausible_stamp"] == 1 and comp.counts["backwards"] == 0
+    assert comp.counts["reanchored"] == 0
+    # nothing lost, and the force is the undisturbed compensation
+    np.testing.assert_allclose(forces, compensate(PAPER_BURGERS, (stamps - stamps[0]) * 1e-9, volts), atol=1e-9)
+
+
+def test_a_glitch_accepted_first_heals_by_itself_within_reanchor_after_s():
+    config = CompensatorConfig(reanchor_after_s=0.2)
+    comp = Compensator(CHAIN, config)
+    stamps, receive = stream_1khz(1000)
+    volts = volts_of(stamps)
+    assert comp.step(T0 + YEARS_3, 0.1, int(receive[0])) is not None  # nothing to compare the first one with
+    out = [comp.step(int(s), float(v), int(r)) for s, v, r in zip(stamps[1:], volts[1:], receive[1:])]
+    first_ok = next(i for i, f in enumerate(out) if f is not None)
+    assert comp.counts["reanchored"] == 1
+    assert (receive[1 + first_ok] - receive[1]) * 1e-9 <= 0.2 + 2e-3  # blind for at most reanchor_after_s
+    assert all(f is not None for f in out[first_ok:])
+    # after healing the history restarts at the re-anchoring sample
+    k = 1 + first_ok
+    expected = compensate(PAPER_BURGERS, (stamps[k:] - stamps[k]) * 1e-9, volts[k:])
+    np.testing.assert_allclose(out[first_ok:], expected, atol=1e-9)
+
+
+def test_a_clock_that_jumps_for_good_is_followed_after_reanchor_after_s():
+    comp = Compensator(CHAIN)
+    stamps, receive = stream_1khz(600)
+    stamps = stamps.copy()
+    stamps[300:] += YEARS_3  # e.g. a device clock reset to another epoch, or a replay that loops
+    out = [comp.step(int(s), 0.2, int(r)) for s, r in zip(stamps, receive)]
+    assert comp.counts["reanchored"] == 1
+    blind = [i for i, f in enumerate(out) if f is None]
+    assert blind and blind[0] == 300 and len(blind) <= 201
+
+
+def test_duplicates_never_reanchor():
+    comp = Compensator(CHAIN)
+    stamps, receive = stream_1khz(10)
+    for s, r in zip(stamps, receive):
+        comp.step(int(s), 0.1, int(r))
+    frozen = int(stamps[-1])
+    out = [comp.step(frozen, 0.1, int(receive[-1]) + i * MS) for i in range(1, 600)]  # a DAQ with a stuck clock
+    assert all(f is None for f in out)
+    assert comp.counts["reanchored"] == 0 and comp.counts["duplicate"] == 599
+
+
+def test_stale_follows_the_receive_clock():
+    comp = Compensator(CHAIN, CompensatorConfig(stale_timeout_s=0.1))
+    assert comp.stale(T0)
+    comp.step(T0, 0.1, T0)
+    assert not comp.stale(T0 + 99 * MS) and comp.stale(T0 + 101 * MS)
+    comp.step(T0 + 5 * MS, float("nan"), T0 + 150 * MS)  # bad samples do not feed the watchdog
+    assert comp.stale(T0 + 151 * MS)
+
+
+values = st.one_of(st.floats(allow_nan=True, allow_infinity=True, width=64),
+                   st.floats(-20.0, 20.0), st.sampled_from([1e308, -1e308, 1e12, 5e-324, 0.0]))
+steps = st.integers(-5 * MS, 5 * MS)
+
+
+@settings(derandomize=True, max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.tuples(steps, values, st.booleans()), min_size=1, max_size=300))
+def test_any_stream_gives_finite_bounded_forces_and_unique_increasing_stamps(items):
+    comp = Compensator(CHAIN, CompensatorConfig(force_limit_n=12.0))
+    stamp = T0
+    last_out = None
+    for step_ns, v, glitch in items:
+        stamp += step_ns
+        s = stamp + (YEARS_3 if glitch else 0)
+        f = comp.step(s, v, T0 + abs(step_ns))
+        if f is not None:
+            assert math.isfinite(f) and abs(f) <= 12.0
+            assert last_out is None or s > last_out or comp.counts["reanchored"]
+            last_out = s
+
+
+@settings(derandomize=True, max_examples=200, deadline=None)
+@given(st.lists(st.tuples(steps, values, st.integers(0, 2 * MS), st.sampled_from([0, 0, 0, YEARS_3])),
+                min_size=0, max_size=200),
+       st.sampled_from([0.0, 1.0]))
+def test_gate_mask_equals_the_per_sample_rule(items, tolerance_s):
+    config = CompensatorConfig(stamp_tolerance_s=tolerance_s)
+    stamps = T0 + np.cumsum([i[0] for i in items], dtype=np.int64) + np.array([i[3] for i in items], dtype=np.int64)
+    volts = np.array([i[1] for i in items], dtype=float)
+    receive = T0 + np.cumsum([i[2] for i in items], dtype=np.int64)
+    gate = SampleGate(config)
+    one_by_one = [gate.admit(int(s), float(v), int(r)) in (ACCEPT, ACCEPT_FRESH) for s, v, r in zip(stamps, volts, receive)]
+    batch = SampleGate(config)
+    np.testing.assert_array_equal(batch.mask(stamps, volts, receive), np.array(one_by_one, dtype=bool))
+    assert batch.counts == gate.counts
+
+
+def test_clean_arrays_take_the_vectorised_path_and_match():
+    stamps, receive = stream_1khz(5000)
+    volts = volts_of(stamps)
+    stamps[2500:] += 100 * MS  # one real gap (arrival gap too)
+    receive[2500:] += 100 * MS
+    gate = SampleGate()
+    assert gate.mask(stamps, volts, receive).all()
+    assert gate.counts["gaps"] == 1 and gate.counts["samples"] == 5000
+
+
+def test_run_is_step_by_step_exactly():
+    rng = np.random.default_rng(3)
+    stamps, receive = stream_1khz(3000)
+    volts = volts_of(stamps) + rng.normal(0, 1e-3, stamps.size)
+    volts[[10, 500, 1700]] = [np.nan, 1e12, -np.inf]
+    stamps[900] = stamps[899]
+    used, force = Compensator(CHAIN).run(stamps, volts, receive)
+    comp = Compensator(CHAIN)
+    one = [comp.step(int(s), float(v), int(r)) for s, v, r in zip(stamps, volts, receive)]
+    assert used.tolist() == [f is not None for f in one]
+    assert force[used].tolist() == [f for f in one if f is not None]  # bit for bit
+
+
+class _NaNAfter:
+    """A stream that breaks down (stands in for a numerically unusable model)."""
+
+    def __init__(self, n):
+        self.n, self.k = n, 0
+
+    def reset(self):
+        pass
+
+    def step(self, t_s, v, aux=None):
+        self.k += 1
+        return float("nan") if self.k == self.n else v
+
+
+def test_a_non_finite_force_is_counted_never_output_and_restarts_the_history():
+    comp = Compensator(CHAIN)
+    comp._stream = _NaNAfter(5)
+    stamps, receive = stream_1khz(10)
+    out = [comp.step(int(s), 0.1, int(r)) for s, r in zip(stamps, receive)]
+    assert out[4] is None and all(f is not None for i, f in enumerate(out) if i != 4)
+    assert comp.counts["nonfinite_output"] == 1
+
+
+def test_tare_and_drift_never_write_into_the_model():
+    chain = SensorChain.from_model(PAPER_BURGERS, offset_v=0.01)
+    comp = Compensator(chain, CompensatorConfig(tare_window=10))
+    stamps, receive = stream_1khz(20)
+    for s, r in zip(stamps, receive):
+        comp.step(int(s), 0.05, int(r))
+    ok, message = comp.tare()
+    assert ok and "0.050000 V" in message
+    assert chain.offset_v == 0.01 and comp.offset_v == pytest.approx(0.05)
+    assert comp.step(int(stamps[-1]) + MS, 0.05, int(receive[-1]) + MS) == pytest.approx(0.0, abs=1e-12)
+    with pytest.raises(AttributeError):
+        chain.offset.voltage_v = 1.0
+    moved = chain.with_offset(0.2)
+    assert moved.offset_v == 0.2 and chain.offset_v == 0.01 and moved.viscoelastic == chain.viscoelastic
+    bare = SensorChain(chain.elements[:1])
+    assert bare.offset_v == 0.0 and len(bare.elements) == 1  # reading the offset adds nothing
+    assert isinstance(bare.with_offset(0.3).elements[-1], OffsetElement) and len(bare.elements) == 1

@@ -92,10 +92,23 @@ class DeviceClock:
     The offset host - device is the minimum of (arrival - device time) over a
     sliding pair of windows: the least-delayed frames bound the true offset,
     and the window lets it follow the drift between the two crystals.
+
+    The stamp rules of the compensation runtime apply here too: a frame whose
+    delay (arrival - device time) departs from the current offset by more than
+    ``tolerance_s`` is implausible (a corrupt clock field, a device reset) and
+    gets no stamp (``stamp_ns`` returns None, counted in ``implausible``); it
+    never moves the wrap count or the offset. Implausible frames that agree
+    among themselves (increasing device time, steady delay) for
+    ``reanchor_after_s`` of arrival time re-anchor the mapping (counted in
+    ``reanchored``): a device that really restarted its clock is followed.
     """
 
-    def __init__(self, window_s: float = 10.0):
+    def __init__(self, window_s: float = 10.0, tolerance_s: float = 1.0, reanchor_after_s: float = 0.2):
         self.window_ns = int(window_s * 1e9)
+        self.tolerance_ns = int(tolerance_s * 1e9)
+        self.reanchor_after_ns = int(reanchor_after_s * 1e9)
+        self.implausible = 0
+        self.reanchored = 0
         self.reset()
 
     def reset(self):
@@ -104,16 +117,38 @@ class DeviceClock:
         self._window_start = None
         self._min_now = None
         self._min_prev = None
+        self._run = None  # [first arrival, last t_us, delay of a raw t_us] of implausible frames
 
-    def stamp_ns(self, t_us: int, arrival_ns: int) -> int:
+    def _offset(self):
+        return self._min_now if self._min_prev is None else min(self._min_now, self._min_prev)
+
+    def stamp_ns(self, t_us: int, arrival_ns: int):
+        """Host-time stamp (ns) of a frame with device time ``t_us``, or None when implausible."""
+        wraps = self._wraps
         if self._last_us is not None and t_us < self._last_us and self._last_us - t_us > 1 << 31:
-            self._wraps += 1
-        self._last_us = t_us
-        device_ns = (self._wraps * (1 << 32) + t_us) * 1000
+            wraps += 1
+        device_ns = (wraps * (1 << 32) + t_us) * 1000
         delay = arrival_ns - device_ns
+        if self._min_now is not None and abs(delay - self._offset()) > self.tolerance_ns:
+            self.implausible += 1
+            if not self._heals(t_us, arrival_ns):
+                return None
+            self.reanchored += 1
+            self.reset()
+            return self.stamp_ns(t_us, arrival_ns)
+        self._run = None
+        self._wraps, self._last_us = wraps, t_us
         if self._window_start is None or arrival_ns - self._window_start > self.window_ns:
             self._min_prev, self._min_now, self._window_start = self._min_now, delay, arrival_ns
         else:
             self._min_now = min(self._min_now, delay)
-        offset = self._min_now if self._min_prev is None else min(self._min_now, self._min_prev)
-        return device_ns + offset
+        return device_ns + self._offset()
+
+    def _heals(self, t_us, arrival_ns) -> bool:
+        raw_delay = arrival_ns - t_us * 1000
+        run = self._run
+        if run is None or t_us <= run[1] or abs(raw_delay - run[2]) > self.tolerance_ns:
+            self._run = [arrival_ns, t_us, raw_delay]
+            return False
+        run[1], run[2] = t_us, raw_delay
+        return arrival_ns - run[0] >= self.reanchor_after_ns

@@ -138,7 +138,7 @@ def test_sim_backend_with_extra_effects_and_temperature_swing(tmp_path):
     n = len(raw)
     t, f = profiles.step(rate_hz=1000.0)
     temp = 24.0 + 5.0 * np.sin(2 * np.pi * t[:n] / 2.0)
-    chain.offset.voltage_v = 0.05  # the driver's offset_v
+    chain = chain.with_offset(0.05)  # the driver's offset_v
     expected = chain.forward(t[:n], f[:n], {"temperature_c": temp})
     np.testing.assert_allclose([m.position[0] for m in raw], expected, atol=1e-12)
     assert np.ptp([m.temperature for m in temps]) > 2.0  # the swing is published

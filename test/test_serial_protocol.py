@@ -36,3 +36,33 @@ def test_device_clock_unwraps_and_uses_least_delayed_frame():
         stamps.append(clock.stamp_ns(t_us, arrival))
     steps = [b - a for a, b in zip(stamps[2:], stamps[3:])]
     assert steps == [1_000_000, 1_000_000]  # once the 300 us frame is seen, spacing is exact
+
+
+def _stream(clock, t0_us, arrival0_ns, n, period_us=1000, delay_ns=200_000):
+    return [clock.stamp_ns((t0_us + k * period_us) % 2**32, arrival0_ns + k * period_us * 1000 + delay_ns)
+            for k in range(n)]
+
+
+def test_device_clock_drops_a_glitched_device_time_and_keeps_its_mapping():
+    clock = DeviceClock()
+    host0 = 7_000_000_000_000
+    before = _stream(clock, 1_000_000, host0, 100)
+    glitch = clock.stamp_ns(1_000_000 + 100_000 + 2**30, host0 + 100_000_000 + 200_000)  # a flipped high bit
+    after = _stream(clock, 1_000_000 + 100_000, host0 + 100_000_000, 100)
+    assert glitch is None and clock.implausible == 1 and clock.reanchored == 0
+    stamps = before + after
+    assert all(b - a == 1_000_000 for a, b in zip(stamps, stamps[1:]))  # no jump, no wrap counted
+
+
+def test_device_clock_follows_a_device_reset_after_reanchor_after_s():
+    clock = DeviceClock(reanchor_after_s=0.2)
+    host0 = 7_000_000_000_000
+    _stream(clock, 50_000_000, host0, 100)                        # device up for 50 s
+    restart_arrival = host0 + 100_000_000
+    after = _stream(clock, 0, restart_arrival, 500)               # the device restarted its clock at 0
+    blind = [k for k, s in enumerate(after) if s is None]
+    assert clock.reanchored == 1 and blind == list(range(len(blind))) and len(blind) <= 201
+    first = len(blind)
+    # stamps follow host time again: within the transport delay of the arrival, and evenly spaced
+    assert abs(after[first] - (restart_arrival + first * 1_000_000)) <= 200_000
+    assert all(b - a == 1_000_000 for a, b in zip(after[first:], after[first + 1:]))

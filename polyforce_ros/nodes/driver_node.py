@@ -218,6 +218,8 @@ class DriverNode(Node):
         scale, offset = self._param("volts_per_count"), self._param("volts_offset")
         for frame in self.parser.feed(data):
             stamp = self.clock.stamp_ns(frame.t_us, arrival)
+            if stamp is None:  # implausible device time: no sample with a made-up stamp (counted)
+                continue
             self.pub_raw.publish(self._raw_message(stamp, frame.counts * scale + offset))
             self.published += 1
 
@@ -231,11 +233,12 @@ class DriverNode(Node):
                 level, message = WARN, "profile finished (loop is false)"
         else:
             values.update(port=self._param("port"), connected=self.connected, frames=self.parser.frames,
-                          crc_errors=self.parser.crc_errors, lost_frames=self.parser.lost_frames, outages=self.outages)
+                          crc_errors=self.parser.crc_errors, lost_frames=self.parser.lost_frames, outages=self.outages,
+                          implausible_stamp=self.clock.implausible, reanchored=self.clock.reanchored)
             if not self.connected:
                 level, message = ERROR, f"serial device unavailable: {self._last_error}"
-            elif self.parser.crc_errors or self.parser.lost_frames:
-                level, message = WARN, "connected; corrupt or lost frames seen"
+            elif self.parser.crc_errors or self.parser.lost_frames or self.clock.implausible:
+                level, message = WARN, "connected; corrupt or lost frames or implausible device times seen"
             else:
                 level, message = OK, "connected"
         return self.diag.publish(level, message, values)

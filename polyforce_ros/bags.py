@@ -29,27 +29,21 @@ from pathlib import Path
 
 import numpy as np
 
-NS = "/polyforce"
-BRIDGE_VOLTAGE = f"{NS}/bridge_voltage"
-WRENCH = f"{NS}/wrench"
-REFERENCE_FORCE = f"{NS}/reference_force"
-TEMPERATURE = f"{NS}/temperature"
-
-JOINT_STATE = "sensor_msgs/msg/JointState"
-WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
-TEMPERATURE_MSG = "sensor_msgs/msg/Temperature"
-FLOAT64 = "std_msgs/msg/Float64"
-
-#: The bag contract: topic -> message type.
-CONTRACT = {
-    BRIDGE_VOLTAGE: JOINT_STATE,
-    REFERENCE_FORCE: WRENCH_STAMPED,
-    WRENCH: WRENCH_STAMPED,
-    TEMPERATURE: TEMPERATURE_MSG,
-}
-
-#: The field that carries a contract message's one scalar (see :func:`make_message`).
-SCALAR_FIELD = {JOINT_STATE: "position", WRENCH_STAMPED: "force_z", TEMPERATURE_MSG: "temperature", FLOAT64: "data"}
+# The topic contract lives in contract.py; re-exported here for the readers and writers of bags.
+from .contract import (  # noqa: F401
+    BRIDGE_VOLTAGE,
+    CONTRACT,
+    FLOAT64,
+    FRAME_ID,
+    JOINT_NAME,
+    JOINT_STATE,
+    REFERENCE_FORCE,
+    SCALAR_FIELD,
+    TEMPERATURE,
+    TEMPERATURE_MSG,
+    WRENCH,
+    WRENCH_STAMPED,
+)
 
 _MAGIC = b"\x89MCAP0\r\n"
 _PRIMITIVES = {
@@ -586,7 +580,7 @@ class BagWriter:
 
         self.write_serialized(topic, type_name, serialize_message(msg), log_time_ns)
 
-    def write_series(self, topic, type_name, stamp_ns, values, frame_id="polyforce_sensor", joint_name="sarrus_axial",
+    def write_series(self, topic, type_name, stamp_ns, values, frame_id=FRAME_ID, joint_name=JOINT_NAME,
                      log_time_ns=None):
         """Write one message per sample: JointState position, WrenchStamped force.z,
         Temperature temperature or Float64 data = ``values[i]``, header stamp ``stamp_ns[i]``."""
@@ -622,14 +616,14 @@ class BagWriter:
         self.close()
 
 
-def serialize_template(type_name, frame_id="polyforce_sensor", joint_name="sarrus_axial") -> bytes:
+def serialize_template(type_name, frame_id=FRAME_ID, joint_name=JOINT_NAME) -> bytes:
     """CDR bytes of one message of a contract type with zero stamp and value."""
     from rclpy.serialization import serialize_message
 
     return serialize_message(make_message(type_name, 0, 0.0, frame_id, joint_name))
 
 
-def make_message(type_name, stamp_ns: int, value: float, frame_id="polyforce_sensor", joint_name="sarrus_axial"):
+def make_message(type_name, stamp_ns: int, value: float, frame_id=FRAME_ID, joint_name=JOINT_NAME):
     """A contract message carrying one scalar (see :meth:`BagWriter.write_series`)."""
     if type_name == FLOAT64:
         from std_msgs.msg import Float64

@@ -18,6 +18,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 from std_srvs.srv import Trigger
 
+from . import contract
 from .nodes.common import stamp_to_ns
 from .nodes.compensation_node import CompensationNode
 from .nodes.driver_node import DriverNode
@@ -32,12 +33,12 @@ class Recorder(Node):
     """Plays the haptic master: records raw, reference and wrench messages."""
 
     def __init__(self, context):
-        super().__init__("demo_recorder", namespace="/polyforce", context=context)
+        super().__init__("demo_recorder", namespace=contract.NAMESPACE, context=context)
         qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE)
         self.raw, self.ref, self.wrench = {}, {}, {}
-        self.create_subscription(JointState, "bridge_voltage", lambda m: self.raw.__setitem__(stamp_to_ns(m.header.stamp), m.position[0]), qos)
-        self.create_subscription(WrenchStamped, "reference_force", lambda m: self.ref.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
-        self.create_subscription(WrenchStamped, "wrench", lambda m: self.wrench.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+        self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, lambda m: self.raw.__setitem__(stamp_to_ns(m.header.stamp), m.position[0]), qos)
+        self.create_subscription(WrenchStamped, contract.Rel.REFERENCE_FORCE, lambda m: self.ref.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+        self.create_subscription(WrenchStamped, contract.Rel.WRENCH, lambda m: self.wrench.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
         self.tare = self.create_client(Trigger, "compensation_node/tare")
 
 

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import bags
+from . import bags, contract
 from .model_file import SensorModel, load_model, now_iso, save_model
 from .physics.chain import ModelError, SensorChain
 from .physics.identification import select_model
@@ -194,7 +194,7 @@ def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorCon
     with bags.BagWriter(out_path) as writer:
         bags.copy_messages(in_path, writer)  # survives truncation and corrupt chunks, like read_bag
         writer.write_series(bags.WRENCH, bags.WRENCH_STAMPED, raw.stamp_ns[used], force[used],
-                            log_time_ns=raw.log_time_ns[used], frame_id="polyforce_sensor")
+                            log_time_ns=raw.log_time_ns[used], frame_id=contract.FRAME_ID)
     return int(used.sum()), warnings
 
 

@@ -27,6 +27,7 @@ from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
 from ..workflows import REFERENCE_GATE, calibrate_bag, calibrate_record, clean_samples, resample_onto
+from .. import contract
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run, stamp_to_ns
 
 DEFAULT_OUTPUT = str(Path.home() / ".ros" / "polyforce_model.yaml")
@@ -49,8 +50,8 @@ class CalibrationNode(Node):
         self.create_service(Trigger, "~/calibrate", self._on_calibrate)
         self.create_service(Trigger, "~/start_recording", self._on_start)
         self.create_service(Trigger, "~/stop_and_fit", self._on_stop_and_fit)
-        self.create_subscription(JointState, "bridge_voltage", self._on_raw, qos)
-        self.create_subscription(WrenchStamped, "reference_force", self._on_ref, qos)
+        self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, self._on_raw, qos)
+        self.create_subscription(WrenchStamped, contract.Rel.REFERENCE_FORCE, self._on_ref, qos)
         self.recording = False
         self._raw_t, self._raw_v = array("q"), array("d")
         self._ref_t, self._ref_f = array("q"), array("d")
@@ -114,7 +115,7 @@ class CalibrationNode(Node):
                 raise ValueError(f"recorded {int(keep.sum())} raw and {int(rk.sum())} reference samples: too few to fit")
             t0 = raw_t[keep][0]
             t_s = (raw_t[keep] - t0) * 1e-9
-            force = resample_onto(t_s, t0, ref_t, ref_f, "reference_force")
+            force = resample_onto(t_s, t0, ref_t, ref_f, contract.Rel.REFERENCE_FORCE)
             return calibrate_record(t_s, force, raw_v[keep], source="live recording", **self._options())
 
         return self._respond(response, self._calibrate(job))

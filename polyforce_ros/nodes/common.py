@@ -10,7 +10,9 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
-DEFAULT_NAMESPACE = "/polyforce"
+from .. import contract
+
+DEFAULT_NAMESPACE = contract.NAMESPACE
 OK, WARN, ERROR = DiagnosticStatus.OK, DiagnosticStatus.WARN, DiagnosticStatus.ERROR
 
 
@@ -41,8 +43,16 @@ def data_qos(node) -> QoSProfile:
 
 
 def declare_qos(node):
-    declare(node, "qos_reliable", True, "Reliable (true) or best-effort (false) data topics", read_only=True)
-    declare(node, "qos_depth", 1000, "History depth of data topics (messages)", 1, 100000, read_only=True)
+    declare(node, "qos_reliable", contract.QOS_RELIABLE, "Reliable (true) or best-effort (false) data topics", read_only=True)
+    declare(node, "qos_depth", contract.QOS_DEPTH, "History depth of data topics (messages)", 1, 100000, read_only=True)
+
+
+def message_class(type_name: str):
+    """The rclpy message class of a contract type name (``pkg/msg/Type``)."""
+    from importlib import import_module
+
+    package, _, name = type_name.split("/")
+    return getattr(import_module(f"{package}.msg"), name)
 
 
 def stamp_to_ns(stamp) -> int:
@@ -60,7 +70,7 @@ class Diagnostics:
     def __init__(self, node, name):
         self.node = node
         self.name = name
-        self.pub = node.create_publisher(DiagnosticArray, "/diagnostics", 10)
+        self.pub = node.create_publisher(DiagnosticArray, contract.DIAGNOSTICS, 10)
 
     def publish(self, level, message, values):
         status = DiagnosticStatus(level=level, name=self.name, message=message, hardware_id=self.node.get_name())

@@ -30,6 +30,7 @@ from std_srvs.srv import Trigger
 from ..model_file import default_model_path, load_model
 from ..physics.chain import ModelError
 from ..runtime import Compensator, CompensatorConfig
+from .. import contract
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run, stamp_to_ns
 
 
@@ -70,11 +71,11 @@ class CompensationNode(Node):
         self._aux = {"temperature_c": None}  # latest auxiliary signals for the chain (thermal elements)
         self._load_model(self.get_parameter("model_file").value)  # raises on a bad file at start-up
         qos = data_qos(self)
-        self.pub = self.create_publisher(WrenchStamped, "wrench", qos)
+        self.pub = self.create_publisher(WrenchStamped, contract.Rel.WRENCH, qos)
         self._out = WrenchStamped()
-        self.create_subscription(JointState, "bridge_voltage", self._on_joint_state, qos)
-        self.create_subscription(Float64, "bridge_voltage_scalar", self._on_scalar, qos)
-        self.create_subscription(Temperature, "temperature", self._on_temperature, 10)
+        self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, self._on_joint_state, qos)
+        self.create_subscription(Float64, contract.Rel.BRIDGE_VOLTAGE_SCALAR, self._on_scalar, qos)
+        self.create_subscription(Temperature, contract.Rel.TEMPERATURE, self._on_temperature, 10)
         self.create_service(Trigger, "~/tare", self._on_tare)
         self.create_service(Trigger, "~/reset", self._on_reset)
         self.add_on_set_parameters_callback(self._on_set_parameters)

@@ -27,6 +27,7 @@ from ..model_file import default_model_path, load_model
 from ..serial_protocol import DeviceClock, FrameParser
 from ..sim import profiles
 from ..sim.sensor import BridgeSimulator
+from .. import contract
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run
 
 #: Samples simulated ahead per block (1 s at 1 kHz): small enough not to stall the executor.
@@ -41,8 +42,8 @@ class DriverNode(Node):
         super().__init__("driver_node", **kwargs)
         backend = declare(self, "backend", "sim", "Data source: 'sim' (embedded simulator) or 'serial' (ADC)", read_only=True)
         declare(self, "rate_hz", 1000.0, "Sample rate of the simulator (Hz)", 1.0, 20000.0, read_only=True)
-        declare(self, "joint_name", "sarrus_axial", "JointState name of the sensor's prismatic joint", read_only=True)
-        declare(self, "frame_id", "polyforce_sensor", "Frame of the sensor", read_only=True)
+        declare(self, "joint_name", contract.JOINT_NAME, "JointState name of the sensor's prismatic joint", read_only=True)
+        declare(self, "frame_id", contract.FRAME_ID, "Frame of the sensor", read_only=True)
         declare(self, "publish_period_s", 0.002, "Timer period; samples due are published each tick (s)", 0.0005, 0.1, read_only=True)
         declare(self, "profile", "needle_insertion", f"Simulated force profile: {', '.join(profiles.PROFILE_NAMES)}, okamura", read_only=True)
         declare(self, "loop", True, "Restart the profile when it ends (else stop publishing)", read_only=True)
@@ -66,7 +67,7 @@ class DriverNode(Node):
         # Read-only parameters used for every published sample: read once.
         self._joint, self._frame = self._param("joint_name"), self._param("frame_id")
         qos = data_qos(self)
-        self.pub_raw = self.create_publisher(JointState, "bridge_voltage", qos)
+        self.pub_raw = self.create_publisher(JointState, contract.Rel.BRIDGE_VOLTAGE, qos)
         self.diag = Diagnostics(self, f"polyforce_ros: driver ({backend})")
         self.published = 0
         self.done = False
@@ -89,8 +90,8 @@ class DriverNode(Node):
 
     # ------------------------------------------------------------------ simulator
     def _init_sim(self, qos):
-        self.pub_ref = self.create_publisher(WrenchStamped, "reference_force", qos)
-        self.pub_temp = self.create_publisher(Temperature, "temperature", 10)
+        self.pub_ref = self.create_publisher(WrenchStamped, contract.Rel.REFERENCE_FORCE, qos)
+        self.pub_temp = self.create_publisher(Temperature, contract.Rel.TEMPERATURE, 10)
         path = self._param("truth_model_file") or str(default_model_path())
         chain = load_model(path).chain.with_offset(self._param("offset_v"))  # the bridge zero is a property of this sensor
         truth = chain.viscoelastic

@@ -12,15 +12,11 @@ from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 
-from .. import bags
-from .common import DEFAULT_NAMESPACE, OK, Diagnostics, data_qos, declare, declare_qos, run
+from .. import bags, contract
+from .common import DEFAULT_NAMESPACE, OK, Diagnostics, data_qos, declare, declare_qos, message_class, run
 
-TOPICS = {
-    "bridge_voltage": (JointState, bags.JOINT_STATE),
-    "reference_force": (WrenchStamped, bags.WRENCH_STAMPED),
-    "temperature": (Temperature, bags.TEMPERATURE_MSG),
-    "wrench": (WrenchStamped, bags.WRENCH_STAMPED),
-}
+#: Topics the recorder can record: relative name -> (message class, type name), from the contract.
+TOPICS = {rel: (message_class(type_name), type_name) for rel, type_name in contract.RECORDED.items()}
 
 
 class RecorderNode(Node):

@@ -32,14 +32,13 @@ from collections import deque
 import numpy as np
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
-from sensor_msgs.msg import JointState, Temperature
 
-from .. import bags
-from .common import (DEFAULT_NAMESPACE, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run,
+from .. import bags, contract
+from .common import (DEFAULT_NAMESPACE, OK, WARN, Diagnostics, data_qos, declare, declare_qos, message_class, run,
                      stamp_to_ns)
 
-_RELATIVE = {bags.BRIDGE_VOLTAGE: "bridge_voltage", bags.REFERENCE_FORCE: "reference_force", bags.TEMPERATURE: "temperature"}
-_TYPES = {bags.JOINT_STATE: JointState, bags.WRENCH_STAMPED: WrenchStamped, bags.TEMPERATURE_MSG: Temperature}
+#: Replayed topics: full name in the bag -> relative name (wrench is what the compensation node makes).
+_RELATIVE = {contract.full_name(rel): rel for rel in contract.RECORDED if rel != contract.Rel.WRENCH}
 #: Lag behind schedule (s) above which the timed replay reports that it cannot keep its pace.
 BEHIND_WARN_S = 0.1
 #: Period (s) of re-sending the first sample until it is answered (lossless start).
@@ -111,12 +110,12 @@ class ReplayNode(Node):
         declare(self, "rate_factor", 1.0, "Playback speed (2.0 = twice as fast); an upper bound when lossless", 0.01, 1000.0, read_only=True)
         declare(self, "loop", False, "Start again at the end", read_only=True)
         declare(self, "start_delay_s", 0.5, "Wait before the first message, for subscribers to connect (s)", 0.0, 60.0, read_only=True)
-        declare(self, "joint_name", "sarrus_axial", "JointState name used for replayed samples", read_only=True)
-        declare(self, "frame_id", "polyforce_sensor", "Frame of replayed messages", read_only=True)
+        declare(self, "joint_name", contract.JOINT_NAME, "JointState name used for replayed samples", read_only=True)
+        declare(self, "frame_id", contract.FRAME_ID, "Frame of replayed messages", read_only=True)
         declare(self, "lossless", False,
                 "Pace by answers on pace_topic: never more than max_in_flight samples ahead (no queue can overflow)",
                 read_only=True)
-        declare(self, "pace_topic", "wrench",
+        declare(self, "pace_topic", contract.Rel.WRENCH,
                 "WrenchStamped topic stamped like the replayed bridge_voltage (the compensation output); empty = none",
                 read_only=True)
         declare(self, "max_in_flight", 100, "Lossless mode: samples published ahead of the last answer", 1, 100000, read_only=True)
@@ -132,7 +131,7 @@ class ReplayNode(Node):
         for topic, data in bag.topics.items():
             if topic not in _RELATIVE or len(data) == 0:
                 continue
-            pub = self.create_publisher(_TYPES[data.type_name], _RELATIVE[topic], qos)
+            pub = self.create_publisher(message_class(data.type_name), _RELATIVE[topic], qos)
             streams.append((data.log_time_ns, data.stamp_ns, data.fields[bags.SCALAR_FIELD[data.type_name]], data.type_name, pub,
                             topic == bags.BRIDGE_VOLTAGE))
         if not streams:

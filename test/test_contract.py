@@ -1,0 +1,35 @@
+"""One contract: every node, bag and tool uses the names, types and defaults of contract.py."""
+import ast
+
+from conftest import REPO
+from polyforce_ros import bags, contract
+from polyforce_ros.nodes.common import message_class
+from polyforce_ros.nodes.recorder_node import TOPICS as RECORDER_TOPICS
+
+# "temperature" is also a field and a signal name, so only the unambiguous relative names are checked
+TOPIC_NAMES = ({contract.Rel.BRIDGE_VOLTAGE, contract.Rel.BRIDGE_VOLTAGE_SCALAR, contract.Rel.REFERENCE_FORCE, contract.Rel.WRENCH}
+               | set(contract.CONTRACT) | {contract.FRAME_ID, contract.JOINT_NAME, contract.NAMESPACE})
+
+
+def test_every_contract_type_is_a_real_message_with_its_scalar_field():
+    for type_name in contract.TOPICS.values():
+        cls = message_class(type_name)
+        assert f"{cls.__module__.split('.')[0]}/msg/{cls.__name__}" == type_name
+    assert set(contract.SCALAR_FIELD) == set(contract.TOPICS.values())
+
+
+def test_bags_and_recorder_speak_the_contract():
+    assert bags.CONTRACT is contract.CONTRACT and bags.BRIDGE_VOLTAGE == contract.full_name("bridge_voltage")
+    assert {rel: t for rel, (_, t) in RECORDER_TOPICS.items()} == contract.RECORDED
+
+
+def test_no_module_spells_a_contract_name_of_its_own():
+    """String literals equal to a topic, frame or namespace appear only in contract.py."""
+    offenders = []
+    for path in (REPO / "polyforce_ros").rglob("*.py"):
+        if path.name == "contract.py":
+            continue
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str) and node.value in TOPIC_NAMES:
+                offenders.append(f"{path.relative_to(REPO)}:{node.lineno}: {node.value!r}")
+    assert not offenders, "\n".join(offenders)

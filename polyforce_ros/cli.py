@@ -98,7 +98,8 @@ def cmd_compensate(args) -> int:
     from .workflows import compensate_bag
 
     model = load_model(args.model or default_model_path())
-    n, warnings = compensate_bag(args.input, args.output, model, CompensatorConfig(force_limit_n=args.force_limit))
+    n, warnings = compensate_bag(args.input, args.output, model, CompensatorConfig(force_limit_n=args.force_limit,
+                                                                                   auto_tare=not args.no_auto_tare))
     for warning in warnings:
         print(f"warning: {warning}", file=sys.stderr)
     print(f"{args.output}: copied {args.input} and added {n} /polyforce/wrench messages "
@@ -200,6 +201,8 @@ def build_parser():
     comp.add_argument("output")
     comp.add_argument("--model", help="model YAML (default: the shipped paper model)")
     comp.add_argument("--force-limit", type=float, default=12.0, help="clamp |force| to this (N), like the node")
+    comp.add_argument("--no-auto-tare", action="store_true",
+                      help="do not zero the bridge offset from the first 0.5 s (like the node's auto_tare: false)")
     comp.set_defaults(func=cmd_compensate)
 
     rep = sub.add_parser("replay", help="play a bag onto the topics with its original timing")

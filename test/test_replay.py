@@ -20,8 +20,10 @@ def _replay_through_compensation(n, replay_params, comp_depth=1000, timeout=60.0
     """Replay ``step_5n`` into a compensation node; return the sink's wrenches and the replay node."""
     path = REPO / "bags" / "step_5n.mcap"
     with ros() as h:
+        # no zeroing at start: the offline reference below uses the model's offset
         comp = h.add(CompensationNode(context=h.context, parameter_overrides=[
-            Parameter("stale_timeout_s", value=5.0), Parameter("qos_depth", value=comp_depth)]))
+            Parameter("stale_timeout_s", value=5.0), Parameter("qos_depth", value=comp_depth),
+            Parameter("auto_tare", value=False)]))
         sink = h.add(Node("sink", namespace="/polyforce", context=h.context))
         got = []
         sink.create_subscription(WrenchStamped, "wrench", got.append, QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE))

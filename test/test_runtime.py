@@ -192,3 +192,41 @@ def test_tare_and_drift_never_write_into_the_model():
     bare = SensorChain(chain.elements[:1])
     assert bare.offset_v == 0.0 and len(bare.elements) == 1  # reading the offset adds nothing
     assert isinstance(bare.with_offset(0.3).elements[-1], OffsetElement) and len(bare.elements) == 1
+
+
+def _feed(comp, volts, t0=T0):
+    stamps = t0 + np.arange(len(volts), dtype=np.int64) * MS
+    return [comp.step(int(s), float(v), int(s)) for s, v in zip(stamps, volts)]
+
+
+def test_auto_tare_zeroes_a_resting_sensor_at_start():
+    rng = np.random.default_rng(0)
+    comp = Compensator(CHAIN)  # model offset 0 V; the sensor's is 0.05 V
+    out = _feed(comp, 0.05 + rng.normal(0, 1e-3, 1500))
+    assert comp.counts["auto_tares"] == 1 and comp.tare_offset_v == pytest.approx(0.05, abs=3e-4)
+    assert abs(np.mean(out[600:])) < 2e-3  # ~0 N after the window, where it read 0.24 N before
+    assert comp.auto_tare_status.startswith("zeroed")
+
+
+@pytest.mark.parametrize("volts, why", [
+    (np.full(800, 0.93), "offset shift"),                     # a steady 3 N load at start
+    (0.05 + np.linspace(0.0, 0.05, 800), "drift"),            # creeping: loaded polymer
+    (0.05 + 0.02 * np.sin(np.arange(800) * 0.05), "spread"),  # moving
+])
+def test_auto_tare_refuses_a_loaded_or_moving_sensor(volts, why):
+    comp = Compensator(CHAIN)
+    _feed(comp, volts)
+    assert comp.counts["auto_tare_refused"] == 1 and comp.tare_offset_v is None
+    assert comp.auto_tare_status.startswith("not zeroed") and why in comp.auto_tare_status
+
+
+def test_auto_tare_rearms_after_reset_and_can_be_off():
+    comp = Compensator(CHAIN)
+    _feed(comp, np.full(600, 0.05))
+    comp.reset()
+    assert comp.auto_tare_status == "pending"
+    _feed(comp, np.full(600, 0.04), t0=T0 + 10**9)
+    assert comp.counts["auto_tares"] == 2 and comp.tare_offset_v == pytest.approx(0.04)
+    off = Compensator(CHAIN, CompensatorConfig(auto_tare=False))
+    _feed(off, np.full(600, 0.05))
+    assert off.tare_offset_v is None and off.auto_tare_status == "off"

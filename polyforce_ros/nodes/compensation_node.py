@@ -49,6 +49,14 @@ class CompensationNode(Node):
         declare(self, "reanchor_after_s", 0.2,
                 "Rejected but self-consistent samples for this long re-anchor the stamp history (s)", 0.001, 60.0)
         declare(self, "tare_window", 200, "Samples averaged by ~/tare", 1, 100000)
+        declare(self, "auto_tare", True,
+                "Zero the bridge offset from the first auto_tare_s of samples at start and after ~/reset, if the "
+                "sensor rests (refused with WARN if loaded); false for a sensor that starts under load")
+        declare(self, "auto_tare_s", 0.5, "Window of the start-up zeroing (s)", 0.01, 60.0)
+        declare(self, "auto_tare_max_std_v", 0.005, "At rest: spread and drift of the bridge output below this (V)",
+                1e-6, 1.0)
+        declare(self, "auto_tare_max_shift_v", 0.1,
+                "At rest: mean output within this of the model's offset (V); a load shifts it further", 1e-4, 10.0)
         declare(self, "drift_tracking", False,
                 "Re-zero the bridge offset whenever the force rests inside +-drift_band_n for drift_window_s "
                 "(tracks slow baseline drift; off by default: it would also zero a real steady load that small)")
@@ -215,6 +223,8 @@ class CompensationNode(Node):
             level, message = ERROR, "no valid input: publishing zero force"
         elif self._needs_temperature and self._aux["temperature_c"] is None:
             level, message = WARN, "model has a thermal_drift element but no temperature received: not corrected"
+        elif self.compensator.counts["auto_tare_refused"] and self.compensator.auto_tare_status.startswith("not"):
+            level, message = WARN, self.compensator.auto_tare_status
         elif self._model_error:
             level, message = WARN, f"model file invalid, previous model kept: {self._model_error}"
         elif any(c[k] for k in _WARN_COUNTERS):
@@ -222,7 +232,8 @@ class CompensationNode(Node):
         else:
             level, message = OK, "running"
         values = dict(c, model_file=self._model_path, model=self.model.chain.viscoelastic,
-                      offset_v=self.compensator.offset_v, tared=self.compensator.tare_offset_v is not None)
+                      offset_v=self.compensator.offset_v, tared=self.compensator.tare_offset_v is not None,
+                      auto_tare=self.compensator.auto_tare_status)
         return self.diag.publish(level, message, values)
 
     def destroy_node(self):

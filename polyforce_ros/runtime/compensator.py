@@ -23,7 +23,15 @@ Rules, in the order they are applied:
    (the compensator's exact assumption) and counted;
 6. a non-finite force resets the history, is counted and is never output;
 7. the force is clamped to +-``force_limit_n`` (counted);
-8. no valid sample for ``stale_timeout_s`` -> the caller outputs zero (:meth:`stale`).
+8. no valid sample for ``stale_timeout_s`` -> the caller outputs zero (:meth:`stale`);
+9. zero at start: over the first ``auto_tare_s`` of used samples after start or
+   :meth:`reset`, the bridge output is tested for rest (its spread and its drift
+   across the window below ``auto_tare_max_std_v``, and its mean within
+   ``auto_tare_max_shift_v`` of the model's offset, which a load would exceed);
+   at rest it becomes the bridge offset (counted ``auto_tares``), otherwise the
+   model's offset is kept and the refusal is counted (``auto_tare_refused``) and
+   explained in :attr:`Compensator.auto_tare_status`. Off with ``auto_tare=False``
+   (a sensor that starts under load).
 
 Tare and drift tracking change a bridge offset held here, never the model: the
 model chain is an immutable description (see :meth:`SensorChain.with_offset`).
@@ -46,7 +54,10 @@ __all__ = ["CompensatorConfig", "SampleGate", "Compensator", "GATE_COUNTERS", "C
 ACCEPT, ACCEPT_FRESH = 0, 1
 _DROPS = ("nonfinite", "out_of_range", "implausible_stamp", "backwards", "duplicate")
 GATE_COUNTERS = ("samples",) + _DROPS + ("gaps", "reanchored")
-COMPENSATOR_COUNTERS = GATE_COUNTERS + ("nonfinite_output", "clamped", "drift_corrections", "tares")
+COMPENSATOR_COUNTERS = GATE_COUNTERS + ("nonfinite_output", "clamped", "drift_corrections", "tares", "auto_tares",
+                                        "auto_tare_refused")
+#: Most samples an auto-tare window keeps (bounds memory at any rate).
+AUTO_TARE_MAX_SAMPLES = 100_000
 
 
 @dataclass(frozen=True)
@@ -63,6 +74,10 @@ class CompensatorConfig:
     drift_tracking: bool = False      #: fold resting forces into the bridge offset
     drift_band_n: float = 0.05        #: |F| counted as at rest, N
     drift_window_s: float = 5.0       #: rest time before a drift correction, s
+    auto_tare: bool = True            #: zero the bridge offset from the first samples if the sensor rests
+    auto_tare_s: float = 0.5          #: length of that window, s
+    auto_tare_max_std_v: float = 0.005   #: rest: spread and drift of the output below this, V (~5x bridge noise)
+    auto_tare_max_shift_v: float = 0.1   #: rest: mean within this of the model's offset, V (0.5 N at 4.8 N/V)
 
     @classmethod
     def names(cls) -> tuple[str, ...]:
@@ -179,6 +194,8 @@ class Compensator:
         self.tare_offset_v: Optional[float] = None   # bridge offset from the last tare, V
         self.drift_v = 0.0                           # drift corrections since then, V
         self.last_valid_receive_ns: Optional[int] = None
+        self.auto_tare_status = "pending" if config.auto_tare else "off"
+        self._auto: Optional[list] = [] if config.auto_tare else None   # (stamp_ns, V) of the window
         self.set_chain(chain)
 
     # ------------------------------------------------------------------ settings
@@ -196,6 +213,8 @@ class Compensator:
         self.gate.config = self.config
         if "tare_window" in changes:
             self._recent_v = deque(self._recent_v, maxlen=int(self.config.tare_window))
+        if "auto_tare" in changes and not self.config.auto_tare:
+            self._auto, self.auto_tare_status = None, "off"
 
     @property
     def offset_v(self) -> float:
@@ -218,6 +237,8 @@ class Compensator:
         elif verdict != ACCEPT:
             return None
         self._recent_v.append(voltage_v)
+        if self._auto is not None:
+            self._collect_auto_tare(stamp_ns, voltage_v)
         self.last_valid_receive_ns = stamp_ns if receive_ns is None else receive_ns
         shift = self.offset_v - self.chain.offset_v
         force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v - shift, aux)
@@ -270,8 +291,34 @@ class Compensator:
         return True, f"tared: bridge offset {offset:.6f} V from {len(self._recent_v)} samples; history cleared"
 
     def reset(self):
-        """Forget the deformation and stamp history (sensor assumed relaxed)."""
+        """Forget the deformation and stamp history (sensor assumed relaxed); re-arm the auto-tare."""
         self._restart()
+        if self.config.auto_tare:
+            self._auto, self.auto_tare_status = [], "pending"
+
+    def _collect_auto_tare(self, stamp_ns: int, voltage_v: float):
+        window = self._auto
+        if len(window) < AUTO_TARE_MAX_SAMPLES:
+            window.append((stamp_ns, voltage_v))
+        if (stamp_ns - window[0][0]) * 1e-9 < self.config.auto_tare_s:
+            return
+        self._auto = None
+        data = np.array(window, dtype=float)
+        t, v = (data[:, 0] - data[0, 0]) * 1e-9, data[:, 1]
+        cfg = self.config
+        spread = float(v.std())
+        drift = float(abs(np.polyfit(t, v, 1)[0]) * t[-1]) if v.size > 2 else 0.0
+        shift = float(v.mean() - self.chain.offset_v)
+        if spread <= cfg.auto_tare_max_std_v and drift <= cfg.auto_tare_max_std_v and abs(shift) <= cfg.auto_tare_max_shift_v:
+            self.tare_offset_v, self.drift_v = float(v.mean()), 0.0
+            self.counts["auto_tares"] += 1
+            self.auto_tare_status = f"zeroed at start: bridge offset {v.mean():.6f} V from {v.size} samples"
+            self._restart()
+        else:
+            self.counts["auto_tare_refused"] += 1
+            self.auto_tare_status = (f"not zeroed: the sensor did not rest over the first {cfg.auto_tare_s} s "
+                                     f"(spread {spread:.4f} V, drift {drift:.4f} V, offset shift {shift:+.4f} V); "
+                                     "the model's offset is used")
 
     def _restart(self):
         self._stream.reset()

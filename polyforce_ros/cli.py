@@ -8,6 +8,7 @@
     polyforce evaluate [--out DIR] [--bag BAG.mcap ...]
     polyforce diagnose BAG.mcap --base {elastic,maxwell,kelvin,zener,burgers} [--json OUT] [--report DIR] [--save-model M.yaml]
     polyforce make-bags [--out bags/]
+    polyforce bringup [--backend sim|serial] [--port DEV] [--model M.yaml] [--with-bridge] [--record BAG.mcap]
 """
 from __future__ import annotations
 
@@ -77,8 +78,10 @@ def cmd_demo(args) -> int:
 
 
 def cmd_calibrate(args) -> int:
+    from .physics.fitting import check_model_types
     from .workflows import calibrate_bag
 
+    check_model_types(args.candidates)  # before reading the bag
     result = calibrate_bag(args.bag, args.output, candidates=tuple(args.candidates), min_r2=args.min_r2,
                            progress=lambda name: print(f"fitting {name} ...", file=sys.stderr))
     for warning in result.warnings:
@@ -168,6 +171,13 @@ def cmd_make_bags(args) -> int:
     return 0
 
 
+def cmd_bringup(args) -> int:
+    from .bringup import bringup
+
+    return bringup(backend=args.backend, port=args.port, model=args.model, with_bridge=args.with_bridge, record=args.record,
+                   namespace=args.namespace, stop_timeout_s=args.stop_timeout, dry_run=args.dry_run)
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="polyforce", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -234,6 +244,17 @@ def build_parser():
     mk = sub.add_parser("make-bags", help="regenerate the sample bags with the simulator")
     mk.add_argument("--out", default="bags")
     mk.set_defaults(func=cmd_make_bags)
+
+    bu = sub.add_parser("bringup", help="start driver + compensation (+ haptic bridge, recorder) as processes; Ctrl-C stops them")
+    bu.add_argument("--backend", choices=["sim", "serial"], help="driver data source (default: config/driver.yaml)")
+    bu.add_argument("--port", help="serial device of the ADC (default: config/driver.yaml)")
+    bu.add_argument("--model", help="model YAML for the compensation node (default: the shipped paper model)")
+    bu.add_argument("--with-bridge", action="store_true", help="also start haptic_bridge_node (config/haptic_bridge.yaml)")
+    bu.add_argument("--record", metavar="BAG", help="also record the topic contract to this .mcap file")
+    bu.add_argument("--namespace", default=None, help="namespace of the nodes (default: the contract's)")
+    bu.add_argument("--stop-timeout", type=float, default=10.0, help="seconds a node gets to stop after SIGINT before SIGKILL")
+    bu.add_argument("--dry-run", action="store_true", help="print the node commands and parameter sources, start nothing")
+    bu.set_defaults(func=cmd_bringup)
     return parser
 
 

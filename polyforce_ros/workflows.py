@@ -15,6 +15,7 @@ import numpy as np
 from . import bags, contract
 from .model_file import SensorModel, load_model, now_iso, save_model
 from .physics.chain import ModelError, SensorChain
+from .physics.fitting import information_criteria
 from .physics.identification import select_model
 from .physics.viscoelastic import simulate_deformation
 from .runtime import Compensator, CompensatorConfig, SampleGate
@@ -143,11 +144,11 @@ def calibrate_record(t_s, force_n, voltage_v, output, source, candidates=("maxwe
         except ModelError:
             previous = None
         if previous is not None:
-            n = len(voltage_v)
+            n = len(voltage_v)  # both criteria over every sample of this record
             rmse_new = rmse_of_model(best.model, t_s, force_n, voltage_v)
             result.previous_rmse_v = rmse_of_model(previous, t_s, force_n, voltage_v)
-            bic_new = n * np.log(max(rmse_new, 1e-300) ** 2) + (len(best.parameters) + 1) * np.log(n)
-            bic_old = n * np.log(max(result.previous_rmse_v, 1e-300) ** 2) + np.log(n)
+            bic_new = information_criteria(n * rmse_new**2, n, len(best.parameters) + 1)[1]
+            bic_old = information_criteria(n * result.previous_rmse_v**2, n, 1)[1]
             if bic_old <= bic_new:
                 result.reason = (f"existing model explains this record as well or better (RMSE "
                                  f"{result.previous_rmse_v:.4e} V vs {rmse_new:.4e} V, BIC {bic_old:.1f} <= {bic_new:.1f}): kept")

@@ -29,12 +29,12 @@ from ..physics.chain import (
     NonlinearGainElement, OffsetDriftElement, OffsetElement, PreisachElement, SensorChain, SensorLagElement,
     ThermalDriftElement, ViscoelasticElement,
 )
+from ..physics.fitting import LOG_BOUNDS, information_criteria, log_bounds, multistart_least_squares, starts_from_compliance
 from ..physics.identification import block_average
 from ..physics.viscoelastic import MODEL_TYPES, Burgers, Burgers2, Maxwell, Zener, Zener2, simulate_deformation_columns
 
 EFFECTS = ("viscous_flow", "delayed_elasticity", "hysteresis", "sensor_lag", "nonlinear_gain", "thermal_drift", "offset_drift")
-BASES = ("elastic", "maxwell", "kelvin", "zener", "burgers")
-_LOG_BOUNDS = (math.log(1e-6), math.log(1e12))
+BASES = tuple(MODEL_TYPES)  # every core type the fitting stack knows
 PREISACH_LEVELS = 16
 
 
@@ -83,7 +83,7 @@ class _Problem:
         self.k_static = 1.0 / max(abs(slope), 1e-9)  # N/V, for starting values
 
     def bic(self, rss, p):
-        return self.n * math.log(max(rss / self.n, 1e-300)) + p * math.log(self.n)
+        return information_criteria(rss, self.n, p)[1]
 
     def evaluate(self, effect, chain, n_params, rss_d):
         """Full-rate simulation, offset from the fitting part, RMSE on both parts."""
@@ -98,18 +98,8 @@ class _Problem:
 
 
 def _initial_cores(kind, ks):
-    """Starting vectors (log space) of a core type from the static stiffness ks (N/V)."""
-    starts = []
-    for tau in (2.0, 8.0, 30.0):
-        table = {
-            "elastic": (ks,),
-            "maxwell": (1.3 * ks, 2000.0 * ks),
-            "kelvin": (ks, ks * tau),
-            "zener": (1.5 * ks, 3.0 * ks, 3.0 * ks * tau),
-            "burgers": (1.5 * ks, 3.0 * ks, 1500.0 * ks, 3.0 * ks * tau),
-        }
-        starts.append(np.log(table[kind]))
-    return starts
+    """Starting vectors (log space) of a core type from the static stiffness ks (N/V) of a mixed record."""
+    return starts_from_compliance(kind, 1.0 / (1.5 * ks), 1.0 / ks, 1.0 / (1500.0 * ks), (2.0, 8.0, 30.0))
 
 
 def _fit(problem: _Problem, build, starts, lower, upper):
@@ -125,12 +115,7 @@ def _fit(problem: _Problem, build, starts, lower, upper):
         r = r - r.mean()
         return np.where(np.isfinite(r), r, 1e3)
 
-    best = None
-    for x0 in starts:
-        x0 = np.clip(x0, lower + 1e-9, upper - 1e-9)
-        sol = optimize.least_squares(residual, x0, bounds=(lower, upper), x_scale="jac", method="trf", max_nfev=200)
-        if best is None or sol.cost < best.cost:
-            best = sol
+    best = multistart_least_squares(residual, starts, lower, upper, max_nfev=200)
     return best.x, 2.0 * float(best.cost)
 
 
@@ -141,7 +126,7 @@ def _core_chain(model, extras=()):
 def fit_base(problem, base):
     model_type = MODEL_TYPES[base]
     n = len(model_type.parameter_names())
-    lower, upper = np.full(n, _LOG_BOUNDS[0]), np.full(n, _LOG_BOUNDS[1])
+    lower, upper = log_bounds(n)
 
     def build(theta):
         return _core_chain(model_type.from_vector(np.exp(theta)))
@@ -158,6 +143,8 @@ def _augmented_core(base, effect, base_params):
             return Maxwell, [np.log([p[0], 2000.0 * p[0]]), np.log([p[0], 200.0 * p[0]])]
         if base == "zener":
             return Burgers, [np.log([p[0], p[1], 2000.0 * p[0], p[2]]), np.log([p[0], p[1], 200.0 * p[0], p[2]])]
+        if base == "zener2":
+            return Burgers2, [np.log([p[0], p[1], eta, p[2], p[3], p[4]]) for eta in (2000.0 * p[0], 200.0 * p[0])]
         return None
     if effect == "delayed_elasticity":
         if base == "elastic":
@@ -180,7 +167,7 @@ def fit_candidate(problem, base, effect, base_fit, base_params):
             return None
         model_type, starts = aug
         n = len(model_type.parameter_names())
-        lower, upper = np.full(n, _LOG_BOUNDS[0]), np.full(n, _LOG_BOUNDS[1])
+        lower, upper = log_bounds(n)
         theta, rss = _fit(problem, lambda th: _core_chain(model_type.from_vector(np.exp(th))), starts, lower, upper)
         return problem.evaluate(effect, _core_chain(model_type.from_vector(np.exp(theta))), n, rss)
     if effect == "hysteresis":
@@ -202,8 +189,8 @@ def fit_candidate(problem, base, effect, base_fit, base_params):
         return _core_chain(base_type.from_vector(np.exp(theta[:n_core])), [make_element(theta[n_core])])
 
     starts = [np.concatenate([log_core, [x]]) for x in extra_starts]
-    lower = np.concatenate([np.full(n_core, _LOG_BOUNDS[0]), [lo]])
-    upper = np.concatenate([np.full(n_core, _LOG_BOUNDS[1]), [hi]])
+    lower = np.concatenate([np.full(n_core, LOG_BOUNDS[0]), [lo]])
+    upper = np.concatenate([np.full(n_core, LOG_BOUNDS[1]), [hi]])
     theta, rss = _fit(problem, build, starts, lower, upper)
     return problem.evaluate(effect, build(theta), n_core + 1, rss)
 
@@ -245,7 +232,7 @@ def _fit_hysteresis(problem, base_fit, rate_hz=10.0):
     def residual(theta):
         return project(theta)[1]
 
-    lower, upper = np.full(n_core, _LOG_BOUNDS[0]), np.full(n_core, _LOG_BOUNDS[1])
+    lower, upper = log_bounds(n_core)
     opt = optimize.least_squares(residual, np.log(core0.as_vector()), bounds=(lower, upper), x_scale="jac", max_nfev=60)
     weights, _ = project(opt.x)
     density = np.zeros((PREISACH_LEVELS, PREISACH_LEVELS))

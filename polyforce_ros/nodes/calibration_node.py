@@ -26,6 +26,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
+from ..physics.fitting import check_model_types
 from ..workflows import REFERENCE_GATE, calibrate_bag, calibrate_record, clean_samples, resample_onto
 from .. import contract
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run, stamp_to_ns
@@ -52,6 +53,7 @@ class CalibrationNode(Node):
         self.create_service(Trigger, "~/stop_and_fit", self._on_stop_and_fit)
         self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, self._on_raw, qos)
         self.create_subscription(WrenchStamped, contract.Rel.REFERENCE_FORCE, self._on_ref, qos)
+        check_model_types(self.get_parameter("candidates").value)  # a clear error at start, not at the first fit
         self.recording = False
         self._raw_t, self._raw_v = array("q"), array("d")
         self._ref_t, self._ref_f = array("q"), array("d")
@@ -74,9 +76,13 @@ class CalibrationNode(Node):
         else:
             self.last = {"state": "done", **result.summary()}
             best = result.fits[0]
-            log = self.get_logger().info if result.written else self.get_logger().warn
-            log(f"calibration: {result.reason}; best {best['model']} R^2 {best['r2']:.4f} "
-                f"RMSE {best['rmse_v']:.3e} V; params {best['parameters']}")
+            line = (f"calibration: {result.reason}; best {best['model']} R^2 {best['r2']:.4f} "
+                    f"RMSE {best['rmse_v']:.3e} V; params {best['parameters']}")
+            # one call site per severity: rclpy refuses a call site whose severity changes
+            if result.written:
+                self.get_logger().info(line)
+            else:
+                self.get_logger().warn(line)
         self.pub_result.publish(String(data=json.dumps(self.last, default=float)))
         self._publish_diagnostics()
         return self.last

@@ -16,14 +16,15 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import ndimage, optimize
+from scipy import ndimage
 
-from .viscoelastic import MODEL_TYPES, ViscoelasticModel, simulate_deformation
+from . import fitting
+from .fitting import information_criteria, log_bounds, log_standard_errors, multistart_least_squares, starts_from_compliance
+from .viscoelastic import ViscoelasticModel, simulate_deformation
 
 #: Largest rate the fit works at; block averages keep it fast on long records
 #: while resolving load steps of ~0.1 s.
 DEFAULT_FIT_RATE_HZ = 50.0
-_LOG_BOUNDS = (math.log(1e-6), math.log(1e12))
 
 
 @dataclass(frozen=True)
@@ -191,18 +192,7 @@ def _initial_guesses(model_type, t, f, v, segments):
     slope = float(np.polyfit(th[tail], jh[tail], 1)[0]) if tail.sum() > 3 else 0.0
     slope = max(slope, 1e-6 * j_inst / hold_s)
     j_end = max(float(np.median(jh[tail])), j_inst * 1.01)
-    guesses = []
-    for tau in (hold_s / 20, hold_s / 6, hold_s / 2):
-        retarded = max(j_end - j_inst - slope * hold_s, 0.05 * j_inst)
-        by_kind = {
-            "elastic": (1 / j_end,),
-            "maxwell": (1 / j_inst, 1 / max((j_end - j_inst) / hold_s, 1e-9)),
-            "kelvin": (1 / j_end, tau / j_end),
-            "zener": (1 / j_inst, 1 / max(j_end - j_inst, 0.05 * j_inst), tau / max(j_end - j_inst, 0.05 * j_inst)),
-            "burgers": (1 / j_inst, 1 / retarded, 1 / slope, tau / retarded),
-        }
-        guesses.append(np.log(by_kind[model_type.kind]))
-    return guesses
+    return starts_from_compliance(model_type.kind, j_inst, j_end, slope, (hold_s / 20, hold_s / 6, hold_s / 2), hold_s)
 
 
 def fit_creep(model_type, t_s, force_n, voltage_v, segments=None, fit_rate_hz=DEFAULT_FIT_RATE_HZ):
@@ -218,8 +208,7 @@ def fit_creep(model_type, t_s, force_n, voltage_v, segments=None, fit_rate_hz=DE
     Returns a :class:`FitResult`; raises ``ValueError`` when the record holds
     no usable creep segment or contains non-finite samples.
     """
-    if isinstance(model_type, str):
-        model_type = MODEL_TYPES[model_type]
+    model_type = fitting.model_type(model_type)
     t, f, v, segments = _prepare(t_s, force_n, voltage_v, segments)
     mask = np.zeros(t.size, dtype=bool)
     for seg in segments:
@@ -237,36 +226,27 @@ def fit_creep(model_type, t_s, force_n, voltage_v, segments=None, fit_rate_hz=DE
         r = vu - gamma
         return r - r.mean()
 
-    best = None
-    for guess in _initial_guesses(model_type, td, fd, vd, seg_d):
-        x0 = np.clip(guess, *_LOG_BOUNDS)
-        sol = optimize.least_squares(residual, x0, bounds=_LOG_BOUNDS, x_scale="jac", method="trf")
-        if best is None or sol.cost < best.cost:
-            best = sol
+    lower, upper = log_bounds(len(model_type.parameter_names()))
+    best = multistart_least_squares(residual, _initial_guesses(model_type, td, fd, vd, seg_d), lower, upper)
     model = model_type.from_vector(np.exp(best.x))
     p = best.x.size + 1  # mechanical parameters plus the offset
-    rss_d = 2.0 * float(best.cost)
-    sigma2 = rss_d / max(n - p, 1)
-    jac = best.jac
-    cov_log = sigma2 * np.linalg.pinv(jac.T @ jac)
-    se_log = np.sqrt(np.clip(np.diag(cov_log), 0.0, None))
-    values = np.exp(best.x)
-    stderr = {name: float(val * se) for name, val, se in zip(model_type.parameter_names(), values, se_log)}
+    se = log_standard_errors(best, n, p)
+    stderr = {name: float(s_) for name, s_ in zip(model_type.parameter_names(), se)}
     # Fit quality at the record's own rate (block averages would hide half the noise).
     gamma = simulate_deformation(model, t, f)[mask]
     vm = v[mask]
     offset = float(np.mean(vm - gamma))
     res = vm - gamma - offset
     rss, tss = float(res @ res), float(((vm - vm.mean()) ** 2).sum())
-    rss_n = max(rss_d / n, 1e-300)  # criteria on the (decimated) fitted samples
+    aic, bic = information_criteria(2.0 * float(best.cost), n, p)  # on the (decimated) fitted samples
     return FitResult(
         model=model,
         stderr=stderr,
         offset_v=offset,
         r2=1.0 - rss / tss if tss > 0 else float("nan"),
         rmse_v=math.sqrt(rss / vm.size),
-        aic=n * math.log(rss_n) + 2 * p,
-        bic=n * math.log(rss_n) + p * math.log(n),
+        aic=aic,
+        bic=bic,
         n=int(vm.size),
         success=bool(best.success),
         message=str(best.message),
@@ -311,6 +291,7 @@ def select_model(t_s, force_n, voltage_v, candidates=("maxwell", "kelvin", "zene
 
     progress: optional callable ``progress(name)`` called before each fit.
     """
+    candidates = fitting.check_model_types(candidates)
     t, f, v, segments = _prepare(t_s, force_n, voltage_v, segments)
     fits = []
     for name in candidates:

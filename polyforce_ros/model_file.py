@@ -14,6 +14,22 @@
 
 Writes are atomic (temporary file, fsync, rename) and keep the file they
 replace as ``<name>.prev``, so a crash while writing never loses a good model.
+
+Loading never raises anything but :class:`ModelError` (with the reason) and
+never returns a model that turns a finite record into inf or NaN:
+
+* the file is at most ``MAX_FILE_BYTES``; its YAML is composed by a loader that
+  refuses nesting deeper than ``MAX_DEPTH`` (counted while composing, before
+  any recursion gets deep), recursive aliases, alias expansions beyond
+  ``MAX_NODES`` nodes and duplicate keys;
+* every type mismatch (a list where a number or a type name belongs, keys
+  that are not strings, integers too large for a float) is named;
+* every parameter is checked against its documented range
+  (``physics.chain.PARAMETER_BOUNDS``), a viscoelastic core also by its
+  derived relaxation modulus;
+* :func:`validate_chain_numerics` runs the whole chain forward, backward and
+  streaming on short test records (10 kHz to 0.1 Hz, and 24 hours) and names
+  the first element whose output is not finite.
 """
 from __future__ import annotations
 
@@ -24,12 +40,116 @@ import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 import yaml
 
-from .physics.chain import ModelError, SensorChain
+from .physics.chain import ELEMENT_TYPES, ModelError, SensorChain, _short, _smoke_records
 
 FORMAT = "polyforce_model/1"
 _TOP_KEYS = {"format", "elements", "provenance"}
+#: A model file is a few hundred bytes (a Preisach density of 200 levels ~ 400 kB).
+MAX_FILE_BYTES = 1_000_000
+#: Nesting of YAML collections (a model needs 4: file, elements, element, density).
+MAX_DEPTH = 32
+#: Nodes after expanding aliases (a 1 MB file without aliases has fewer).
+MAX_NODES = 1_000_000
+_MERGE_TAG = "tag:yaml.org,2002:merge"
+
+
+class _ModelLoader(yaml.SafeLoader):
+    """SafeLoader that refuses, while composing, what would surprise later code.
+
+    ``compose_node`` is where PyYAML recurses; counting there stops a deep file
+    at ``MAX_DEPTH`` before Python's recursion limit is near (the scanner and
+    parser are iterative and lazy, so the rest of the file is never read). The
+    same count follows aliases: an alias adds the size and depth of its anchor,
+    so a "billion laughs" file or a long chain of merges is refused too, as is
+    an alias inside its own anchor (a recursive structure).
+    """
+
+    def __init__(self, stream):
+        super().__init__(stream)
+        self._open = []  # per open node: [expanded size of its children, max expanded depth of its children]
+        self._open_anchors = set()
+        self._anchor_size = {}  # anchor -> (expanded size, expanded depth)
+
+    def _refuse(self, message, event):
+        mark = getattr(event, "start_mark", None)
+        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark is not None else ""
+        raise ModelError(f"{message}{where}")
+
+    def _account(self, size, depth, event):
+        if self._open:
+            self._open[-1][0] += size
+            self._open[-1][1] = max(self._open[-1][1], depth)
+        if len(self._open) + depth > MAX_DEPTH:
+            self._refuse(f"YAML nested deeper than {MAX_DEPTH} levels", event)
+        if size > MAX_NODES or (self._open and self._open[-1][0] > MAX_NODES):
+            self._refuse(f"YAML expands to more than {MAX_NODES} nodes (aliases)", event)
+
+    def compose_node(self, parent, index):
+        event = self.peek_event()
+        if isinstance(event, yaml.AliasEvent):
+            if event.anchor in self._open_anchors:
+                self._refuse(f"recursive YAML alias *{event.anchor}", event)
+            node = super().compose_node(parent, index)
+            size, depth = self._anchor_size.get(event.anchor, (1, 1))
+            self._account(size, depth, event)
+            return node
+        if len(self._open) + 1 > MAX_DEPTH:
+            self._refuse(f"YAML nested deeper than {MAX_DEPTH} levels", event)
+        anchor = getattr(event, "anchor", None)
+        if anchor is not None:
+            self._open_anchors.add(anchor)
+        self._open.append([0, 0])
+        try:
+            node = super().compose_node(parent, index)
+        finally:
+            children_size, children_depth = self._open.pop()
+            if anchor is not None:
+                self._open_anchors.discard(anchor)
+        size, depth = 1 + children_size, 1 + children_depth
+        if anchor is not None:
+            self._anchor_size[anchor] = (size, depth)
+        self._account(size, depth, event)
+        return node
+
+    def compose_mapping_node(self, anchor):
+        node = super().compose_mapping_node(anchor)
+        seen = set()
+        for key, _ in node.value:
+            if isinstance(key, yaml.ScalarNode) and key.tag != _MERGE_TAG:
+                if (key.tag, key.value) in seen:
+                    self._refuse(f"duplicate key {_short(key.value)}", key)
+                seen.add((key.tag, key.value))
+        return node
+
+
+def _clip(text, limit):
+    """``text`` on one line, cut to ``limit`` characters."""
+    text = " ".join(str(text).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def parse_model_yaml(text):
+    """The YAML of a model file as Python data, within the limits above; ModelError otherwise."""
+    if len(text) > MAX_FILE_BYTES:
+        raise ModelError(f"larger than {MAX_FILE_BYTES} bytes; a model file is a few hundred")
+    loader = _ModelLoader(text)
+    try:
+        return loader.get_single_data()
+    except ModelError:  # a limit above
+        raise
+    except yaml.YAMLError as exc:
+        raise ModelError(f"not valid YAML: {_clip(str(exc), 400)}") from None
+    except (ArithmeticError, LookupError, TypeError, ValueError, AttributeError) as exc:
+        # a scalar its tag cannot hold: an integer beyond Python's 4300-digit limit, a date like
+        # 2024-13-45, "!!timestamp 1" (PyYAML's constructors raise these, not YAMLError)
+        raise ModelError(f"not valid YAML: a value cannot be read ({type(exc).__name__}: {_clip(str(exc), 200)})") from None
+    except RecursionError:  # not reached within MAX_DEPTH; kept as a last line of defence
+        raise ModelError(f"YAML nested too deeply (limit {MAX_DEPTH})") from None
+    finally:
+        loader.dispose()
 
 
 @dataclass
@@ -40,31 +160,161 @@ class SensorModel:
     provenance: dict = field(default_factory=dict)
 
 
+def _check_string_keys(where, mapping):
+    bad = [k for k in mapping if not isinstance(k, str)]
+    if bad:
+        raise ModelError(f"{where}: keys must be strings, got {_short(bad)}")
+
+
 def model_from_mapping(data) -> SensorModel:
+    """Validate parsed model data (structure, types, parameter ranges, numerics) and build the model."""
     if not isinstance(data, dict):
-        raise ModelError("model file must hold a mapping")
+        raise ModelError(f"model file must hold a mapping, got {type(data).__name__}")
+    _check_string_keys("model file", data)
     unknown = sorted(set(data) - _TOP_KEYS)
     if unknown:
-        raise ModelError(f"unknown top-level keys {unknown} (expected {sorted(_TOP_KEYS)})")
+        raise ModelError(f"unknown top-level keys {_short(unknown, 200)} (expected {sorted(_TOP_KEYS)})")
     if data.get("format") != FORMAT:
-        raise ModelError(f"format must be {FORMAT!r}, got {data.get('format')!r}")
+        raise ModelError(f"format must be {FORMAT!r}, got {_short(data.get('format'))}")
     provenance = data.get("provenance") or {}
     if not isinstance(provenance, dict):
         raise ModelError("provenance must be a mapping")
-    return SensorModel(SensorChain.from_dict(data), provenance)
+    elements = data.get("elements")
+    if not isinstance(elements, list):
+        raise ModelError(f"model must hold a list under 'elements', got {_short(elements)}")
+    for i, item in enumerate(elements):
+        if not isinstance(item, dict) or "type" not in item:
+            raise ModelError(f"element {i}: must be a mapping with a 'type', got {_short(item)}")
+        _check_string_keys(f"element {i}", item)
+        kind = item["type"]
+        if not isinstance(kind, str):
+            raise ModelError(f"element {i}: type must be a string, one of {sorted(ELEMENT_TYPES)}; got {_short(kind)}")
+        if kind not in ELEMENT_TYPES:
+            raise ModelError(f"element {i}: unknown type {_short(kind)}; known: {sorted(ELEMENT_TYPES)}")
+    try:
+        chain = SensorChain.from_dict(data)
+    except ModelError:
+        raise
+    except (ArithmeticError, LookupError, TypeError, ValueError, AttributeError, RecursionError) as exc:
+        # Every case above has its own message; this is the net under them.
+        raise ModelError(f"elements cannot be built ({type(exc).__name__}: {_clip(str(exc), 200)})") from None
+    validate_chain_numerics(chain)
+    return SensorModel(chain, provenance)
+
+
+_RUN_ERRORS = (ArithmeticError, LookupError, TypeError, ValueError, AttributeError)
+
+
+def _finite(x):
+    return x is not None and bool(np.all(np.isfinite(np.asarray(x, dtype=float))))
+
+
+def _first_bad_element(chain, stage, t, x, aux):
+    """(index, element, exception or None) of the first element whose ``stage`` output is not finite."""
+    if stage == "forward":
+        for i, element in enumerate(chain.elements):
+            try:
+                x = element.forward(t, x, aux, element.forward_state())
+            except _RUN_ERRORS as exc:
+                return i, element, exc
+            if not _finite(x):
+                return i, element, None
+        return None
+    order = list(reversed(list(enumerate(chain.elements))))
+    if stage == "backward":
+        for i, element in order:
+            try:
+                x = element.backward(t, x, aux)
+            except _RUN_ERRORS as exc:
+                return i, element, exc
+            if not _finite(x):
+                return i, element, None
+        return None
+    streams = []
+    for i, element in order:
+        try:
+            streams.append((i, element, element.streaming()))
+        except _RUN_ERRORS as exc:
+            return i, element, exc
+    for ti, xi, ci in zip(t, x, aux["temperature_c"]):
+        value = float(xi)
+        for i, element, stream in streams:
+            try:
+                value = stream.step(float(ti), value, {"temperature_c": float(ci)})
+            except _RUN_ERRORS as exc:
+                return i, element, exc
+            if not _finite(value):
+                return i, element, None
+    return None
+
+
+def validate_chain_numerics(chain) -> None:
+    """Refuse a chain that turns a finite record into inf or NaN (or raises on one).
+
+    Runs ``chain.forward`` on test force records (5 +- 4 N with temperature
+    25 +- 10 degC; uniform at 10 kHz .. 0.1 Hz and one irregular record over 24
+    hours), ``chain.backward`` on that voltage and on a plain 0.5 +- 0.4 V record,
+    and ``chain.streaming()`` sample by sample on the 1 kHz and 24-hour
+    records. On a failure the stage is rerun element by element and the first
+    element whose output is not finite is named in the ModelError.
+    """
+    for t, force, aux, label in _smoke_records():
+        plain = 0.5 + 0.4 * np.cos(np.linspace(0.0, 5.0, t.size))
+        stage, x, error = "forward", force, None
+        with np.errstate(all="ignore"):
+            try:
+                volts = chain.forward(t, force, aux)
+                ok = _finite(volts)
+                for stage, x in ((("backward", volts), ("backward", plain)) if ok else ()):
+                    if not _finite(chain.backward(t, x, aux)):
+                        ok = False
+                        break
+                if ok and label.startswith(("irregular", "uniform, step 0.001 ")):
+                    stage, x = "streaming", volts
+                    stream = chain.streaming()
+                    out = [stream.step(float(ti), float(vi), {"temperature_c": float(ci)})
+                           for ti, vi, ci in zip(t, volts, aux["temperature_c"])]
+                    ok = all(_finite(o) for o in out)
+            except _RUN_ERRORS as exc:
+                ok, error = False, exc
+            if ok:
+                continue
+            try:
+                culprit = _first_bad_element(chain, stage, t, x, aux)
+            except Exception:  # noqa: BLE001 - only the message depends on it
+                culprit = None
+        if culprit is not None:
+            i, element, error = culprit[0], culprit[1], culprit[2] or error
+            try:
+                described = _short(element.to_dict(), 300)
+            except Exception:  # noqa: BLE001
+                described = type(element).__name__
+            who = f"element {i} ({getattr(element, 'kind', '?')}): {described}"
+        else:
+            who = "the chain"
+        what = f"raises {type(error).__name__}: {_clip(str(error), 200)}" if error is not None else "gives non-finite output"
+        raise ModelError(f"{who} {what} in the {stage} run on a test record ({label}); "
+                         f"its parameters are numerically unusable together")
 
 
 def load_model(path) -> SensorModel:
-    """Read and validate a model file; raises ModelError with the reason."""
+    """Read and validate a model file; raises ModelError with the reason (and nothing else)."""
     path = Path(path)
     try:
-        text = path.read_text()
+        with open(path, "rb") as fh:
+            raw = fh.read(MAX_FILE_BYTES + 1)
     except OSError as exc:
         raise ModelError(f"cannot read model file {path}: {exc.strerror}") from exc
+    if len(raw) > MAX_FILE_BYTES:
+        raise ModelError(f"{path}: larger than {MAX_FILE_BYTES} bytes; a model file is a few hundred")
     try:
-        data = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        raise ModelError(f"{path}: not valid YAML: {exc}") from exc
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ModelError(f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    try:
+        data = parse_model_yaml(text)
+    except ModelError as exc:
+        raise ModelError(f"{path}: {exc}") from None
     try:
         return model_from_mapping(data)
     except ModelError as exc:
@@ -82,7 +332,7 @@ def save_model(path, model: SensorModel, keep_previous=True) -> Path:
     text = "# polyforce_ros sensor model (force -> voltage chain)\n" + yaml.safe_dump(
         model_to_mapping(model), sort_keys=False
     )
-    model_from_mapping(yaml.safe_load(text))  # never write what we could not load
+    model_from_mapping(parse_model_yaml(text))  # never write what we could not load
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     try:
         with os.fdopen(fd, "w") as fh:

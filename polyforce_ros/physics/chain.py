@@ -30,26 +30,183 @@ class ModelError(ValueError):
     """A model description that cannot be used (bad type, keys or values)."""
 
 
+# Bounds of every parameter a model file may set: name -> (low, high, unit, why).
+# Values outside are a ModelError naming the element, the key and the range.
+# They are wide physical limits, not a plausibility check: each range holds
+# the identification search boxes (physics/identification.py and
+# discrepancy/engine.py fit the core parameters in log space over 1e-6..1e12,
+# the effects of a diagnosis over the ranges noted below) with a margin, and
+# each keeps every derived quantity (1/k, k/eta, k**2/eta, r * h, the products
+# of the chain) many orders of magnitude inside float64, so a model within
+# them cannot turn a finite record into inf or NaN through its parameters
+# alone. Combinations that are still numerically degenerate are caught after
+# the element is built (_check_core_numerics) and for the whole chain on load
+# (model_file.validate_chain_numerics).
+_STIFFNESS = (1e-7, 1e13, "N/V", "a decade around the fitted 1e-6..1e12; 1/k and k**2 stay far from float64 limits")
+_VISCOSITY = (1e-7, 1e13, "N*s/V", "a decade around the fitted 1e-6..1e12; time constants eta/k 1e-20..1e20 s")
+PARAMETER_BOUNDS = {
+    **{f"{k}_n_per_v": _STIFFNESS for k in ("k", "k1", "k2", "k3")},
+    **{f"{e}_n_s_per_v": _VISCOSITY for e in ("eta", "eta1", "eta2", "eta3")},
+    # a bridge/ADC reads a few volts; 1 kV is far beyond any amplifier output
+    "voltage_v": (-1e3, 1e3, "V", "an offset beyond any amplifier output is not a sensor"),
+    # a drift faster than 1 kV/s crosses any ADC range within milliseconds (diagnosis fits +-1 V/s)
+    "rate_v_per_s": (-1e3, 1e3, "V/s", "faster than any drift; over 24 h at most 8.6e7 V"),
+    # V/N or V/V: 1 nV..1 GV per unit; the inverse divides by it
+    "gain": (1e-9, 1e9, "", "the inverse divides by the gain"),
+    # y = x + q x**2: |q| = 1e3 /V already bends the curve by 100 % at 1 mV (diagnosis fits +-1 /V)
+    "quadratic_per_v": (-1e3, 1e3, "1/V", "100 % nonlinearity at 1 mV already"),
+    # electronics (0.1 us) to a slow thermal lag (11.6 days); diagnosis fits 1e-4..10 s
+    "tau_s": (1e-7, 1e6, "s", "from 0.1 us electronics to 11.6 days; the forward run scales by 1/tau"),
+    "noise_filter_tau_s": (1e-7, 1e6, "s", "a lag like tau_s"),
+    # V per degC: 10 V/degC swings a 10 V range in 1 degC (diagnosis fits +-1 V/degC)
+    "coefficient_v_per_c": (-10.0, 10.0, "V/degC", "full scale within 1 degC already"),
+    # a polymer sensor below -100 degC is glass, above 300 degC it decomposes
+    "reference_c": (-100.0, 300.0, "degC", "the range a polymer sensor survives"),
+    # Preisach input/output range and weights, in N or V (either side of the core)
+    "u_min": (-1e6, 1e6, "", "1 MN or 1 MV: beyond any sensor range"),
+    "u_max": (-1e6, 1e6, "", "1 MN or 1 MV: beyond any sensor range"),
+    "offset": (-1e6, 1e6, "", "1 MN or 1 MV: beyond any sensor range"),
+    "density": (0.0, 1e6, "", "non-negative relay weights, each within the output range"),
+}
+# Parameters where 0 means "off" and is allowed besides the range.
+_ZERO_MEANS_OFF = {"noise_filter_tau_s"}
+#: Preisach levels: 5x seed 001's 40; n (n + 1) / 2 relays cost O(n**2) per sample.
+MAX_PREISACH_LEVELS = 200
+# The record a model must carry: 24 h (exp(-r * 86400 s) decays, never grows) and
+# the sample steps checked by the smoke runs (10 kHz .. one sample per 10 s).
+_DAY_S = 86400.0
+_SMOKE_STEPS_S = (1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0)
+# step_weights squares z = r h: z must stay below ~1e154; 1e150 / 86400 s leaves room.
+_MAX_RATE_PER_S = 1e150 / _DAY_S
+
+
+def _short(value, limit=60):
+    text = repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _range_text(key):
+    low, high, unit, why = PARAMETER_BOUNDS[key]
+    unit = f" {unit}" if unit else ""
+    off = " (or 0 = off)" if key in _ZERO_MEANS_OFF else ""
+    return f"[{low:g}, {high:g}]{unit}{off} ({why})"
+
+
 def _number(kind, key, value, positive):
+    """``value`` as a finite float within PARAMETER_BOUNDS[key] (when listed), else ModelError."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise ModelError(f"{kind}: {key} must be a number, got {value!r}")
-    value = float(value)
+        raise ModelError(f"{kind}: {key} must be a number, got {_short(value)}")
+    try:
+        value = float(value)
+    except OverflowError:
+        raise ModelError(f"{kind}: {key} must be a number that fits a float (|x| < 1.8e308), "
+                         f"got an integer of about {int(value.bit_length() * math.log10(2)) + 1} digits") from None
     if not math.isfinite(value):
         raise ModelError(f"{kind}: {key} must be finite, got {value!r}")
     if positive and value <= 0.0:
         raise ModelError(f"{kind}: {key} must be > 0, got {value!r}")
+    bounds = PARAMETER_BOUNDS.get(key)
+    if bounds is not None and not (bounds[0] <= value <= bounds[1]):
+        if not (value == 0.0 and key in _ZERO_MEANS_OFF):
+            raise ModelError(f"{kind}: {key} = {value!r} is outside the allowed range {_range_text(key)}")
     return value
 
 
 def _check_keys(kind, mapping, expected, optional=()):
+    if not isinstance(mapping, dict):
+        raise ModelError(f"{kind}: must be a mapping, got {_short(mapping)}")
+    bad = [k for k in mapping if not isinstance(k, str)]
+    if bad:
+        raise ModelError(f"{kind}: keys must be strings, got {_short(bad)}")
     keys = set(mapping) - {"type"}
     allowed = set(expected) | set(optional)
     missing, unknown = sorted(set(expected) - keys), sorted(keys - allowed)
     if missing:
         raise ModelError(f"{kind}: missing keys {missing}")
     if unknown:
-        raise ModelError(f"{kind}: unknown keys {unknown} (expected {sorted(expected)}"
+        raise ModelError(f"{kind}: unknown keys {_short(unknown, 200)} (expected {sorted(expected)}"
                          + (f", optional {sorted(optional)})" if optional else ")"))
+
+
+def _smoke_records():
+    """Short records (t, force N, temperature degC) that every element must carry to finite output:
+    uniform at each step of _SMOKE_STEPS_S, and one irregular record spanning 24 h."""
+    records = []
+    for h in _SMOKE_STEPS_S:
+        t = 1000.0 + h * np.arange(40)
+        records.append((t, 5.0 + 4.0 * np.sin(np.linspace(0.0, 6.0, t.size)), f"uniform, step {h:g} s"))
+    t = np.unique(np.concatenate([1e-3 * np.arange(20), np.logspace(-1.0, math.log10(_DAY_S), 40)]))
+    records.append((t, 5.0 + 4.0 * np.sin(np.linspace(0.0, 9.0, t.size)), "irregular, 24 h"))
+    return [(t, f, {"temperature_c": 25.0 + 10.0 * np.sin(np.linspace(0.0, 3.0, t.size))}, label)
+            for t, f, label in records]
+
+
+def _laplace_mismatch(rel, comp, s):
+    """|s G(s) * s J(s) - 1| at Laplace variable(s) s > 0: zero for a relaxation that matches its compliance."""
+    s = np.asarray(s, dtype=float)
+    sg = rel.g_inf_n_per_v + rel.eta_impulse_n_s_per_v * s
+    for a, r in zip(rel.a_n_per_v, rel.r_per_s):
+        sg = sg + a * s / (s + r)
+    sj = comp.j0_v_per_n + comp.fluidity_v_per_n_s / s
+    for c, tau in zip(comp.c_v_per_n, comp.tau_s):
+        sj = sj + c / (1.0 + tau * s)
+    return np.abs(sg * sj - 1.0)
+
+
+def _check_core_numerics(kind, model):
+    """Derived quantities of a viscoelastic core, checked once after it is built.
+
+    * ``relaxation()`` (roots of the relaxation polynomial, residues) must succeed and give
+      finite G(0), G(inf), amplitudes, rates and impulse term;
+    * every rate r >= 0: a negative one is a growing mode, exp(+|r| t) over a record;
+    * r * 86400 s < 1e150 and a * r finite: the recursion squares z = r h in its step weights.
+      No lower limit on r is needed: when r h is below float64 resolution exp(-r h) rounds to 1
+      and the series/expm1 forms turn the mode into an exact integral, off by at most r * 24 h
+      relative, which is then below 1e-7 (r h < 1.1e-16 at h >= 1e-4 s);
+    * the relaxation must be the inverse of the creep compliance, s G(s) s J(s) = 1 to 1e-3
+      over s = 1/(24 h) .. 1e4 /s (a relaxation whose rates or residues were lost to cancellation
+      fails this although every number in it is finite);
+    * forward, batch backward and streaming backward runs on short uniform records (10 kHz to
+      0.1 Hz) and an irregular 24-hour record must give finite output and raise nothing.
+    """
+    try:
+        with np.errstate(all="ignore"):
+            rel = model.relaxation()
+            comp = model.compliance()
+            values = [rel.g0_n_per_v, rel.g_inf_n_per_v, rel.eta_impulse_n_s_per_v, *rel.a_n_per_v, *rel.r_per_s]
+            products = [a * r for a, r in zip(rel.a_n_per_v, rel.r_per_s)]
+            mismatch = _laplace_mismatch(rel, comp, np.logspace(-math.log10(_DAY_S), 4.0, 25))
+    except (ArithmeticError, ValueError, LookupError, TypeError) as exc:  # LinAlgError is a ValueError
+        raise ModelError(f"{kind}: parameters {model.as_dict()} give no relaxation modulus "
+                         f"({type(exc).__name__}: {exc}); they are too far apart for float64") from None
+    if not all(math.isfinite(v) for v in values + products):
+        raise ModelError(f"{kind}: parameters {model.as_dict()} give a non-finite relaxation modulus {rel}")
+    if any(r < 0.0 or r * _DAY_S >= 1e150 for r in rel.r_per_s):
+        raise ModelError(f"{kind}: parameters {model.as_dict()} give relaxation rates {rel.r_per_s} 1/s; "
+                         f"each must be within [0, {_MAX_RATE_PER_S:.3g}] 1/s")
+    if not np.all(mismatch <= 1e-3):
+        raise ModelError(f"{kind}: parameters {model.as_dict()} are too far apart for float64: the relaxation "
+                         f"modulus does not invert the creep compliance (s G s J - 1 up to {np.nanmax(mismatch):.3g})")
+    for t, force, _, label in _smoke_records():
+        stage = "forward"
+        try:
+            with np.errstate(all="ignore"):
+                volts = simulate_deformation(model, t, force)
+                ok = bool(np.all(np.isfinite(volts)))
+                if ok:
+                    stage = "backward"
+                    ok = bool(np.all(np.isfinite(compensate(model, t, volts))))
+                if ok and label.startswith(("irregular", "uniform, step 0.001 ")):
+                    stage = "streaming backward"
+                    stream = StreamingCompensator(model)
+                    out = [stream.step(float(ti), float(vi)) for ti, vi in zip(t, volts)]
+                    ok = all(o is not None and math.isfinite(o) for o in out)
+        except (ArithmeticError, ValueError, LookupError, TypeError) as exc:
+            raise ModelError(f"{kind}: parameters {model.as_dict()} are too far apart for float64: the {stage} "
+                             f"run on a test record ({label}) failed ({type(exc).__name__}: {exc})") from None
+        if not ok:
+            raise ModelError(f"{kind}: parameters {model.as_dict()} are too far apart for float64: the {stage} "
+                             f"run on a test record ({label}) is not finite")
 
 
 class ViscoelasticElement:
@@ -76,11 +233,19 @@ class ViscoelasticElement:
 
     @classmethod
     def from_dict(cls, d):
-        model_type = MODEL_TYPES[d["type"]]
+        kind = d.get("type") if isinstance(d, dict) else None
+        if not isinstance(kind, str) or kind not in MODEL_TYPES:
+            raise ModelError(f"viscoelastic core: type must be one of {sorted(MODEL_TYPES)}, got {_short(kind)}")
+        model_type = MODEL_TYPES[kind]
         names = model_type.parameter_names()
-        _check_keys(d["type"], d, names)
-        values = [_number(d["type"], n, d[n], positive=True) for n in names]
-        return cls(model_type(*values))
+        _check_keys(kind, d, names)
+        values = [_number(kind, n, d[n], positive=True) for n in names]
+        try:
+            model = model_type(*values)
+        except (TypeError, ValueError) as exc:
+            raise ModelError(f"{kind}: {exc}") from None
+        _check_core_numerics(kind, model)
+        return cls(model)
 
 
 class _ViscoelasticStream:
@@ -151,10 +316,10 @@ class _SimpleElement:
         for name, positive in self.PARAMS:
             setattr(self, name, _number(self.kind, name, values[name], positive))
         for name, default in self.OPTIONAL.items():
-            value = _number(self.kind, name, values.get(name, default), False)
-            if value < 0.0:
-                raise ModelError(f"{self.kind}: {name} must be >= 0, got {value!r}")
-            setattr(self, name, value)
+            raw = values.get(name, default)
+            if isinstance(raw, (int, float)) and not isinstance(raw, bool) and raw < 0:
+                raise ModelError(f"{self.kind}: {name} must be >= 0, got {_short(raw)}")
+            setattr(self, name, _number(self.kind, name, raw, False))
 
     def forward_state(self):
         return None
@@ -414,15 +579,19 @@ class PreisachElement:
         _check_keys(cls.kind, d, cls.KEYS)
         if not isinstance(d["density"], list) or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in d["density"]):
             raise ModelError("preisach: density must be a list of numbers")
-        if not isinstance(d["n_levels"], int) or d["n_levels"] < 1:
-            raise ModelError("preisach: n_levels must be a positive integer")
+        n_levels = d["n_levels"]
+        if isinstance(n_levels, bool) or not isinstance(n_levels, int) or not 1 <= n_levels <= MAX_PREISACH_LEVELS:
+            raise ModelError(f"preisach: n_levels must be an integer in [1, {MAX_PREISACH_LEVELS}] "
+                             f"(the operator costs O(n**2) per sample), got {_short(n_levels)}")
         if not isinstance(d["continuous"], bool):
             raise ModelError("preisach: continuous must be true or false")
         for key in ("u_min", "u_max", "offset"):
             _number(cls.kind, key, d[key], positive=False)
+        for value in d["density"]:
+            _number(cls.kind, "density", value, positive=False)
         try:
             model = PreisachModel.from_dict(d)
-        except ValueError as exc:
+        except (ValueError, ArithmeticError) as exc:
             raise ModelError(f"preisach: {exc}") from exc
         return cls(model, d["continuous"])
 

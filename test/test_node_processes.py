@@ -84,3 +84,20 @@ def test_bad_parameter_fails_at_start_with_a_clear_message():
         stop(proc)
     assert proc.returncode != 0
     assert "cannot read model file /nonexistent/model.yaml" in out
+
+
+@pytest.mark.parametrize("args, says", [
+    (("-p", "model_file:={bad}"), "outside the allowed range"),
+    (("-p", "force_limit_n:=1e9"), "force_limit_n"),
+])
+def test_a_node_started_with_bad_input_exits_2_with_the_reason(tmp_path, args, says):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("format: polyforce_model/1\nelements:\n- {type: burgers, k1_n_per_v: 1.0e+300, k2_n_per_v: 10.0, "
+                   "eta1_n_s_per_v: 4627.94, eta2_n_s_per_v: 85.12}\n")
+    proc = spawn(BIN / "compensation_node", *[a.format(bad=bad) for a in args])
+    try:
+        out, _ = proc.communicate(timeout=60)
+    finally:
+        stop(proc)
+    assert proc.returncode == 2, out
+    assert says in out and "Traceback" not in out

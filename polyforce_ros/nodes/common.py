@@ -8,6 +8,7 @@ import sys
 import rclpy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
+from rclpy.exceptions import ParameterException
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from .. import contract
@@ -97,7 +98,11 @@ def run(node_class, args=None):
         stop["flag"] = True
 
     try:
-        node = node_class()
+        try:
+            node = node_class()
+        except (ValueError, OSError, ParameterException) as exc:  # bad parameters or files (ModelError, BagError)
+            print(f"{node_class.__name__}: error: {exc}", file=sys.stderr)
+            return 2
         # Latency: move everything built at start-up out of the cyclic collector's reach and
         # make gen-0 collections rarer; the per-sample path creates no reference cycles, so
         # reference counting frees it, and collector pauses would land in the 1 kHz path.

@@ -461,7 +461,9 @@ class _UniformCascade:
             weighted = np.polyadd(weighted, term)
         num = np.polyadd(num, np.polymul(weighted, [1.0, 0.0]))
         u = np.roots(num)
-        if np.any(np.abs(u.imag) > 0):
+        # np.roots drops leading zero coefficients (a mode whose exp(-r h) underflowed): fewer
+        # zeros than sections leaves the cascade undefined; the modal path handles such records
+        if u.size != a.size or np.any(np.abs(u.imag) > 0):
             return None
         u = np.sort(u.real)[::-1]  # nearest 0 first (all roots <= 0)
         sos = np.zeros((a.size, 6))

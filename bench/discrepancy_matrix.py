@@ -15,7 +15,8 @@ import time
 import numpy as np
 from tqdm import tqdm
 
-from polyforce_ros.discrepancy.engine import Record, diagnose
+from polyforce_ros.discrepancy.engine import diagnose
+from polyforce_ros.record import Record
 from polyforce_ros.sim.bench import EFFECTS, simulate_bench
 
 BASE_FOR = {"viscous_flow": "zener", "delayed_elasticity": "maxwell"}

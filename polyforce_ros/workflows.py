@@ -18,6 +18,7 @@ from .physics.chain import ModelError, SensorChain
 from .physics.fitting import information_criteria
 from .physics.identification import select_model
 from .physics.viscoelastic import simulate_deformation
+from .record import load_record
 from .runtime import Compensator, CompensatorConfig, SampleGate
 
 
@@ -29,10 +30,6 @@ def clean_samples(stamp_ns, values, receive_ns=None, config: CompensatorConfig =
     than the last used one (backwards or duplicate).
     """
     return SampleGate(config).mask(stamp_ns, values, receive_ns)
-
-
-#: Gate settings for the reference force of a record: a force, not a bridge voltage, so no input limit.
-REFERENCE_GATE = CompensatorConfig(input_limit_v=np.inf)
 
 
 #: Seconds at the start of a record over which the unloaded bridge output is averaged (tare).
@@ -53,47 +50,6 @@ def static_and_compensated(chain, t_s, voltage_v, offset_v):
     chain = chain.with_offset(offset_v)
     static = (np.asarray(voltage_v) - offset_v) / chain.static_gain_v_per_n()
     return static, chain.backward(t_s, voltage_v)
-
-
-def resample_onto(t_s, t0_ns, stamp_ns, values, what):
-    """Samples of another topic, cleaned (see :func:`clean_samples`) and linearly
-    interpolated onto ``t_s`` (seconds since ``t0_ns``)."""
-    stamp_ns, values = np.asarray(stamp_ns, dtype=np.int64), np.asarray(values, dtype=float)
-    keep = clean_samples(stamp_ns, values, config=REFERENCE_GATE)
-    if keep.sum() < 2:
-        raise bags.BagError(f"no usable samples on {what}")
-    return np.interp(t_s, (stamp_ns[keep] - t0_ns) * 1e-9, values[keep])
-
-
-def record_from_bag(bag, bag_path, need_reference=True):
-    """Raw voltage with the reference force interpolated onto its stamps, from a read bag.
-
-    Returns ``(t_s, force_n, voltage_v, stamp_ns, warnings)``, time relative to
-    the first kept raw sample; force is None without ``need_reference``.
-    """
-    raw = bag[bags.BRIDGE_VOLTAGE]
-    if len(raw) == 0 or "position" not in raw.fields:
-        raise bags.BagError(f"{bag_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
-    keep = clean_samples(raw.stamp_ns, raw.fields["position"], raw.log_time_ns)
-    stamps, volts = raw.stamp_ns[keep], raw.fields["position"][keep]
-    warnings = list(bag.warnings)
-    if (~keep).any():
-        warnings.append(f"{int((~keep).sum())} raw samples dropped (non-finite, out of range, implausible, backwards "
-                        "or duplicate stamps)")
-    t0 = stamps[0]
-    t_s = (stamps - t0) * 1e-9
-    force = None
-    if need_reference:
-        ref = bag[bags.REFERENCE_FORCE]
-        force = resample_onto(t_s, t0, ref.stamp_ns, ref.fields.get("force_z", np.zeros(len(ref))),
-                              f"{bag_path}: {bags.REFERENCE_FORCE}")
-    return t_s, force, volts, stamps, warnings
-
-
-def load_record(bag_path, need_reference=True):
-    """:func:`record_from_bag` of the bag at ``bag_path``."""
-    topics = [bags.BRIDGE_VOLTAGE] + ([bags.REFERENCE_FORCE] if need_reference else [])
-    return record_from_bag(bags.read_bag(bag_path, topics=topics), bag_path, need_reference)
 
 
 @dataclass
@@ -168,8 +124,8 @@ def calibrate_record(t_s, force_n, voltage_v, output, source, candidates=("maxwe
 
 
 def calibrate_bag(bag_path, output, **kwargs) -> CalibrationResult:
-    t_s, force, volts, _, warnings = load_record(bag_path)
-    return calibrate_record(t_s, force, volts, output, source=bag_path, warnings=warnings, **kwargs)
+    rec = load_record(bag_path)
+    return calibrate_record(rec.t_s, rec.force_n, rec.voltage_v, output, source=bag_path, warnings=rec.warnings, **kwargs)
 
 
 def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorConfig = CompensatorConfig()):

@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from conftest import REPO
-from polyforce_ros.discrepancy.engine import Record, diagnose
+from polyforce_ros.discrepancy.engine import diagnose
+from polyforce_ros.record import Record
 from polyforce_ros.model_file import load_model
 from polyforce_ros.sim.bench import simulate_bench, write_bench_bag
 
@@ -70,9 +71,10 @@ def test_cli_contract_json_report_and_saved_model(tmp_path):
     assert [e.kind for e in chain.elements] == ["burgers", "nonlinear_gain", "offset"]
     assert data["model"]["elements"][1]["type"] == "nonlinear_gain"
     # The augmented model compensates the sensor far better than the base model would.
-    from polyforce_ros.workflows import load_record
+    from polyforce_ros.record import load_record
 
-    t, force, volts, _, _ = load_record(bag)
+    rec = load_record(bag)
+    t, force, volts = rec.t_s, rec.force_n, rec.voltage_v
     err_aug = np.sqrt(np.mean((chain.backward(t, volts) - force) ** 2))
     base_chain = load_model(model).chain
     base_chain.elements = [e for e in base_chain.elements if e.kind != "nonlinear_gain"]
@@ -129,9 +131,10 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
     data = json.loads((tmp_path / "d.json").read_text())
     assert data["missing_effect"] == "nonlinear_gain" and data["rmse_after"] <= data["rmse_before"] / 3
     # The augmented model runs in the compensation node unchanged.
-    from polyforce_ros.workflows import load_record
+    from polyforce_ros.record import load_record
 
-    t, force, volts, stamps, _ = load_record(bag)
+    rec = load_record(bag)
+    t, force, volts = rec.t_s, rec.force_n, rec.voltage_v
     chain = load_model(tmp_path / "aug.yaml").chain
     expected = chain.backward(t[:400], volts[:400])
     with ros() as h:

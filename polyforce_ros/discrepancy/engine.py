@@ -29,6 +29,7 @@ from ..physics.chain import (
     NonlinearGainElement, OffsetDriftElement, OffsetElement, PreisachElement, SensorChain, SensorLagElement,
     ThermalDriftElement, ViscoelasticElement,
 )
+from ..record import Record  # noqa: F401 - the record type diagnose takes (re-exported)
 from ..physics.fitting import LOG_BOUNDS, information_criteria, log_bounds, multistart_least_squares, starts_from_compliance
 from ..physics.identification import block_average
 from ..physics.viscoelastic import MODEL_TYPES, Burgers, Burgers2, Maxwell, Zener, Zener2, simulate_deformation_columns
@@ -36,19 +37,6 @@ from ..physics.viscoelastic import MODEL_TYPES, Burgers, Burgers2, Maxwell, Zene
 EFFECTS = ("viscous_flow", "delayed_elasticity", "hysteresis", "sensor_lag", "nonlinear_gain", "thermal_drift", "offset_drift")
 BASES = tuple(MODEL_TYPES)  # every core type the fitting stack knows
 PREISACH_LEVELS = 16
-
-
-@dataclass
-class Record:
-    """A bench record: time (s), reference force (N), raw voltage (V), temperature (degC) or None."""
-
-    t_s: np.ndarray
-    force_n: np.ndarray
-    voltage_v: np.ndarray
-    temperature_c: np.ndarray | None = None
-
-    def aux(self):
-        return {"temperature_c": self.temperature_c}
 
 
 @dataclass
@@ -219,7 +207,6 @@ def _fit_hysteresis(problem, base_fit, rate_hz=10.0):
     f_lo, f_hi = float(min(fd.min(), 0.0)), float(fd.max())  # the force of the whole record is known
     f_hi += 0.05 * (f_hi - f_lo)
     deviation = ramp_states(fd, f_lo, f_hi, PREISACH_LEVELS) + 1.0  # 0 at rest
-    n_q = deviation.shape[1]
     v_fit = vd[fit] - vd[fit].mean()  # the free voltage offset, projected out by centring
 
     def project(theta):

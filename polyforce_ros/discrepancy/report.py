@@ -4,23 +4,9 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
-
-from .. import bags
 from ..model_file import SensorModel, now_iso, save_model
-from ..workflows import record_from_bag, resample_onto
-from .engine import Record, diagnose
-
-
-def load_bench_record(path) -> Record:
-    """Raw voltage, reference force and (if recorded) temperature on the raw stamps; one read of the bag."""
-    bag = bags.read_bag(path, topics=[bags.BRIDGE_VOLTAGE, bags.REFERENCE_FORCE], optional=[bags.TEMPERATURE])
-    t, force, volts, stamps, _ = record_from_bag(bag, path)
-    temp = None
-    if bags.TEMPERATURE in bag.topics and len(bag[bags.TEMPERATURE]) >= 2:
-        tdata = bag[bags.TEMPERATURE]
-        temp = resample_onto(t, stamps[0], tdata.stamp_ns, tdata.fields["temperature"], f"{path}: {bags.TEMPERATURE}")
-    return Record(t, force, volts, temp)
+from ..record import load_record
+from .engine import diagnose
 
 
 def write_report(diag, rec, out_dir, bag_name=""):
@@ -94,7 +80,7 @@ def write_report(diag, rec, out_dir, bag_name=""):
 
 
 def run(bag, base, json_path=None, report_dir=None, save_model_path=None, fit_fraction=0.6, progress=None):
-    rec = load_bench_record(bag)
+    rec = load_record(bag)
     diag = diagnose(rec, base=base, fit_fraction=fit_fraction, progress=progress)
     data = diag.to_json()
     data["bag"] = str(bag)

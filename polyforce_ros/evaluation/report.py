@@ -13,7 +13,8 @@ import numpy as np
 from .. import bags
 from ..model_file import default_model_path, load_model
 from ..physics.metrics import error_summary
-from ..workflows import load_record, static_and_compensated, tare_offset_v
+from ..record import load_record
+from ..workflows import static_and_compensated, tare_offset_v
 from . import seed000, seed001, seed002
 from .common import Row, Section, Settings, figure, finite_or_text
 
@@ -23,7 +24,8 @@ EXPERIMENTS = (("seed000", seed000.run), ("seed001", seed001.run), ("seed002", s
 def evaluate_bag(path, model_path=None) -> Section:
     """Static gain vs compensation on a recorded bag with a reference force."""
     model = load_model(model_path or default_model_path())
-    t, force, volts, _, warnings = load_record(path)
+    rec = load_record(path)
+    t, force, volts, warnings = rec.t_s, rec.force_n, rec.voltage_v, list(rec.warnings)
     # tare on the first half second (sensor unloaded), as a user would
     static, comp = static_and_compensated(model.chain, t, volts, tare_offset_v(t, volts))
     es, ec = error_summary(force, static), error_summary(force, comp)

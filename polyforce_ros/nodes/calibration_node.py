@@ -27,7 +27,8 @@ from std_msgs.msg import String
 from std_srvs.srv import Trigger
 
 from ..physics.fitting import check_model_types
-from ..workflows import REFERENCE_GATE, calibrate_bag, calibrate_record, clean_samples, resample_onto
+from ..record import record_from_samples
+from ..workflows import calibrate_bag, calibrate_record
 from .. import contract
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run, stamp_to_ns
 
@@ -116,13 +117,11 @@ class CalibrationNode(Node):
         ref_t, ref_f = np.frombuffer(self._ref_t, np.int64), np.frombuffer(self._ref_f)
 
         def job():
-            keep, rk = clean_samples(raw_t, raw_v), clean_samples(ref_t, ref_f, config=REFERENCE_GATE)
-            if keep.sum() < 10 or rk.sum() < 2:
-                raise ValueError(f"recorded {int(keep.sum())} raw and {int(rk.sum())} reference samples: too few to fit")
-            t0 = raw_t[keep][0]
-            t_s = (raw_t[keep] - t0) * 1e-9
-            force = resample_onto(t_s, t0, ref_t, ref_f, contract.Rel.REFERENCE_FORCE)
-            return calibrate_record(t_s, force, raw_v[keep], source="live recording", **self._options())
+            rec = record_from_samples(raw_t, raw_v, ref_t, ref_f, source="live recording")
+            if rec.t_s.size < 10:
+                raise ValueError(f"recorded {rec.t_s.size} usable raw samples: too few to fit")
+            return calibrate_record(rec.t_s, rec.force_n, rec.voltage_v, source="live recording",
+                                    warnings=rec.warnings, **self._options())
 
         return self._respond(response, self._calibrate(job))
 

@@ -8,9 +8,7 @@ when the node shuts down.
 """
 from __future__ import annotations
 
-from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
-from sensor_msgs.msg import JointState, Temperature
 
 from .. import bags, contract
 from .common import DEFAULT_NAMESPACE, OK, Diagnostics, data_qos, declare, declare_qos, message_class, run

@@ -1,0 +1,106 @@
+"""What a bench record is, and the one way to make one from a bag or from live samples.
+
+A :class:`Record` is the raw bridge voltage on its own stamps, with the reference
+force (and the temperature, when recorded) interpolated onto them. Calibration,
+diagnosis, the evaluation report and live calibration all use it; the samples
+kept are those the compensation runtime would use
+(:func:`polyforce_ros.workflows.clean_samples`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from . import bags
+from .runtime import CompensatorConfig, SampleGate
+
+__all__ = ["Record", "load_record", "record_from_bag", "record_from_samples", "resample_onto", "REFERENCE_GATE"]
+
+#: Gate settings for the reference force and temperature: not a bridge voltage, so no input limit.
+REFERENCE_GATE = CompensatorConfig(input_limit_v=np.inf)
+
+
+@dataclass(frozen=True)
+class Record:
+    """A bench record on the raw sample stamps.
+
+    Attributes
+    ----------
+    t_s : (n,) seconds since the first kept raw sample.
+    force_n : (n,) reference force, N (None when not asked for).
+    voltage_v : (n,) raw bridge output, V.
+    temperature_c : (n,) degC, or None when not recorded.
+    stamp_ns : (n,) header stamps of the raw samples, ns (None for synthetic records).
+    warnings : what the reader and the sample rules dropped or could not read.
+    """
+
+    t_s: np.ndarray
+    force_n: Optional[np.ndarray]
+    voltage_v: np.ndarray
+    temperature_c: Optional[np.ndarray] = None
+    stamp_ns: Optional[np.ndarray] = None
+    warnings: tuple = ()
+
+    def aux(self) -> dict:
+        """Auxiliary signals for sensor chains (thermal elements)."""
+        return {"temperature_c": self.temperature_c}
+
+
+def resample_onto(t_s, t0_ns, stamp_ns, values, what) -> np.ndarray:
+    """Samples of another topic, cleaned by the runtime's rules (no input limit) and linearly
+    interpolated onto ``t_s`` (seconds since ``t0_ns``)."""
+    stamp_ns, values = np.asarray(stamp_ns, dtype=np.int64), np.asarray(values, dtype=float)
+    keep = SampleGate(REFERENCE_GATE).mask(stamp_ns, values)
+    if keep.sum() < 2:
+        raise bags.BagError(f"no usable samples on {what}")
+    return np.interp(t_s, (stamp_ns[keep] - t0_ns) * 1e-9, values[keep])
+
+
+def record_from_samples(raw_stamp_ns, raw_v, ref_stamp_ns=None, ref_force_n=None, temp_stamp_ns=None, temp_c=None,
+                        raw_receive_ns=None, source="record", warnings=()) -> Record:
+    """A :class:`Record` from the samples of each topic (arrays of stamps and values).
+
+    Raw samples pass the runtime's gate (``raw_receive_ns``: their log or arrival
+    times, for the stamp plausibility check); the reference and temperature are
+    interpolated onto the kept raw stamps. ``BagError`` when a topic has too few
+    usable samples.
+    """
+    raw_stamp_ns, raw_v = np.asarray(raw_stamp_ns, dtype=np.int64), np.asarray(raw_v, dtype=float)
+    keep = SampleGate().mask(raw_stamp_ns, raw_v, raw_receive_ns)
+    if not keep.any():
+        raise bags.BagError(f"{source}: no usable samples on {bags.BRIDGE_VOLTAGE}")
+    warnings = list(warnings)
+    if (~keep).any():
+        warnings.append(f"{int((~keep).sum())} raw samples dropped (non-finite, out of range, implausible, backwards "
+                        "or duplicate stamps)")
+    stamps, volts = raw_stamp_ns[keep], raw_v[keep]
+    t0 = int(stamps[0])
+    t_s = (stamps - t0) * 1e-9
+    force = None if ref_stamp_ns is None else resample_onto(t_s, t0, ref_stamp_ns, ref_force_n,
+                                                            f"{source}: {bags.REFERENCE_FORCE}")
+    temp = None if temp_stamp_ns is None else resample_onto(t_s, t0, temp_stamp_ns, temp_c, f"{source}: {bags.TEMPERATURE}")
+    return Record(t_s, force, volts, temp, stamps, tuple(warnings))
+
+
+def record_from_bag(bag, bag_path, need_reference=True) -> Record:
+    """The :class:`Record` of a read bag (temperature included when it holds two samples or more)."""
+    raw = bag[bags.BRIDGE_VOLTAGE]
+    if len(raw) == 0 or "position" not in raw.fields:
+        raise bags.BagError(f"{bag_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
+    ref = bag[bags.REFERENCE_FORCE] if need_reference else None
+    temp = bag.topics.get(bags.TEMPERATURE)
+    has_temp = temp is not None and len(temp) >= 2
+    return record_from_samples(
+        raw.stamp_ns, raw.fields["position"],
+        ref.stamp_ns if ref is not None else None,
+        (ref.fields.get("force_z", np.zeros(len(ref))) if ref is not None else None),
+        temp.stamp_ns if has_temp else None, temp.fields["temperature"] if has_temp else None,
+        raw_receive_ns=raw.log_time_ns, source=str(bag_path), warnings=bag.warnings)
+
+
+def load_record(bag_path, need_reference=True) -> Record:
+    """:func:`record_from_bag` of the bag at ``bag_path`` (one read)."""
+    topics = [bags.BRIDGE_VOLTAGE] + ([bags.REFERENCE_FORCE] if need_reference else [])
+    return record_from_bag(bags.read_bag(bag_path, topics=topics, optional=[bags.TEMPERATURE]), bag_path, need_reference)

@@ -18,7 +18,7 @@ from polyforce_ros.model_file import default_model_path, load_model, model_to_ma
 from polyforce_ros.nodes.common import stamp_to_ns
 from polyforce_ros.sim.recording import simulate_bag
 from ros_harness import ros
-from test_compensation_node import T0_NS, send_all, start
+from node_support import T0_NS, send_all, start
 
 MS = 1_000_000
 # case -> (samples after one good sample at T0, counter that must count it, good samples published)

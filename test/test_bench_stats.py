@@ -1,23 +1,19 @@
-"""The statistics of bench/bench_live.py: pooled p99 ratio from histograms, losses located."""
-import sys
-from pathlib import Path
-
+"""The statistics of bench/latency.py: pooled p99 ratio from histograms, losses located."""
 import numpy as np
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
-bench_live = pytest.importorskip("bench_live")
+from polyforce_ros.evaluation import latency
 
 
 def _hist(lat_us):
-    return np.histogram(lat_us, bench_live.HIST_EDGES_US)[0]
+    return np.histogram(lat_us, latency.HIST_EDGES_US)[0]
 
 
 def test_pooled_p99_ratio_matches_percentiles_of_the_pooled_samples():
     rng = np.random.default_rng(1)
     relay = [rng.gamma(4.0, 70.0, 20000) for _ in range(6)]
     comp = [1.2 * rng.gamma(4.0, 70.0, 20000) for _ in range(6)]
-    ratio, low, high = bench_live.pooled_p99_ratio([_hist(x) for x in comp], [_hist(x) for x in relay])
+    ratio, low, high = latency.pooled_p99_ratio([_hist(x) for x in comp], [_hist(x) for x in relay])
     expected = np.percentile(np.concatenate(comp), 99) / np.percentile(np.concatenate(relay), 99)
     assert ratio == pytest.approx(expected, abs=0.01)
     assert low <= ratio <= high
@@ -29,7 +25,7 @@ def test_losses_count_only_the_measured_window_and_locate_the_hole():
     stamps = t0 + np.arange(-50, 1000) * 1_000_000  # 50 warm-up samples before t0
     keep = (stamps < t0 + 400_000_000) | (stamps >= t0 + 430_000_000)  # 30 lost at 0.4 s
     stamps = stamps[keep]
-    stats = bench_live.latency_stats(stamps, stamps + 300_000, t0, sent=1000)
+    stats = latency.latency_stats(stamps, stamps + 300_000, t0, sent=1000)
     assert stats["lost"] == 30 and stats["received"] == 970
     assert stats["largest_gap_ms"] == pytest.approx(31.0)
     assert stats["largest_gap_at_s"] == pytest.approx(0.399)

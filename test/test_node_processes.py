@@ -6,36 +6,15 @@ compensation node send a last zero wrench and exit 0. Processes that do not
 stop are SIGKILLed so no orphan outlives the test.
 """
 import os
-import signal
-import subprocess
 import sys
-from pathlib import Path
 
 import pytest
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
 
+from node_support import BIN, spawn, stop
 from ros_harness import ros
-
-BIN = Path(sys.executable).parent
-
-
-def spawn(exe, *ros_args, env=None):
-    return subprocess.Popen([str(exe), "--ros-args", *ros_args], env=env or os.environ.copy(),
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-
-
-def stop(proc, timeout=10.0):
-    if proc.poll() is None:
-        proc.send_signal(signal.SIGTERM)
-        try:
-            proc.wait(timeout)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
-    return proc.returncode
-
 
 def wrench_sink(h, namespace):
     node = h.add(Node("sink", namespace=namespace, context=h.context))

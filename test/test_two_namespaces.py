@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from test_node_processes import stop  # SIGTERM, then SIGKILL: no orphan outlives the test
+from node_support import stop  # SIGTERM, then SIGKILL: no orphan outlives the test
 
 HERE = Path(__file__).resolve().parent
 BIN = Path(sys.executable).parent

@@ -10,9 +10,12 @@ Rules, in the order they are applied:
 
 1. a non-finite voltage, or one beyond ``input_limit_v``, is dropped and counted;
 2. stamps are checked against the receive clock (host time live, log time in a bag):
-   a sample whose ``stamp - receive`` differs from that of the last used sample by
-   more than ``stamp_tolerance_s`` is implausible (a DAQ or clock glitch) and is
-   dropped; it never becomes the "last stamp";
+   a sample stamped more than ``stamp_tolerance_s`` further ahead of its arrival
+   than any used sample of this history (``stamp - receive`` above its running
+   maximum by more than that) claims to come from the future: a DAQ or clock
+   glitch. It is dropped and never becomes the "last stamp". Samples that arrive
+   late (a buffer delivering after a stall) are plausible: their stamps only lag;
+   a glitch into the past is caught by rule 3;
 3. a stamp earlier than or equal to the last used one is dropped (backwards /
    duplicate: never two wrenches with one stamp, no history rewritten);
 4. healing: when rejected samples keep arriving, consistent among themselves
@@ -91,7 +94,7 @@ class SampleGate:
         self.config = config
         self.counts = dict.fromkeys(GATE_COUNTERS, 0)
         self.last_stamp_ns: Optional[int] = None
-        self._skew_ns = 0                          # stamp - receive of the last used sample
+        self._skew_ns = 0                          # largest stamp - receive of this history's used samples
         self._run: Optional[list] = None           # [first receive, last stamp, skew] of rejected samples
 
     def restart(self):
@@ -114,7 +117,7 @@ class SampleGate:
         if last is None:
             return self._anchor(stamp_ns, skew)
         tol_ns = self.config.stamp_tolerance_s * 1e9
-        if tol_ns > 0 and abs(skew - self._skew_ns) > tol_ns:
+        if tol_ns > 0 and skew - self._skew_ns > tol_ns:
             reason = "implausible_stamp"
         elif stamp_ns < last:
             reason = "backwards"
@@ -124,7 +127,7 @@ class SampleGate:
             self._run = None
             if (stamp_ns - last) * 1e-9 > self.config.gap_warn_s:
                 c["gaps"] += 1
-            self.last_stamp_ns, self._skew_ns = stamp_ns, skew
+            self.last_stamp_ns, self._skew_ns = stamp_ns, max(self._skew_ns, skew)
             return ACCEPT
         c[reason] += 1
         if self._heals(stamp_ns, skew, receive_ns, tol_ns):
@@ -160,12 +163,13 @@ class SampleGate:
             skew = stamp_ns - receive
             tol_ns = self.config.stamp_tolerance_s * 1e9
             clean = (np.isfinite(voltage_v).all() and (np.abs(voltage_v) <= self.config.input_limit_v).all()
-                     and (np.diff(stamp_ns) > 0).all() and (tol_ns <= 0 or (np.abs(np.diff(skew)) <= tol_ns).all()))
+                     and (np.diff(stamp_ns) > 0).all()
+                     and (tol_ns <= 0 or (skew[1:] - np.maximum.accumulate(skew)[:-1] <= tol_ns).all()))
             if clean:
                 dt = np.diff(stamp_ns) * 1e-9
                 self.counts["samples"] += stamp_ns.size
                 self.counts["gaps"] += int((dt > self.config.gap_warn_s).sum())
-                self.last_stamp_ns, self._skew_ns = int(stamp_ns[-1]), int(skew[-1])
+                self.last_stamp_ns, self._skew_ns = int(stamp_ns[-1]), int(skew.max())
                 return np.ones(stamp_ns.size, dtype=bool)
         out = np.zeros(stamp_ns.size, dtype=bool)
         for i in range(stamp_ns.size):

@@ -12,6 +12,7 @@ CONSOLE_SCRIPTS = [
     "calibration_node = polyforce_ros.nodes.calibration_node:main",
     "replay_node = polyforce_ros.nodes.replay_node:main",
     "recorder_node = polyforce_ros.nodes.recorder_node:main",
+    "haptic_bridge_node = polyforce_ros.nodes.haptic_bridge_node:main",
 ]
 
 setup(
@@ -21,7 +22,9 @@ setup(
     data_files=[
         ("share/ament_index/resource_index/packages", [f"resource/{PACKAGE}"]),
         (f"share/{PACKAGE}", ["package.xml"]),
-        (f"share/{PACKAGE}/config", sorted(glob("config/*.yaml"))),
+        (f"share/{PACKAGE}/config", sorted(glob("config/*.yaml") + glob("config/*.json") + glob("config/*.xml"))),
+        (f"share/{PACKAGE}/launch", sorted(glob("launch/*.launch.py"))),
+        (f"share/{PACKAGE}/urdf", sorted(glob("urdf/*.xacro"))),
         (f"share/{PACKAGE}/bags", sorted(glob("bags/*.mcap"))),
     ],
     install_requires=["setuptools"],

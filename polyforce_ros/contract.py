@@ -29,6 +29,7 @@ class Rel:
     REFERENCE_FORCE = "reference_force"               # force.z of a bench load cell, N
     WRENCH = "wrench"                                 # force.z = compensated axial force, N; stamp of the raw sample
     TEMPERATURE = "temperature"                       # degC
+    HAPTIC_COMMAND = "haptic_command"                 # haptic_bridge_node: force for the haptic master, device frame
 
 
 #: Relative topic name -> message type.

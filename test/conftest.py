@@ -29,10 +29,11 @@ LAYERS = {
             "test_param_files.py", "test_replay.py", "test_haptic_bridge.py"],
     "process": ["test_bad_input.py", "test_calibration.py", "test_cli_demo.py", "test_discrepancy.py", "test_evaluate.py",
                 "test_node_processes.py", "test_package_build.py", "test_ros_free_physics.py", "test_bag_fuzz.py",
-                "test_bringup.py"],
+                "test_bringup.py", "test_firmware.py"],
     "netns": ["test_two_namespaces.py"],
 }
-SLOW = {"test_discrepancy.py", "test_evaluate.py", "test_package_build.py", "test_two_namespaces.py", "test_cli_demo.py"}
+SLOW = {"test_discrepancy.py", "test_evaluate.py", "test_package_build.py", "test_two_namespaces.py", "test_cli_demo.py",
+        "test_bringup.py"}
 _LAYER_OF = {name: layer for layer, names in LAYERS.items() for name in names}
 import subprocess  # noqa: E402
 

@@ -9,6 +9,7 @@ CONSOLE_SCRIPTS = [
     "polyforce = polyforce_ros.cli:main",
     "driver_node = polyforce_ros.nodes.driver_node:main",
     "compensation_node = polyforce_ros.nodes.compensation_node:main",
+    "compensation_lifecycle_node = polyforce_ros.nodes.compensation_node:main_lifecycle",
     "calibration_node = polyforce_ros.nodes.calibration_node:main",
     "replay_node = polyforce_ros.nodes.replay_node:main",
     "recorder_node = polyforce_ros.nodes.recorder_node:main",

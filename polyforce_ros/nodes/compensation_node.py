@@ -21,6 +21,7 @@ import time
 from pathlib import Path
 
 from geometry_msgs.msg import WrenchStamped
+from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from rclpy.node import Node
 from rcl_interfaces.msg import SetParametersResult
 from sensor_msgs.msg import JointState, Temperature
@@ -34,17 +35,19 @@ from .. import contract
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run, stamp_to_ns
 
 
-class CompensationNode(Node):
-    def __init__(self, **kwargs):
-        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
-        super().__init__("compensation_node", **kwargs)
+class _CompensationLogic:
+    """Parameters, runtime and callbacks shared by the plain and the managed (lifecycle) node."""
+
+    _active = True
+
+    def _declare_parameters(self):
         declare(self, "model_file", "", "Sensor model YAML; empty = the shipped paper model (seed 000 eq. 5)")
         declare(self, "force_limit_n", 12.0, "Output clamp: |force.z| never exceeds this (N)", 0.1, 1000.0)
         declare(self, "input_limit_v", 10.0, "Samples with |voltage| above this are dropped (V)", 0.001, 1000.0)
         declare(self, "stale_timeout_s", 0.1, "No valid input for this long -> zero wrench and ERROR (s)", 0.002, 60.0)
         declare(self, "gap_warn_s", 0.05, "Stamp gaps longer than this are counted as gaps (s)", 0.0001, 3600.0)
         declare(self, "stamp_tolerance_s", 1.0,
-                "A sample whose (stamp - receive time) moves by more than this from the last used one is an implausible "
+                "A sample stamped further ahead of its arrival than any used sample by more than this is an implausible "
                 "stamp and is dropped (s); 0 = no check (fast replays of bags with gaps)", 0.0, 3600.0)
         declare(self, "reanchor_after_s", 0.2,
                 "Rejected but self-consistent samples for this long re-anchor the stamp history (s)", 0.001, 60.0)
@@ -67,10 +70,14 @@ class CompensationNode(Node):
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
         declare(self, "model_check_period_s", 1.0, "How often the model file is checked for changes (s)", 0.1, 60.0, read_only=True)
         declare_qos(self)
+
+    def _start(self, create_publisher):
+        """Load the model, build the runtime and open every topic, service and timer (raises on a bad model)."""
         # Parameter values read on every sample, kept in a dict refreshed by the set-parameters
         # callback (a get_parameter call per value and sample costs latency at 1 kHz).
         self.p = {name: param.value for name, param in self._parameters.items()}
-        self.diag = Diagnostics(self, "polyforce_ros: compensation")
+        if getattr(self, "diag", None) is None:
+            self.diag = Diagnostics(self, "polyforce_ros: compensation")
         self.node_counts = dict(published=0, stale_events=0, bad_joint=0, model_reloads=0)
         self.compensator = None
         self._stale = True
@@ -79,18 +86,20 @@ class CompensationNode(Node):
         self._aux = {"temperature_c": None}  # latest auxiliary signals for the chain (thermal elements)
         self._load_model(self.get_parameter("model_file").value)  # raises on a bad file at start-up
         qos = data_qos(self)
-        self.pub = self.create_publisher(WrenchStamped, contract.Rel.WRENCH, qos)
+        self.pub = create_publisher(WrenchStamped, contract.Rel.WRENCH, qos)
         self._out = WrenchStamped()
-        self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, self._on_joint_state, qos)
-        self.create_subscription(Float64, contract.Rel.BRIDGE_VOLTAGE_SCALAR, self._on_scalar, qos)
-        self.create_subscription(Temperature, contract.Rel.TEMPERATURE, self._on_temperature, 10)
-        self.create_service(Trigger, "~/tare", self._on_tare)
-        self.create_service(Trigger, "~/reset", self._on_reset)
-        self.add_on_set_parameters_callback(self._on_set_parameters)
         timeout = self.p["stale_timeout_s"]
-        self._watchdog = self.create_timer(min(0.02, timeout / 4), self._check_stale)
-        self.create_timer(self.get_parameter("diagnostics_period_s").value, self._publish_diagnostics)
-        self.create_timer(self.get_parameter("model_check_period_s").value, self._check_model_file)
+        self._entities = [
+            self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, self._on_joint_state, qos),
+            self.create_subscription(Float64, contract.Rel.BRIDGE_VOLTAGE_SCALAR, self._on_scalar, qos),
+            self.create_subscription(Temperature, contract.Rel.TEMPERATURE, self._on_temperature, 10),
+            self.create_service(Trigger, "~/tare", self._on_tare),
+            self.create_service(Trigger, "~/reset", self._on_reset),
+            self.create_timer(min(0.02, timeout / 4), self._check_stale),
+            self.create_timer(self.get_parameter("diagnostics_period_s").value, self._publish_diagnostics),
+            self.create_timer(self.get_parameter("model_check_period_s").value, self._check_model_file),
+        ]
+        self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(f"compensating with {self._model_path} ({self.model.chain.viscoelastic})")
 
     # ------------------------------------------------------------------ model
@@ -166,6 +175,8 @@ class CompensationNode(Node):
         self._process(time.time_ns(), msg.data, "")
 
     def _process(self, stamp_ns, voltage_v, frame_id):
+        if not self._active:  # a managed node that is configured but not active uses no sample
+            return
         # The receive clock is the system clock, as the driver's stamps are (ROS time without sim time).
         force = self.compensator.step(stamp_ns, voltage_v, time.time_ns(), self._aux)
         if force is None:
@@ -185,7 +196,7 @@ class CompensationNode(Node):
 
     # ------------------------------------------------------------------ safety
     def _check_stale(self):
-        if not self.compensator.stale(time.time_ns()):
+        if not self._active or not self.compensator.stale(time.time_ns()):
             return
         if not self._stale:
             self.node_counts["stale_events"] += 1
@@ -231,7 +242,7 @@ class CompensationNode(Node):
             level, message = WARN, "running; bad or clamped samples seen (see counters)"
         else:
             level, message = OK, "running"
-        values = dict(c, model_file=self._model_path, model=self.model.chain.viscoelastic,
+        values = dict(c, active=self._active, model_file=self._model_path, model=self.model.chain.viscoelastic,
                       offset_v=self.compensator.offset_v, tared=self.compensator.tare_offset_v is not None,
                       auto_tare=self.compensator.auto_tare_status)
         return self.diag.publish(level, message, values)
@@ -242,6 +253,103 @@ class CompensationNode(Node):
         except Exception:  # noqa: BLE001 - context may already be gone; nothing else to do
             pass
         super().destroy_node()
+
+
+class CompensationNode(_CompensationLogic, Node):
+    """The compensation node, running from construction (``ros2 run polyforce_ros compensation_node``)."""
+
+    def __init__(self, **kwargs):
+        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
+        Node.__init__(self, "compensation_node", **kwargs)
+        self._declare_parameters()
+        self._start(self.create_publisher)
+
+
+class CompensationLifecycleNode(_CompensationLogic, LifecycleNode):
+    """The managed compensation node (``compensation_lifecycle_node``).
+
+    configure loads and validates the model and opens the topics; activate starts
+    compensating and publishing; deactivate publishes a final zero wrench; cleanup
+    closes everything. A model that cannot be loaded makes configure end in
+    ErrorProcessing (diagnostics ERROR with the reason) and back to unconfigured.
+    """
+
+    _active = False
+
+    def __init__(self, **kwargs):
+        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
+        LifecycleNode.__init__(self, "compensation_node", **kwargs)
+        self._declare_parameters()
+        self.diag = Diagnostics(self, "polyforce_ros: compensation")
+        self.compensator = None
+        self.error = ""
+
+    def on_configure(self, state):
+        try:
+            self._start(self.create_lifecycle_publisher)
+        except (ValueError, OSError) as exc:  # ModelError is a ValueError
+            self.error = f"configure failed: {exc}"
+            self.get_logger().error(self.error)
+            return TransitionCallbackReturn.ERROR
+        self.error = ""
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_activate(self, state):
+        self._active = True
+        self.compensator.reset()  # what came before activation is not this session's history
+        return super().on_activate(state)
+
+    def on_deactivate(self, state):
+        self.publish_zero(wait_s=0.5)
+        self._active = False
+        return super().on_deactivate(state)
+
+    def on_cleanup(self, state):
+        self._close()
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_shutdown(self, state):
+        if self._active:
+            self.publish_zero(wait_s=0.5)
+        self._active = False
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_error(self, state):
+        self.diag.publish(ERROR, self.error or "error", {"state": "error processing"})
+        if self.compensator is not None:
+            self._close()
+        self._active = False
+        return TransitionCallbackReturn.SUCCESS
+
+    def _close(self):
+        from rclpy.service import Service
+        from rclpy.subscription import Subscription
+
+        for entity in self._entities:
+            if isinstance(entity, Subscription):
+                self.destroy_subscription(entity)
+            elif isinstance(entity, Service):
+                self.destroy_service(entity)
+            else:
+                self.destroy_timer(entity)
+        self._entities = []
+        self.remove_on_set_parameters_callback(self._on_set_parameters)
+        self.destroy_lifecycle_publisher(self.pub)
+        self.compensator = None
+
+    def _publish_diagnostics(self):
+        if self.compensator is None:
+            return self.diag.publish(ERROR if self.error else OK, self.error or "unconfigured", {"active": False})
+        return super()._publish_diagnostics()
+
+    def destroy_node(self):
+        if self._active:
+            try:
+                self.publish_zero(wait_s=0.5)
+            except Exception:  # noqa: BLE001 - context may already be gone
+                pass
+        self._active = False
+        LifecycleNode.destroy_node(self)
 
 
 _WARN_COUNTERS = ("clamped", "nonfinite", "out_of_range", "implausible_stamp", "backwards", "duplicate", "gaps",
@@ -257,6 +365,10 @@ def _mtime(path):
 
 def main(args=None):
     return run(CompensationNode, args)
+
+
+def main_lifecycle(args=None):
+    return run(CompensationLifecycleNode, args)
 
 
 if __name__ == "__main__":

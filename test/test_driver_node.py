@@ -142,3 +142,26 @@ def test_sim_backend_with_extra_effects_and_temperature_swing(tmp_path):
     expected = chain.forward(t[:n], f[:n], {"temperature_c": temp})
     np.testing.assert_allclose([m.position[0] for m in raw], expected, atol=1e-12)
     assert np.ptp([m.temperature for m in temps]) > 2.0  # the swing is published
+
+
+def test_profile_waits_for_its_subscriber_and_restarts_on_request():
+    """A late joiner is matched by DDS only after seconds; with wait_for_subscribers the first sample it
+    receives is the profile's first, and ~/restart_profile starts the profile again."""
+    from std_srvs.srv import Trigger
+
+    with ros() as h:
+        driver = h.add(DriverNode(context=h.context, parameter_overrides=[
+            Parameter("wait_for_subscribers", value=1), Parameter("profile", value="step")]))
+        h.spin_for(0.3)
+        assert driver.published == 0 and driver.start_ns is None  # nobody listens yet: nothing is lost
+        listener = h.add(Listener(h.context))
+        assert h.spin_until(lambda: len(listener.raw) >= 200 and len(listener.ref) >= 200, 20.0)
+        first = listener.raw[0]
+        assert stamp_to_ns(first.header.stamp) == driver.start_ns  # sample 0 of the profile
+        assert listener.ref[0].wrench.force.z == driver.profile_f[0]
+        client = listener.create_client(Trigger, "driver_node/restart_profile")
+        assert h.call(client, Trigger.Request()).success
+        n_before = len(listener.raw)
+        assert h.spin_until(lambda: len(listener.raw) > n_before + 50, 10.0)
+        restarted = [m for m in listener.raw[n_before:] if stamp_to_ns(m.header.stamp) == driver.start_ns]
+        assert restarted and driver.start_ns > stamp_to_ns(first.header.stamp)

@@ -14,14 +14,19 @@ Backends
 * ``serial``: frames of :mod:`polyforce_ros.serial_protocol` from a
   microcontroller; counts are scaled to volts by parameters; stamps map the
   device clock onto host time; the port is reopened after it disappears.
+  Diagnostics WARN when the valid frames received over ``rate_window_s`` fall
+  below RATE_WARN_FRACTION of ``expected_rate_hz`` (a device or link too slow
+  for its rate; 0 turns the check off). Reference firmware: ``firmware/``.
 """
 from __future__ import annotations
 
+from collections import deque
 
 import numpy as np
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
+from std_srvs.srv import Trigger
 
 from ..model_file import default_model_path, load_model
 from ..serial_protocol import DeviceClock, FrameParser
@@ -34,6 +39,8 @@ from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, d
 SIM_BLOCK = 1000
 #: At most this many samples are published per timer tick (a long stall is caught up gradually).
 MAX_BURST = 250
+#: Serial backend: WARN when fewer than this fraction of expected_rate_hz frames arrive (covers ADC oscillator tolerance).
+RATE_WARN_FRACTION = 0.95
 
 
 class DriverNode(Node):
@@ -57,11 +64,19 @@ class DriverNode(Node):
         declare(self, "temperature_amplitude_c", 0.0, "Amplitude of a sinusoidal temperature swing (degC)", 0.0, 50.0, read_only=True)
         declare(self, "temperature_period_s", 600.0, "Period of the temperature swing (s)", 1.0, 1e6, read_only=True)
         declare(self, "seed", 0, "Noise and profile seed", 0, 2**31 - 1, read_only=True)
+        declare(self, "wait_for_subscribers", 0,
+                "Sim: start the profile once this many subscribers of bridge_voltage are matched (0 = at once), so a "
+                "recorder started first records it from its first sample (DDS matches late joiners only after seconds)",
+                0, 100, read_only=True)
         declare(self, "port", "/dev/ttyACM0", "Serial device of the ADC", read_only=True)
         declare(self, "baud", 921600, "Serial baud rate", 1200, 12000000, read_only=True)
         declare(self, "volts_per_count", 10.0 / 2**24, "ADC scale (V per count)", 1e-12, 1.0, read_only=True)
         declare(self, "volts_offset", 0.0, "Volts added after scaling (V)", -100.0, 100.0, read_only=True)
         declare(self, "reconnect_period_s", 0.5, "Delay between attempts to reopen the port (s)", 0.01, 60.0, read_only=True)
+        declare(self, "expected_rate_hz", 1000.0, "Serial: frame rate the device should deliver; diagnostics WARN below "
+                f"{RATE_WARN_FRACTION:.0%} of it over rate_window_s (Hz, 0 = no check)", 0.0, 100000.0, read_only=True)
+        declare(self, "rate_window_s", 3.0, "Serial: window over which the received frame rate is measured (s)", 0.1, 600.0,
+                read_only=True)
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
         declare_qos(self)
         # Read-only parameters used for every published sample: read once.
@@ -102,7 +117,9 @@ class DriverNode(Node):
         self.period_n = self.profile_t.size
         self._buf_f, self._buf_v, self._buf_t, self._buf_first = np.zeros(0), np.zeros(0), np.zeros(0), 0
         self.start_ns = None
+        self._chain = chain
         self.create_timer(self._param("publish_period_s"), self._sim_tick)
+        self.create_service(Trigger, "~/restart_profile", self._on_restart_profile)
         self.get_logger().info(f"sim backend: profile {self._param('profile')} ({self.period_n / self.rate_hz:.1f} s), "
                                f"{self.rate_hz:.0f} Hz, truth {truth}")
 
@@ -126,9 +143,21 @@ class DriverNode(Node):
             self._buf_t = np.concatenate((self._buf_t[drop:], temp))
             self._buf_first += drop
 
+    def _on_restart_profile(self, request, response):
+        """Start the profile again from its first sample, stamped from now, with a relaxed sensor."""
+        self.sim = BridgeSimulator(chain=self._chain, noise_std_v=self._param("noise_std_v"),
+                                   adc_bits=self._param("adc_bits"), seed=self._param("seed"))
+        self._buf_f, self._buf_v, self._buf_t, self._buf_first = np.zeros(0), np.zeros(0), np.zeros(0), 0
+        self.start_ns, self.published, self.done = None, 0, False
+        response.success, response.message = True, "profile restarts at its first sample"
+        self.get_logger().info(response.message)
+        return response
+
     def _sim_tick(self):
         now = self.get_clock().now().nanoseconds
         if self.start_ns is None:
+            if self.pub_raw.get_subscription_count() < self._param("wait_for_subscribers"):
+                return  # matched readers are counted by DDS itself: what is published next reaches them
             self.start_ns = now
         due = int((now - self.start_ns) * self.rate_hz / 1e9) + 1
         if not self._param("loop"):
@@ -165,6 +194,7 @@ class DriverNode(Node):
         self.outages = 0
         self.connected = False
         self._last_error = "not opened yet"
+        self._rate_hist = deque()  # (host ns, parser.frames, outages) at each diagnostics tick
         self._open_port()
         self.create_timer(self._param("publish_period_s"), self._serial_tick)
         self.create_timer(self._param("reconnect_period_s"), self._reconnect)
@@ -225,6 +255,23 @@ class DriverNode(Node):
             self.published += 1
 
     # ------------------------------------------------------------------ diagnostics
+    def _received_rate(self):
+        """Valid frames/s over the last ``rate_window_s`` of connected time; None until a full window."""
+        hist = self._rate_hist
+        now = self.get_clock().now().nanoseconds
+        if not self.connected or (hist and hist[-1][2] != self.outages):
+            hist.clear()  # an outage starts a new window: the rate of a device that is back, not of the gap
+        if not self.connected:
+            return None
+        hist.append((now, self.parser.frames, self.outages))
+        window_ns = self._param("rate_window_s") * 1e9
+        while len(hist) > 1 and now - hist[1][0] >= window_ns:
+            hist.popleft()
+        t0, n0, _ = hist[0]
+        if now - t0 < window_ns:
+            return None
+        return (self.parser.frames - n0) * 1e9 / (now - t0)
+
     def _publish_diagnostics(self):
         values = {"published": self.published}
         if self._param("backend") == "sim":
@@ -233,13 +280,20 @@ class DriverNode(Node):
             if self.done:
                 level, message = WARN, "profile finished (loop is false)"
         else:
+            rate, expected = self._received_rate(), self._param("expected_rate_hz")
             values.update(port=self._param("port"), connected=self.connected, frames=self.parser.frames,
                           crc_errors=self.parser.crc_errors, lost_frames=self.parser.lost_frames, outages=self.outages,
-                          implausible_stamp=self.clock.implausible, reanchored=self.clock.reanchored)
+                          implausible_stamp=self.clock.implausible, reanchored=self.clock.reanchored,
+                          received_rate_hz="n/a" if rate is None else round(rate, 1), expected_rate_hz=expected)
+            problems = []
+            if self.parser.crc_errors or self.parser.lost_frames or self.clock.implausible:
+                problems.append("corrupt or lost frames or implausible device times seen")
+            if rate is not None and expected > 0 and rate < RATE_WARN_FRACTION * expected:
+                problems.append(f"receiving {rate:.0f} frames/s, expected {expected:g} (device or link too slow)")
             if not self.connected:
                 level, message = ERROR, f"serial device unavailable: {self._last_error}"
-            elif self.parser.crc_errors or self.parser.lost_frames or self.clock.implausible:
-                level, message = WARN, "connected; corrupt or lost frames or implausible device times seen"
+            elif problems:
+                level, message = WARN, "connected; " + "; ".join(problems)
             else:
                 level, message = OK, "connected"
         return self.diag.publish(level, message, values)

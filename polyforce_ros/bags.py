@@ -10,12 +10,24 @@ linearly (so a truncated file still yields everything before the cut), chunks
 are decompressed whole, and for each topic the messages whose CDR layout is
 identical (same frame_id, joint names and array sizes: the normal case) are
 decoded together as numpy arrays. Messages with other layouts are decoded one
-by one with the same code path, so nothing is dropped for being unusual.
+by one with the same layout rules, so nothing is dropped for being unusual.
 
 Problems that lose data (truncation, a corrupt chunk) are reported in
 ``BagData.warnings``; problems that make the bag unusable for the request (not
 an MCAP file, a missing topic, the wrong type on a topic) raise
 :class:`BagError` with the reason.
+
+Damaged or hostile files lose only what they touch, in bounded time and
+memory: every length word (records, strings, CDR strings and arrays) is
+checked against the bytes that remain before it is used; a chunk is inflated
+only up to its declared size and never beyond :data:`MAX_CHUNK_BYTES`
+(decompression bombs); a chunk that is over the cap, of an unknown
+compression, corrupt or holding an impossible record is skipped (or cut) with
+a warning naming its byte offset; a message whose CDR does not fit its bytes
+is skipped and counted per topic, also on the bulk paths (each message is
+checked to have the layout the vectorised decoding assumes, the odd ones are
+decoded one by one). Whatever else malformed bytes could raise becomes a
+:class:`BagError`.
 """
 from __future__ import annotations
 
@@ -110,6 +122,25 @@ def schema_text(type_name: str) -> str:
 
 
 # ----------------------------------------------------------------------------- CDR layouts
+_U16 = struct.Struct("<H").unpack_from
+_U32 = struct.Struct("<I").unpack_from
+_U64 = struct.Struct("<Q").unpack_from
+_CDR_LE = 0x0100  # encapsulation header bytes 00 01 (plain CDR, little endian), read as "<u2"
+_STRUCT_OF = {"<i4": "<i", "<u4": "<I", "<f8": "<d"}
+
+#: The value fields decoded per type (see :class:`TopicData`); a JointState without positions gives NaN.
+_FIELDS = {
+    JOINT_STATE: ("position",),
+    WRENCH_STAMPED: ("force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z"),
+    TEMPERATURE_MSG: ("temperature", "variance"),
+    FLOAT64: ("data",),
+}
+
+
+class _Malformed(ValueError):
+    """A record or message whose length words do not fit its bytes: skipped and counted, never raised out."""
+
+
 def _align(pos, n):
     return (pos + n - 1) & ~(n - 1)
 
@@ -120,37 +151,56 @@ def _layout(type_name, payload):
     Returns ``(fields, length_fields)``: ``fields`` maps value names to
     ``(offset, numpy dtype)``; ``length_fields`` lists offsets of the uint32
     length/count words that determine the layout (equal words in equal
-    places => identical layout).
+    places => identical layout). Every length and count is checked against
+    the bytes that remain before it is used, so a message that passes fits
+    its payload; one that does not raises :class:`_Malformed`.
     """
-    u32 = struct.Struct("<I").unpack_from
+    n = len(payload)
+
+    def u32(pos):
+        if pos + 4 > n:
+            raise _Malformed(f"{type_name} message of {n} bytes cut short at byte {pos}")
+        return _U32(payload, pos)[0]
+
     fields, lengths = {}, []
     pos = 0
     if type_name in (JOINT_STATE, WRENCH_STAMPED, TEMPERATURE_MSG):
         fields["sec"], fields["nanosec"] = (0, "<i4"), (4, "<u4")
         lengths.append(8)
-        pos = 12 + u32(payload, 8)[0]  # frame_id string incl. NUL
+        size = u32(8)
+        if size > n - 12:
+            raise _Malformed(f"frame_id of {size} bytes runs past the {n}-byte {type_name} message")
+        pos = 12 + size  # frame_id string incl. NUL
     if type_name == JOINT_STATE:
         pos = _align(pos, 4)
         lengths.append(pos)
-        n_names = u32(payload, pos)[0]
+        n_names = u32(pos)
         pos += 4
+        if n_names > (n - pos) // 4:  # a name takes at least its 4-byte length word
+            raise _Malformed(f"{n_names} joint names cannot fit the {n}-byte {type_name} message")
         for _ in range(n_names):
             pos = _align(pos, 4)
             lengths.append(pos)
-            pos += 4 + u32(payload, pos)[0]
+            size = u32(pos)
+            pos += 4
+            if size > n - pos:
+                raise _Malformed(f"joint name of {size} bytes runs past the {n}-byte {type_name} message")
+            pos += size
         for arr in ("position", "velocity", "effort"):
             pos = _align(pos, 4)
             lengths.append(pos)
-            count = u32(payload, pos)[0]
+            count = u32(pos)
             pos += 4
             if count:
                 pos = _align(pos, 8)
+                if count > (n - pos) // 8:
+                    raise _Malformed(f"{arr} of {count} values runs past the {n}-byte {type_name} message")
                 if arr == "position":
                     fields["position"] = (pos, "<f8")
                 pos += 8 * count
     elif type_name == WRENCH_STAMPED:
         pos = _align(pos, 8)
-        for i, name in enumerate(("force_x", "force_y", "force_z", "torque_x", "torque_y", "torque_z")):
+        for i, name in enumerate(_FIELDS[WRENCH_STAMPED]):
             fields[name] = (pos + 8 * i, "<f8")
         pos += 48
     elif type_name == TEMPERATURE_MSG:
@@ -162,15 +212,39 @@ def _layout(type_name, payload):
         pos = 8
     else:
         raise BagError(f"no decoder for message type {type_name}")
-    if pos > len(payload):
-        raise BagError(f"{type_name} message shorter than its layout ({len(payload)} < {pos} bytes)")
+    if pos > n:
+        raise _Malformed(f"{type_name} message shorter than its layout ({n} < {pos} bytes)")
     return fields, lengths
 
 
-def _decode_group(type_name, buf, starts, size):
-    """Decode messages of one layout: ``buf[starts[i]: starts[i] + size]`` are CDR messages."""
-    first = memoryview(buf)[starts[0] + 4 : starts[0] + size]
-    fields, lengths = _layout(type_name, first)
+def _message_layout(type_name, buf, start, size):
+    """:func:`_layout` of the CDR message ``buf[start: start + size]``, its encapsulation checked too."""
+    if size < 4 or _U16(buf, start)[0] != _CDR_LE:
+        raise _Malformed(f"{type_name} message is not little-endian CDR")
+    return _layout(type_name, memoryview(buf)[start + 4 : start + size])
+
+
+def _gather(arr, offsets, dtype):
+    """Values of ``dtype`` at the (unaligned) byte ``offsets`` of the uint8 array ``arr``.
+
+    One byte column at a time: no ``(n, width)`` index array, so the temporaries stay at
+    about 2 int64 per message however many messages a chunk holds.
+    """
+    width = np.dtype(dtype).itemsize
+    out = np.empty((offsets.size, width), dtype=np.uint8)
+    for k in range(width):
+        np.take(arr, offsets + k if k else offsets, out=out[:, k])
+    return out.view(dtype).ravel()
+
+
+def _decode_group(buf, starts, fields, lengths):
+    """Decode equal-size CDR messages ``buf[starts[i]:]`` assumed to share one layout (``fields``, ``lengths``
+    of the first, which must be valid: see :func:`_message_layout`).
+
+    Returns ``(columns, same)``: ``same[i]`` says message i really has that layout (its encapsulation and
+    every length word equal the first's); only those entries of the columns are meaningful. Every message
+    in the group has the first one's size, so a message of the same layout fits its bytes like the first.
+    """
     arr = np.frombuffer(buf, dtype=np.uint8)
     steps = np.diff(starts)
     stride = int(steps[0]) if steps.size and steps[0] > 0 and np.all(steps == steps[0]) else None
@@ -181,15 +255,22 @@ def _decode_group(type_name, buf, starts, size):
             view = np.ndarray((starts.size,), dtype=dtype, buffer=buf, offset=int(starts[0]) + 4 + off,
                               strides=(stride or 1,))
             return view.copy()
-        width = np.dtype(dtype).itemsize
-        return arr[starts[:, None] + 4 + off + np.arange(width)].view(dtype).ravel()
+        return _gather(arr, starts + (4 + off), dtype)
 
-    # Same layout check: every length word equals the first message's.
-    same = np.ones(starts.size, dtype=bool)
+    # Same layout check: the encapsulation, and every length word equal to the first message's.
+    same = column(-4, "<u2") == _CDR_LE
     for off in lengths:
         words = column(off, "<u4")
         same &= words == words[0]
     return {name: column(off, dtype) for name, (off, dtype) in fields.items()}, same
+
+
+def _decode_one(type_name, buf, start, size):
+    """Values of the one CDR message ``buf[start: start + size]`` by field name (a field it lacks is
+    absent: a JointState without positions); raises :class:`_Malformed`."""
+    fields, _ = _message_layout(type_name, buf, start, size)
+    return {name: struct.unpack_from(_STRUCT_OF[dtype], buf, start + 4 + off)[0]
+            for name, (off, dtype) in fields.items()}
 
 
 @dataclass
@@ -229,25 +310,92 @@ class BagData:
 
 # ----------------------------------------------------------------------------- reading
 _REC = struct.Struct("<BQ")
+_CHUNK_HEAD = struct.Struct("<QQQI")  # message start/end time, uncompressed size, uncompressed CRC
+_HEADER_LEN = 22  # Message record: channel id u16, sequence u32, log time u64, publish time u64, then the data
+_COMPRESSIONS = ("", "zstd", "lz4")
+_BATCH = 1 << 19  # message records per on_messages call at most: a dense chunk goes in parts, its index arrays bounded
+
+#: Largest chunk (decompressed bytes) the reader inflates; a chunk that declares more, or inflates to more
+#: than it declares, is skipped with a warning before anything of its size is allocated. This project
+#: writes 1 MiB chunks (:class:`BagWriter`), rosbag2 0.75-4 MiB by default; a chunk also holds whole
+#: messages, so one big message (a 64 MiB image or point cloud from another recorder) makes a bigger
+#: one. 256 MiB is 4x such a 64 MiB chunk and still bounds reading memory: a 30 KB zstd frame can
+#: claim gigabytes (a decompression bomb), and neither its frame header nor lz4 limits the output.
+MAX_CHUNK_BYTES = 256 << 20
+_LZ4_STEP = 4 << 20  # lz4 output is taken in pieces of this size, into one buffer of the declared size
 
 
-def _decompress(compression, data, size):
+class _ChunkSkipped(Exception):
+    """A chunk not inflated on purpose (over the size cap, unknown compression): the reason."""
+
+
+def _inflate(compression, data, size, limit=None):
+    """The records of a chunk: ``data`` decompressed, exactly ``size`` (its declared size) bytes.
+
+    Never produces more than ``min(size, limit) + 1`` bytes, whatever the compressed stream or its frame
+    header claims: an unknown compression or a size over ``limit`` raises :class:`_ChunkSkipped` at
+    once, output longer or shorter than ``size`` raises :class:`_Malformed`.
+    """
+    limit = MAX_CHUNK_BYTES if limit is None else limit
+    if compression not in _COMPRESSIONS:
+        raise _ChunkSkipped(f"uses unknown compression {compression[:40]!r}")
+    if size > limit:
+        raise _ChunkSkipped(f"declares {size} bytes uncompressed, over the {limit >> 20} MiB limit "
+                            f"(MAX_CHUNK_BYTES; a decompression bomb?)")
     if compression == "":
-        return data
-    if compression == "zstd":
+        out = data
+    elif compression == "zstd":
         import zstandard
 
-        return zstandard.ZstdDecompressor().decompress(data, max_output_size=size)
-    if compression == "lz4":
+        # A streaming read bounded by the declared size; one-shot decompress() would allocate whatever
+        # the frame header claims, max_output_size notwithstanding.
+        reader = zstandard.ZstdDecompressor().stream_reader(data, read_across_frames=True)
+        out = reader.read(size)
+        if len(out) == size:
+            try:
+                more = reader.read(1)
+            except zstandard.ZstdError:
+                more = b""  # junk after the declared content: the CRC judges what we keep
+            if more:
+                raise _Malformed(f"it inflates beyond its declared {size} bytes")
+    else:
         import lz4.frame
 
-        return lz4.frame.decompress(data)
-    raise BagError(f"unsupported chunk compression {compression!r}")
+        dec, out, got = lz4.frame.LZ4FrameDecompressor(), bytearray(size), 0
+        piece = dec.decompress(data, max_length=min(size + 1, _LZ4_STEP))
+        while True:
+            if got + len(piece) > size:
+                raise _Malformed(f"it inflates beyond its declared {size} bytes")
+            out[got : got + len(piece)] = piece
+            got += len(piece)
+            if dec.eof or dec.needs_input or not piece:
+                break
+            piece = dec.decompress(b"", max_length=min(size - got + 1, _LZ4_STEP))
+        out = memoryview(out)[:got]
+    if len(out) != size:
+        raise _Malformed(f"it inflates to {len(out)} bytes, not the declared {size}")
+    return out
+
+
+def _raw_string(buf, pos):
+    """The bytes of a length-prefixed string at ``pos`` of ``buf`` (one record) and where it ends;
+    :class:`_Malformed` when the length runs past the record."""
+    if pos + 4 > len(buf):
+        raise _Malformed("string length cut short")
+    end = pos + 4 + _U32(buf, pos)[0]
+    if end > len(buf):
+        raise _Malformed(f"string of {end - pos - 4} bytes runs past its record")
+    return bytes(buf[pos + 4 : end]), end
 
 
 def _string(buf, pos):
-    n = struct.unpack_from("<I", buf, pos)[0]
-    return bytes(buf[pos + 4 : pos + 4 + n]).decode(), pos + 4 + n
+    """A length-prefixed UTF-8 string at ``pos`` of ``buf`` (one record): ``(text, end)``; :class:`_Malformed`
+    when the length runs past the record or the bytes are not UTF-8."""
+    raw, end = _raw_string(buf, pos)
+    try:
+        return raw.decode("utf-8"), end
+    except UnicodeDecodeError as exc:
+        raise _Malformed("string is not UTF-8") from exc
 
 
 def _read_file(path):
@@ -261,24 +409,54 @@ def _read_file(path):
     return raw
 
 
-def _scan(raw, on_messages, schemas=None, channels=None):
+def _count_warnings(counts, what):
+    """One warning per topic of ``counts`` (topic or None -> number): ``N <what> on <topic> ...``."""
+    out = []
+    for topic in sorted(counts, key=str):
+        where = f"on {topic}" if topic is not None else "on an unknown channel"
+        out.append(what.format(n=counts[topic], where=where))
+    return out
+
+
+def _scan(raw, on_messages, schemas=None, channels=None, malformed=None):
     """Walk the records of an MCAP file; returns ``(schemas, channels, warnings)``.
 
     schemas: id -> (name, data); channels: id -> (topic, schema id), filled
     into the given dicts as the walk meets them (schemas and channels precede
     their messages, so ``on_messages`` can look them up). For every
     buffer (the file, then each chunk) ``on_messages(buf, starts, lengths)``
-    gets the message records it holds, in bulk. A truncated file stops the
-    walk (what came before is kept); a corrupt chunk is skipped. Both are
-    reported in ``warnings``.
+    gets the message records it holds, in bulk; each is at least a message
+    header long and lies inside ``buf``. A truncated file stops the walk (what
+    came before is kept); a corrupt chunk, one over :data:`MAX_CHUNK_BYTES` or
+    of an unknown compression is skipped; a record inside a chunk that cannot
+    be one (bad opcode, length past the chunk's end) ends that chunk. Message
+    records too short for their header are counted per topic in ``malformed``
+    (topic or None -> count); schema and channel records that are malformed or
+    contradict an earlier definition are ignored. All is reported in ``warnings``.
     """
     schemas = {} if schemas is None else schemas
     channels = {} if channels is None else channels
+    malformed = {} if malformed is None else malformed
     warnings = []
+    bad_tables = [0]
+
+    def hand_on(buf, runs):
+        """Give the message records of ``runs`` to on_messages; count those too short for a header."""
+        starts, lens = np.concatenate([r[0] for r in runs]), np.concatenate([r[1] for r in runs])
+        short = lens < _HEADER_LEN
+        if short.any():
+            for start, length in zip(starts[short].tolist(), lens[short].tolist()):
+                topic = channels.get(_U16(buf, start)[0], (None,))[0] if length >= 2 else None
+                malformed[topic] = malformed.get(topic, 0) + 1
+            starts, lens = starts[~short], lens[~short]
+        if starts.size:
+            on_messages(buf, starts, lens)
 
     def scan(buf, base, in_chunk):
+        buf = memoryview(buf)
         pos, n = 0, len(buf)
         runs, singles, single_len = [], [], []  # message records: bulk runs and single ones, in file order
+        pending = 0  # records in runs
         previous = None
         while pos + 9 <= n:
             op, length = _REC.unpack_from(buf, pos)
@@ -294,44 +472,70 @@ def _scan(raw, on_messages, schemas=None, channels=None):
                     count = _equal_message_run(buf, pos, length)
                     if singles:
                         runs.append((np.array(singles, dtype=np.int64), np.array(single_len, dtype=np.int64)))
+                        pending += len(singles)
                         singles, single_len = [], []
                     runs.append((body + (9 + length) * np.arange(count, dtype=np.int64), np.full(count, length, dtype=np.int64)))
+                    pending += count
                     pos += count * (9 + length)
+                    if pending >= _BATCH:  # a dense chunk is handed on in parts: bounded index arrays
+                        hand_on(buf, runs)
+                        runs, pending = [], 0
                     continue
                 singles.append(body)
                 single_len.append(length)
                 previous = length
                 pos = body + length
+                if len(singles) >= _BATCH:
+                    hand_on(buf, runs + [(np.array(singles, dtype=np.int64), np.array(single_len, dtype=np.int64))])
+                    runs, singles, single_len, pending = [], [], [], 0
                 continue
             previous = None
             if op in (3, 4):  # Schema, Channel
-                _table_record(op, buf, body, schemas, channels)
-            elif op == 6 and not in_chunk:  # Chunk
-                read_chunk(buf, body, base + pos)
+                try:
+                    _table_record(op, buf[body : body + length], schemas, channels)
+                except _Malformed:
+                    bad_tables[0] += 1
+            elif in_chunk:  # a chunk holds schemas, channels and messages only: the framing is lost
+                warnings.append(f"chunk at byte {base} holds an invalid record (opcode {op:#04x}) at offset {pos}: "
+                                "its remaining messages are lost")
+                break
+            elif op == 6:  # Chunk
+                read_chunk(buf[body : body + length], base + pos)
             elif op == 2:  # Footer
+                break
+            elif op == 0:  # no writer makes it: zeroed or overwritten bytes
+                warnings.append(f"bag damaged at byte {base + pos} (record opcode 0x00): read what came before it")
                 break
             pos = body + length
         if singles:
             runs.append((np.array(singles, dtype=np.int64), np.array(single_len, dtype=np.int64)))
         if runs:
-            on_messages(buf, np.concatenate([r[0] for r in runs]), np.concatenate([r[1] for r in runs]))
+            hand_on(buf, runs)
 
-    def read_chunk(buf, body, at):
+    def read_chunk(rec, at):
         try:
-            _start, _end, size, crc = struct.unpack_from("<QQQI", buf, body)
-            compression, p = _string(buf, body + 28)
-            rec_len = struct.unpack_from("<Q", buf, p)[0]
-            inner = _decompress(compression, bytes(buf[p + 8 : p + 8 + rec_len]), size)
-            if len(inner) != size or (crc and zlib.crc32(inner) != crc):
-                raise ValueError("size or CRC mismatch")
-        except BagError:
-            raise
+            _start, _end, size, crc = _CHUNK_HEAD.unpack_from(rec, 0)
+            compression, p = _raw_string(rec, 28)
+            compression = compression.decode("utf-8", "replace")  # not UTF-8: an unknown compression
+            if p + 8 > len(rec):
+                raise _Malformed("chunk header cut short")
+            data_len = _U64(rec, p)[0]
+            if data_len > len(rec) - p - 8:
+                raise _Malformed(f"its {data_len} compressed bytes run past the chunk")
+            inner = _inflate(compression, rec[p + 8 : p + 8 + data_len], size)
+            if crc and zlib.crc32(inner) != crc:
+                raise _Malformed("CRC mismatch")
+        except _ChunkSkipped as exc:
+            warnings.append(f"chunk at byte {at} {exc}: skipped, its messages are lost, the rest is read")
+            return
         except Exception as exc:  # noqa: BLE001 - any decoding failure means a corrupt chunk
             warnings.append(f"corrupt chunk at byte {at} ({exc}); its messages are lost, the rest is read")
             return
         scan(inner, at, in_chunk=True)
 
     scan(memoryview(raw)[8:], 8, in_chunk=False)
+    if bad_tables[0]:
+        warnings.append(f"{bad_tables[0]} malformed or contradicting schema/channel records ignored")
     return schemas, channels, warnings
 
 
@@ -351,6 +555,11 @@ def _equal_message_run(buf, pos, length, max_run=1 << 14):
     return int(count if ok.all() else max(1, np.argmin(ok)))
 
 
+# Exceptions that malformed bytes could still raise from numpy/struct if a check above missed a case:
+# read_bag and copy_messages turn them into a BagError naming the file rather than a traceback.
+_GARBAGE_ERRORS = (struct.error, IndexError, KeyError, TypeError, ValueError, OverflowError)
+
+
 def read_bag(path, topics=None, expected_types=None, optional=()) -> BagData:
     """Read topics of an MCAP bag into arrays.
 
@@ -359,31 +568,61 @@ def read_bag(path, topics=None, expected_types=None, optional=()) -> BagData:
     what the bag holds. optional: topics decoded too when the bag holds them.
     expected_types: ``{topic: type}`` to enforce (default: the bag contract
     for contract topics).
+
+    Damage loses only what it touches, each kind reported once in ``warnings``:
+    a truncated file, a corrupt chunk (bad CRC, undecodable, inflating to other
+    than its declared size), a chunk over :data:`MAX_CHUNK_BYTES` or of an
+    unknown compression; messages whose CDR does not fit their bytes are
+    skipped and counted per topic, as are messages on undefined channels.
     """
     raw = _read_file(path)
+    try:
+        return _read_bag(path, raw, topics, expected_types, optional)
+    except BagError:
+        raise
+    except _GARBAGE_ERRORS as exc:
+        raise BagError(f"{path}: unreadable bag data ({type(exc).__name__}: {exc})") from exc
+
+
+def _read_bag(path, raw, topics, expected_types, optional):
     expected = dict(CONTRACT)
     expected.update(expected_types or {})
     wanted_names = None if topics is None else set(topics) | set(optional)
     decoded = {}  # channel id -> [_Piece] decoded chunk by chunk, so no decompressed chunk is kept
     failed = {}  # channel id -> BagError of a type we cannot decode
+    malformed, no_position, undefined = {}, {}, [0]  # topic -> messages skipped / without a position
 
     def collect(buf, starts, lens):
         arr = np.frombuffer(buf, dtype=np.uint8)
-        cids = arr[starts[:, None] + np.arange(2)].view("<u2").ravel()
+        cids = _gather(arr, starts, "<u2")
         for cid in np.unique(cids).tolist():
-            if cid not in channels or cid in failed:
+            if cid not in channels:
+                undefined[0] += int(np.count_nonzero(cids == cid))
+                continue
+            if cid in failed:
                 continue
             topic, sid = channels[cid]
             if wanted_names is not None and topic not in wanted_names:
                 continue
+            type_name = schemas.get(sid, ("", b""))[0]
+            if type_name not in _FIELDS:
+                failed[cid] = BagError(f"no decoder for message type {type_name}")
+                continue
             sel = cids == cid
-            try:
-                decoded.setdefault(cid, []).append(_decode_piece(schemas.get(sid, ("", b""))[0], buf, starts[sel], lens[sel]))
-            except BagError as exc:
-                failed[cid] = exc
+            piece, n_bad, n_empty = _decode_piece(type_name, buf, starts[sel], lens[sel])
+            decoded.setdefault(cid, []).append(piece)
+            if n_bad:
+                malformed[topic] = malformed.get(topic, 0) + n_bad
+            if n_empty:
+                no_position[topic] = no_position.get(topic, 0) + n_empty
 
     schemas, channels = {}, {}
-    warnings = _scan(raw, collect, schemas, channels)[2]
+    _summary_tables(raw, schemas, channels)  # so a lost first chunk does not orphan the rest
+    warnings = _scan(raw, collect, schemas, channels, malformed)[2]
+    warnings += _count_warnings(malformed, "{n} malformed messages {where} skipped")
+    warnings += _count_warnings(no_position, "{n} messages {where} carry no position: read as NaN")
+    if undefined[0]:
+        warnings.append(f"{undefined[0]} messages on undefined channels skipped")
     types = {topic: schemas.get(sid, ("", b""))[0] for topic, sid in channels.values()}
     result = BagData(types=types, warnings=warnings)
     wanted = list(types) if topics is None else list(topics) + [t for t in optional if t in types]
@@ -434,46 +673,75 @@ def _scan_records(buf, schemas, channels):
         if body + length > n:
             return
         if op in (3, 4):
-            _table_record(op, buf, body, schemas, channels)
+            try:
+                _table_record(op, buf[body : body + length], schemas, channels)
+            except _Malformed:
+                pass
         pos = body + length
 
 
-def _table_record(op, buf, body, schemas, channels):
-    """Register a Schema (op 3: id -> (name, data)) or Channel (op 4: id -> (topic, schema id)) record."""
+def _table_record(op, rec, schemas, channels):
+    """Register a Schema (op 3: id -> (name, data)) or Channel (op 4: id -> (topic, schema id)) record
+    whose body is ``rec``. Raises :class:`_Malformed` for one whose fields run past it, or that
+    contradicts an earlier record of the same id (the first one is kept)."""
     if op == 3:
-        sid = struct.unpack_from("<H", buf, body)[0]
-        name, p = _string(buf, body + 2)
-        _encoding, p = _string(buf, p)
-        data_len = struct.unpack_from("<I", buf, p)[0]
-        schemas[sid] = (name, bytes(buf[p + 4 : p + 4 + data_len]))
+        if len(rec) < 2:
+            raise _Malformed("schema record cut short")
+        sid = _U16(rec, 0)[0]
+        name, p = _string(rec, 2)
+        _encoding, p = _string(rec, p)
+        if p + 4 > len(rec) or _U32(rec, p)[0] > len(rec) - p - 4:
+            raise _Malformed("schema data runs past its record")
+        key, table, entry = sid, schemas, (name, bytes(rec[p + 4 : p + 4 + _U32(rec, p)[0]]))
+        if sid == 0:
+            raise _Malformed("schema id 0 is reserved")
     else:
-        cid, sid = struct.unpack_from("<HH", buf, body)
-        channels[cid] = (_string(buf, body + 4)[0], sid)
+        if len(rec) < 4:
+            raise _Malformed("channel record cut short")
+        cid, sid = struct.unpack_from("<HH", rec, 0)
+        topic, p = _string(rec, 4)
+        _string(rec, p)  # message encoding
+        key, table, entry = cid, channels, (topic, sid)
+    known = table.get(key)
+    if known is None:
+        table[key] = entry
+    elif known != entry:
+        raise _Malformed(f"record contradicts the earlier definition of id {key}")
 
 
 def copy_messages(path, writer) -> list:
     """Copy every readable message of ``path`` into ``writer`` (a :class:`BagWriter`), in file order.
 
-    Tolerates truncation and corrupt chunks like :func:`read_bag`; returns its warnings.
+    Tolerates truncation, corrupt and oversized chunks like :func:`read_bag`;
+    returns its warnings. Messages are copied as they are (their CDR is not
+    decoded); records too short to be a message are skipped and counted.
     """
     raw = _read_file(path)
     schemas, channels = {}, {}
     _summary_tables(raw, schemas, channels)
     orphans = [0]
+    malformed = {}
 
     def copy(buf, starts, lens):
         mv = memoryview(buf)
         for start, length in zip(starts.tolist(), lens.tolist()):
-            cid = struct.unpack_from("<H", mv, start)[0]
+            cid = _U16(mv, start)[0]
             if cid not in channels or channels[cid][1] not in schemas:
                 orphans[0] += 1  # its channel was defined in a lost part of the file
                 continue
-            log_time = struct.unpack_from("<Q", mv, start + 6)[0]
+            log_time = _U64(mv, start + 6)[0]
             topic, sid = channels[cid]
             name, schema_data = schemas[sid]
-            writer.write_serialized(topic, name, bytes(mv[start + 22 : start + length]), log_time, schema_data=schema_data)
+            writer.write_serialized(topic, name, bytes(mv[start + _HEADER_LEN : start + length]), log_time,
+                                    schema_data=schema_data)
 
-    warnings = _scan(raw, copy, schemas, channels)[2]
+    try:
+        warnings = _scan(raw, copy, schemas, channels, malformed)[2]
+    except BagError:
+        raise
+    except _GARBAGE_ERRORS as exc:
+        raise BagError(f"{path}: unreadable bag data ({type(exc).__name__}: {exc})") from exc
+    warnings += _count_warnings(malformed, "{n} malformed messages {where} skipped")
     if orphans[0]:
         warnings.append(f"{orphans[0]} messages skipped: their channel definition was lost with the damaged part")
     return warnings
@@ -488,47 +756,101 @@ class _Piece:
     fields: dict
 
 
-def _decode_piece(type_name, buf, starts, lens) -> _Piece:
-    """Decode the message records at ``starts`` (record bodies) of ``buf``, all of ``type_name``."""
+#: A group of equal-size messages smaller than this is decoded message by message (bulk set-up costs more).
+_BULK_MIN = 16
+#: Bulk layouts tried per group of equal-size messages; what is left then goes message by message, so
+#: garbage of many layouts costs linear time, not one vectorised pass per layout.
+_BULK_ROUNDS = 8
+
+
+def _decode_piece(type_name, buf, starts, lens):
+    """Decode the message records at ``starts`` (record bodies, lengths ``lens``) of ``buf``, all of ``type_name``.
+
+    Returns ``(piece, malformed, without_position)``. Messages of equal size are decoded in bulk with
+    the layout of the first well-formed one; each is checked to really have it (:func:`_decode_group`),
+    and those that do not are decoded one by one, their lengths validated (:func:`_layout`): a message
+    whose CDR does not fit its bytes is left out and counted in ``malformed``. A JointState without
+    positions reads as NaN (counted in ``without_position``).
+    """
     arr = np.frombuffer(buf, dtype=np.uint8)
-    log = arr[starts[:, None] + 6 + np.arange(8)].view("<u8").ravel().astype(np.int64)
-    data_starts = starts + 22
-    sizes = lens - 22
-    todo = np.ones(starts.size, dtype=bool)
-    logs, stamps, values = [], [], {}
-    while todo.any():
-        i0 = int(np.flatnonzero(todo)[0])
-        group = todo & (sizes == sizes[i0])
-        idx = np.flatnonzero(group)
-        # the group's first message defines the layout; others must match it
-        order = np.concatenate(([i0], idx[idx != i0]))
-        columns, same = _decode_group(type_name, buf, data_starts[order], int(sizes[i0]))
-        ok = order[same]
-        todo[ok] = False
-        logs.append(log[ok])
-        sec = columns.pop("sec", None)
-        if sec is not None:
-            stamps.append(sec[same].astype(np.int64) * 1_000_000_000 + columns.pop("nanosec")[same].astype(np.int64))
-        else:
-            stamps.append(log[ok])
-        for name, column in columns.items():
-            values.setdefault(name, []).append(column[same])
-    return _Piece(np.concatenate(logs), np.concatenate(stamps), {k: np.concatenate(v) for k, v in values.items()})
+    log = _gather(arr, starts + 6, "<u8").astype(np.int64)
+    data_starts = starts + _HEADER_LEN
+    sizes = lens - _HEADER_LEN
+    names = _FIELDS[type_name]
+    kept, secs, nsecs, values = [], [], [], {name: [] for name in names}
+    odd = []  # index arrays of messages to decode one by one
+    n_empty = 0
+    if sizes[0] == sizes.min() == sizes.max():  # the normal case: one layout per topic
+        groups = [np.arange(sizes.size)]
+    else:
+        order = np.argsort(sizes, kind="stable")
+        groups = np.split(order, np.flatnonzero(np.diff(sizes[order])) + 1)
+    for idx in groups:
+        for _ in range(_BULK_ROUNDS):
+            if idx.size < _BULK_MIN:
+                break
+            i0 = int(idx[0])
+            try:
+                fields, lengths = _message_layout(type_name, buf, int(data_starts[i0]), int(sizes[i0]))
+            except _Malformed:  # the first is malformed (counted by the one-by-one pass): the next leads
+                odd.append(idx[:1])
+                idx = idx[1:]
+                continue
+            columns, same = _decode_group(buf, data_starts[idx], fields, lengths)
+            if not same[0]:
+                break
+            kept.append(idx[same])
+            if "sec" in columns:
+                secs.append(columns["sec"][same])
+                nsecs.append(columns["nanosec"][same])
+            for name in names:
+                if name in columns:
+                    values[name].append(columns[name][same])
+                else:  # a JointState with an empty position array
+                    values[name].append(np.full(int(np.count_nonzero(same)), np.nan))
+                    n_empty += int(np.count_nonzero(same))
+            idx = idx[~same]
+        if idx.size:
+            odd.append(idx)
+    n_bad = 0
+    if odd:
+        one_idx, one_sec, one_nsec, one_vals = [], [], [], {name: [] for name in names}
+        for i in np.concatenate(odd).tolist():
+            try:
+                got = _decode_one(type_name, buf, int(data_starts[i]), int(sizes[i]))
+            except _Malformed:
+                n_bad += 1
+                continue
+            one_idx.append(i)
+            if "sec" in got:
+                one_sec.append(got["sec"])
+                one_nsec.append(got["nanosec"])
+            for name in names:
+                one_vals[name].append(got.get(name, np.nan))
+            n_empty += any(name not in got for name in names)
+        kept.append(np.array(one_idx, dtype=np.int64))
+        secs.append(np.array(one_sec, dtype=np.int64))
+        nsecs.append(np.array(one_nsec, dtype=np.int64))
+        for name in names:
+            values[name].append(np.array(one_vals[name], dtype=np.float64))
+    ok = np.concatenate(kept) if kept else np.zeros(0, dtype=np.int64)
+    if type_name in (JOINT_STATE, WRENCH_STAMPED, TEMPERATURE_MSG):
+        stamps = (np.concatenate(secs).astype(np.int64) * 1_000_000_000 + np.concatenate(nsecs).astype(np.int64)
+                  if secs else np.zeros(0, dtype=np.int64))
+    else:
+        stamps = log[ok]
+    fields = {name: np.concatenate(v) if v else np.zeros(0) for name, v in values.items()}
+    return _Piece(log[ok], stamps, fields), n_bad, n_empty
 
 
 def _join_pieces(topic, type_name, pieces) -> TopicData:
     """One topic's pieces as one :class:`TopicData`, in log-time order."""
-    if not pieces:
+    if not pieces:  # none read (all lost or malformed): empty columns, every field present
         empty = np.zeros(0, dtype=np.int64)
-        return TopicData(topic, type_name, empty, empty, {})
+        return TopicData(topic, type_name, empty, empty, {name: np.zeros(0) for name in _FIELDS.get(type_name, ())})
     log = np.concatenate([p.log_ns for p in pieces])
     order = np.argsort(log, kind="stable")
-    names = set().union(*(p.fields for p in pieces))
-    fields = {}
-    for name in names:
-        parts = [p.fields[name] for p in pieces if name in p.fields]
-        if sum(map(len, parts)) == log.size:
-            fields[name] = np.concatenate(parts)[order]
+    fields = {name: np.concatenate([p.fields[name] for p in pieces])[order] for name in pieces[0].fields}
     return TopicData(topic, type_name, log[order], np.concatenate([p.stamp_ns for p in pieces])[order], fields)
 
 
@@ -583,25 +905,39 @@ class BagWriter:
     def write_series(self, topic, type_name, stamp_ns, values, frame_id=FRAME_ID, joint_name=JOINT_NAME,
                      log_time_ns=None):
         """Write one message per sample: JointState position, WrenchStamped force.z,
-        Temperature temperature or Float64 data = ``values[i]``, header stamp ``stamp_ns[i]``."""
+        Temperature temperature or Float64 data = ``values[i]``, header stamp ``stamp_ns[i]``.
+
+        The CDR bytes come from :mod:`polyforce_ros.cdr`: every byte is set
+        (zero padding, no trailing bytes), so equal input gives equal files and
+        strict CDR readers (rosbags) accept every message. Inputs are checked
+        before anything is written (``ValueError``: unequal lengths, a stamp
+        outside the builtin_interfaces/Time range, a negative log time).
+        """
+        from . import cdr
+
         stamp_ns = np.asarray(stamp_ns, dtype=np.int64)
         values = np.asarray(values, dtype=np.float64)
         log_time_ns = stamp_ns if log_time_ns is None else np.asarray(log_time_ns, dtype=np.int64)
-        if stamp_ns.size == 0:
-            self._channel(topic, type_name)
-            return
-        template = serialize_template(type_name, frame_id, joint_name)
-        fields, _ = _layout(type_name, memoryview(template)[4:])
-        n, size = stamp_ns.size, len(template)
-        block = np.tile(np.frombuffer(template, dtype=np.uint8), (n, 1))
-        if "sec" in fields:
-            block[:, 4:8] = (stamp_ns // 1_000_000_000).astype("<i4").view(np.uint8).reshape(n, 4)
-            block[:, 8:12] = (stamp_ns % 1_000_000_000).astype("<u4").view(np.uint8).reshape(n, 4)
-        off = 4 + fields[SCALAR_FIELD[type_name]][0]
-        block[:, off : off + 8] = values.astype("<f8").view(np.uint8).reshape(n, 8)
-        raw = block.tobytes()
-        for i in range(n):
-            self.write_serialized(topic, type_name, raw[i * size : (i + 1) * size], log_time_ns[i])
+        if not stamp_ns.ndim == values.ndim == log_time_ns.ndim == 1 or not stamp_ns.size == values.size == log_time_ns.size:
+            raise ValueError(f"write_series needs 1-D stamps, values and log times of one length, got shapes "
+                             f"{stamp_ns.shape}, {values.shape}, {log_time_ns.shape}")
+        try:
+            layout = cdr.series_layout(type_name, frame_id, joint_name)
+        except ValueError as exc:  # a type without an encoder, a NUL in a name
+            raise BagError(f"write_series on {topic}: {exc}") from exc
+        cdr.split_stamps(stamp_ns)  # the whole series is valid before its first message is written
+        if log_time_ns.size and log_time_ns.min() < 0:
+            raise ValueError("write_series: log times must be >= 0 ns")
+        cid = self._channel(topic, type_name)
+        add, size, seq, batch = self._writer.add_message, layout.size, self._seq[cid], 1 << 16
+        try:
+            for lo in range(0, stamp_ns.size, batch):  # batches bound the memory of the encoded copy
+                raw = layout.encode(stamp_ns[lo : lo + batch], values[lo : lo + batch]).tobytes()
+                for i, t in enumerate(log_time_ns[lo : lo + batch].tolist()):
+                    seq += 1
+                    add(channel_id=cid, log_time=t, data=raw[i * size : (i + 1) * size], publish_time=t, sequence=seq)
+        finally:
+            self._seq[cid] = seq
 
     def close(self):
         if self._fh.closed:
@@ -617,10 +953,13 @@ class BagWriter:
 
 
 def serialize_template(type_name, frame_id=FRAME_ID, joint_name=JOINT_NAME) -> bytes:
-    """CDR bytes of one message of a contract type with zero stamp and value."""
-    from rclpy.serialization import serialize_message
+    """CDR bytes of one message of a contract type with zero stamp and value (every byte set, see :mod:`.cdr`)."""
+    from . import cdr
 
-    return serialize_message(make_message(type_name, 0, 0.0, frame_id, joint_name))
+    try:
+        return cdr.series_layout(type_name, frame_id, joint_name).template
+    except ValueError as exc:
+        raise BagError(str(exc)) from exc
 
 
 def make_message(type_name, stamp_ns: int, value: float, frame_id=FRAME_ID, joint_name=JOINT_NAME):

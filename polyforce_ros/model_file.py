@@ -45,6 +45,10 @@ import yaml
 
 from .physics.chain import ELEMENT_TYPES, ModelError, SensorChain, _short, _smoke_records
 
+__all__ = ["FORMAT", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_NODES", "parse_model_yaml", "SensorModel",
+    "model_from_mapping", "validate_chain_numerics", "load_model", "model_to_mapping", "save_model", "now_iso",
+    "default_model_path"]
+
 FORMAT = "polyforce_model/1"
 _TOP_KEYS = {"format", "elements", "provenance"}
 #: A model file is a few hundred bytes (a Preisach density of 200 levels ~ 400 kB).
@@ -322,6 +326,7 @@ def load_model(path) -> SensorModel:
 
 
 def model_to_mapping(model: SensorModel) -> dict:
+    """The YAML mapping of a model file (format, elements, provenance)."""
     return {"format": FORMAT, **model.chain.to_dict(), "provenance": dict(model.provenance)}
 
 
@@ -359,6 +364,7 @@ def save_model(path, model: SensorModel, keep_previous=True) -> Path:
 
 
 def now_iso() -> str:
+    """Current UTC time, ISO 8601 to the second (for provenance)."""
     return _dt.datetime.now(_dt.timezone.utc).replace(microsecond=0).isoformat()
 
 

@@ -18,12 +18,15 @@ from __future__ import annotations
 import struct
 from dataclasses import dataclass
 
+__all__ = ["SYNC", "FRAME_SIZE", "crc16_ccitt", "encode_frame", "Frame", "FrameParser", "DeviceClock"]
+
 SYNC = b"\xa5\x5a"
 FRAME_SIZE = 14
 _BODY = struct.Struct("<HIi")
 
 
 def crc16_ccitt(data: bytes, crc: int = 0xFFFF) -> int:
+    """CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF, no reflection, no final XOR) of ``data``."""
     for byte in data:
         crc ^= byte << 8
         for _ in range(8):
@@ -32,12 +35,14 @@ def crc16_ccitt(data: bytes, crc: int = 0xFFFF) -> int:
 
 
 def encode_frame(seq: int, t_us: int, counts: int) -> bytes:
+    """One 14-byte frame: sync, ``seq`` (u16, wraps), device time ``t_us`` (u32 us, wraps), ADC ``counts`` (i32), CRC."""
     body = _BODY.pack(seq & 0xFFFF, t_us & 0xFFFFFFFF, int(counts))
     return SYNC + body + struct.pack("<H", crc16_ccitt(body))
 
 
 @dataclass
 class Frame:
+    """One decoded frame: sequence number, device time (us) and ADC counts."""
     seq: int
     t_us: int
     counts: int

@@ -21,6 +21,9 @@ from .physics.viscoelastic import simulate_deformation
 from .record import load_record
 from .runtime import Compensator, CompensatorConfig, SampleGate
 
+__all__ = ["clean_samples", "TARE_WINDOW_S", "tare_offset_v", "static_and_compensated", "CalibrationResult",
+    "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "runtime_warnings"]
+
 
 def clean_samples(stamp_ns, values, receive_ns=None, config: CompensatorConfig = CompensatorConfig()):
     """Mask of the samples the compensation runtime would use (:meth:`SampleGate.mask`).
@@ -54,6 +57,7 @@ def static_and_compensated(chain, t_s, voltage_v, offset_v):
 
 @dataclass
 class CalibrationResult:
+    """Outcome of a calibration: whether the model file was written and why, and every fit."""
     written: bool
     reason: str
     output: str
@@ -124,6 +128,7 @@ def calibrate_record(t_s, force_n, voltage_v, output, source, candidates=("maxwe
 
 
 def calibrate_bag(bag_path, output, **kwargs) -> CalibrationResult:
+    """:func:`calibrate_record` of the creep bag at ``bag_path`` (keyword arguments as there)."""
     rec = load_record(bag_path)
     return calibrate_record(rec.t_s, rec.force_n, rec.voltage_v, output, source=bag_path, warnings=rec.warnings, **kwargs)
 

@@ -227,8 +227,9 @@ def diagnostic_names():
         for call in ast.walk(tree):
             if not isinstance(call, ast.Call):
                 continue
-            if isinstance(call.func, ast.Attribute) and call.func.attr == "__init__" and call.args:
-                node_name = ast.literal_eval(call.args[0])
+            names_given = [a.value for a in call.args if isinstance(a, ast.Constant) and isinstance(a.value, str)]
+            if isinstance(call.func, ast.Attribute) and call.func.attr == "__init__" and names_given:
+                node_name = names_given[0]  # super().__init__("name", ...) or Base.__init__(self, "name", ...)
             if getattr(call.func, "id", None) == "Diagnostics":
                 status = call.args[1]
         if status is None:

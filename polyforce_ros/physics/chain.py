@@ -263,6 +263,7 @@ class OffsetElement:
     """Bridge output at zero force: voltage = input + voltage_v."""
 
     kind = "offset"
+    voltage_v: float
 
     def __init__(self, voltage_v: float = 0.0):
         object.__setattr__(self, "voltage_v", float(voltage_v))
@@ -596,7 +597,7 @@ class PreisachElement:
         return cls(model, d["continuous"])
 
 
-ELEMENT_TYPES = {name: ViscoelasticElement for name in MODEL_TYPES}
+ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
 for _element in (GainElement, NonlinearGainElement, SensorLagElement, ThermalDriftElement, OffsetDriftElement, PreisachElement):
     ELEMENT_TYPES[_element.kind] = _element

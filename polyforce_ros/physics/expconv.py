@@ -32,6 +32,9 @@ import math
 import numpy as np
 from scipy import signal
 
+__all__ = ["uniform_step", "uniform_step_after", "step_weights", "step_weights_scalar", "exp_convolve",
+    "exp_convolve_columns", "ExpConvState"]
+
 # Below this z the closed forms lose digits to cancellation; the Taylor series
 # to z**5 is accurate to ~1e-16 relative there.
 _SERIES_BELOW = 1e-2

@@ -22,6 +22,9 @@ from . import fitting
 from .fitting import information_criteria, log_bounds, log_standard_errors, multistart_least_squares, starts_from_compliance
 from .viscoelastic import ViscoelasticModel, simulate_deformation
 
+__all__ = ["DEFAULT_FIT_RATE_HZ", "CreepSegment", "find_creep_segments", "block_average", "FitResult", "Selection",
+    "fit_creep", "select_model"]
+
 #: Largest rate the fit works at; block averages keep it fast on long records
 #: while resolving load steps of ~0.1 s.
 DEFAULT_FIT_RATE_HZ = 50.0

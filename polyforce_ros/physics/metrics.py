@@ -3,6 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
+__all__ = ["rmse", "max_abs_error", "r_squared", "error_summary", "hysteresis_percent", "step_response",
+    "sine_component", "bandwidth_3db", "resolution_changes"]
+
 
 def rmse(reference, estimate) -> float:
     """Root-mean-square error, in the unit of the inputs."""
@@ -11,6 +14,7 @@ def rmse(reference, estimate) -> float:
 
 
 def max_abs_error(reference, estimate) -> float:
+    """Largest absolute difference between ``estimate`` and ``reference`` (their unit, e.g. N)."""
     return float(np.max(np.abs(np.asarray(estimate, dtype=float) - np.asarray(reference, dtype=float))))
 
 
@@ -27,6 +31,7 @@ def r_squared(reference, estimate) -> float:
 
 
 def error_summary(reference, estimate) -> dict:
+    """RMSE (N), largest error (N) and R^2 of a force estimate against the reference force."""
     return {
         "rmse_n": rmse(reference, estimate),
         "max_abs_n": max_abs_error(reference, estimate),

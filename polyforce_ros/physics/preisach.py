@@ -27,6 +27,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
+__all__ = ["PreisachModel", "relay_states", "ramp_states", "identify", "PreisachStream", "ContinuousPreisachStream",
+    "hysteresis_error_percent"]
+
 
 @dataclass
 class PreisachModel:

@@ -29,6 +29,9 @@ from scipy import optimize, signal
 
 from .chain import SensorLagElement
 
+__all__ = ["PAPER_TABLE5", "PAPER_LINEAR_SUMMARY", "PAPER_FIT", "PatchSensor", "inversion_bode",
+    "identify_patch_sensor", "PneumaticMuscle", "linear_summary"]
+
 #: Seed 002, Table 5 (pressure coefficients per Pa) and eq. 13.
 PAPER_TABLE5 = dict(c0_pa=-9.083, c2_per_pa=3.254e-6, c3_s=-2.158e-3, k0=-1.435, k1=0.6377,
                     tau_s=3.321e-2, kappa_v_per_n=8.325e-3, b_v=0.147)

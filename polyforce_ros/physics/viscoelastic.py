@@ -25,13 +25,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
-from typing import ClassVar
+from typing import ClassVar, Optional
 
 import numpy as np
 
 from scipy import linalg, signal
 
 from .expconv import ExpConvState, exp_convolve, exp_convolve_columns, step_weights, uniform_step_after
+
+__all__ = ["CreepCompliance", "RelaxationModulus", "ViscoelasticModel", "Elastic", "Maxwell", "KelvinVoigt", "Zener",
+    "Burgers", "Zener2", "Burgers2", "MODEL_TYPES", "PAPER_BURGERS", "simulate_deformation",
+    "simulate_deformation_columns", "ForwardState", "compensate", "BackwardState", "StreamingCompensator"]
 
 
 @dataclass(frozen=True)
@@ -584,7 +588,7 @@ class StreamingCompensator:
         self._ar = [a * r for a, r in zip(rel.a_n_per_v, rel.r_per_s)]
         self._eta = rel.eta_impulse_n_s_per_v
         self._conv = ExpConvState(rel.r_per_s)
-        self._prev = None  # (t_s, gamma_v) for the Kelvin-Voigt slope
+        self._prev: Optional[tuple[float, float]] = None  # (t_s, gamma_v) for the Kelvin-Voigt slope
 
     def reset(self):
         """Forget the deformation history (sensor assumed relaxed and unloaded)."""

@@ -142,8 +142,7 @@ class SampleGate:
     def _heals(self, stamp_ns, skew, receive_ns, tol_ns) -> bool:
         """Whether this rejected sample completes a run of consistent ones long enough to re-anchor on."""
         run = self._run
-        consistent = run is not None and stamp_ns > run[1] and (tol_ns <= 0 or abs(skew - run[2]) <= tol_ns)
-        if not consistent:
+        if run is None or stamp_ns <= run[1] or (tol_ns > 0 and abs(skew - run[2]) > tol_ns):
             self._run = [receive_ns, stamp_ns, skew]
             return False
         run[1], run[2] = stamp_ns, skew
@@ -302,6 +301,7 @@ class Compensator:
 
     def _collect_auto_tare(self, stamp_ns: int, voltage_v: float):
         window = self._auto
+        assert window is not None  # called only while armed
         if len(window) < AUTO_TARE_MAX_SAMPLES:
             window.append((stamp_ns, voltage_v))
         if (stamp_ns - window[0][0]) * 1e-9 < self.config.auto_tare_s:

@@ -11,6 +11,9 @@ from pathlib import Path
 import numpy as np
 from scipy import signal
 
+__all__ = ["PROFILE_NAMES", "creep", "sawtooth", "step", "sine_sweep", "resolution", "needle_insertion",
+    "okamura_csv_path", "okamura_insertion", "make_profile"]
+
 PROFILE_NAMES = ("creep", "sawtooth", "step", "sine_sweep", "resolution", "needle_insertion")
 
 

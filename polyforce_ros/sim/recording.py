@@ -9,6 +9,8 @@ from .. import bags
 from . import profiles
 from .sensor import BridgeSimulator
 
+__all__ = ["T0_NS", "SAMPLE_BAGS", "write_bench_bag", "simulate_bag", "make_sample_bags"]
+
 #: Start of simulated records (2025-01-01T00:00:00Z): a realistic epoch for stamps.
 T0_NS = 1_735_689_600_000_000_000
 

@@ -8,6 +8,8 @@ import numpy as np
 from ..physics.chain import SensorChain
 from ..physics.viscoelastic import PAPER_BURGERS, ViscoelasticModel
 
+__all__ = ["BridgeSimulator"]
+
 
 @dataclass
 class BridgeSimulator:

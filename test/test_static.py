@@ -1,0 +1,50 @@
+"""Habits that keep the code this way: lint, types, __all__ and docstrings of the ROS-free core."""
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from conftest import REPO
+
+BIN = Path(sys.executable).parent
+CORE = [*sorted((REPO / "polyforce_ros" / "physics").glob("[!_]*.py")), REPO / "polyforce_ros" / "runtime" / "compensator.py",
+        *[REPO / "polyforce_ros" / f for f in ("record.py", "contract.py", "workflows.py", "model_file.py", "cdr.py",
+                                                "serial_protocol.py", "haptics.py", "evaluation/latency.py")]]
+
+
+def _run(*args):
+    return subprocess.run([str(a) for a in args], cwd=REPO, capture_output=True, text=True, timeout=300)
+
+
+def test_ruff_finds_no_errors():
+    proc = _run(BIN / "ruff", "check", "--select", "F,E9", "--line-length", "130", "--output-format", "concise",
+                "polyforce_ros", "test", "bench", "launch")
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+def test_mypy_checks_the_ros_free_core():
+    proc = _run(BIN / "mypy")  # files and options: setup.cfg [mypy]
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+
+
+@pytest.mark.parametrize("path", CORE, ids=lambda p: str(p.relative_to(REPO)))
+def test_core_modules_declare_their_api_and_document_it(path):
+    tree = ast.parse(path.read_text())
+    exported = None
+    for node in tree.body:
+        if isinstance(node, ast.Assign) and any(getattr(t, "id", "") == "__all__" for t in node.targets):
+            exported = {elt.value for elt in node.value.elts}
+    if path.name == "chain.py" and exported is None:
+        pytest.xfail("chain.py: __all__ pending (element classes being added)")
+    assert exported is not None, f"{path.name} has no __all__"
+    defined = {n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))}
+    for node in tree.body:
+        if isinstance(node, (ast.Assign, ast.AnnAssign)):
+            for target in node.targets if isinstance(node, ast.Assign) else [node.target]:
+                defined |= {t.id for t in ast.walk(target) if isinstance(t, ast.Name)}
+    assert exported <= defined, f"{path.name}: __all__ names what it does not define: {sorted(exported - defined)}"
+    undocumented = sorted(n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))
+                          and n.name in exported and not ast.get_docstring(n))
+    assert not undocumented, f"{path.name}: public names without a docstring: {undocumented}"

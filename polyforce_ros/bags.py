@@ -31,6 +31,7 @@ decoded one by one). Whatever else malformed bytes could raise becomes a
 """
 from __future__ import annotations
 
+import copy
 import os
 import re
 import struct
@@ -43,6 +44,8 @@ import numpy as np
 
 # The topic contract lives in contract.py; re-exported here for the readers and writers of bags.
 from .contract import (  # noqa: F401
+    QOS_DEPTH,
+    QOS_RELIABLE,
     BRIDGE_VOLTAGE,
     CONTRACT,
     FLOAT64,
@@ -399,7 +402,7 @@ def _string(buf, pos):
 
 
 def _read_file(path):
-    path = Path(path)
+    path = bag_file(path)  # a bag directory reads its one .mcap file
     try:
         raw = path.read_bytes()
     except OSError as exc:
@@ -855,23 +858,100 @@ def _join_pieces(topic, type_name, pieces) -> TopicData:
 
 
 # ----------------------------------------------------------------------------- writing
-class BagWriter:
-    """Write a rosbag2-compatible MCAP file.
+#: QoS a rosbag2 reader replays the contract topics with (what our nodes offer: reliable, keep-last, volatile).
+_INFINITE = {"sec": 9223372036, "nsec": 854775807}
+DEFAULT_QOS = [{"history": "keep_last", "depth": QOS_DEPTH, "reliability": "reliable" if QOS_RELIABLE else "best_effort",
+                "durability": "volatile", "deadline": dict(_INFINITE), "lifespan": dict(_INFINITE),
+                "liveliness": "automatic", "liveliness_lease_duration": dict(_INFINITE),
+                "avoid_ros_namespace_conventions": False}]
 
-    ``write(topic, type_name, msg, log_time_ns)`` writes one ROS message;
-    ``write_series(...)`` writes a whole array of scalar samples of a contract
-    type with bulk CDR encoding. Use as a context manager.
+
+def type_hash(type_name: str) -> str:
+    """The RIHS01 type description hash of an installed message type (``pkg/msg/Type``), or "" when unknown.
+
+    Read from the ``.json`` type description the ROS 2 message packages install next to the ``.msg``.
+    """
+    import json
+
+    package, _, name = type_name.partition("/msg/")
+    for prefix in _share_prefixes():
+        path = Path(prefix) / "share" / package / "msg" / f"{name}.json"
+        if path.is_file():
+            try:
+                hashes = json.loads(path.read_text())["type_hashes"]
+            except (ValueError, KeyError, OSError):
+                return ""
+            return next((h["hash_string"] for h in hashes if h.get("type_name") == type_name), "")
+    return ""
+
+
+def _share_prefixes():
+    return [p for p in os.environ.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p] + [sys.prefix]
+
+
+def bag_file(path) -> Path:
+    """The MCAP file of a bag given as a file or as a rosbag2 bag directory (``metadata.yaml``).
+
+    ``BagError`` for a directory that is not a one-file MCAP bag.
+    """
+    path = Path(path)
+    if not path.is_dir():
+        return path
+    meta = path / "metadata.yaml"
+    if meta.is_file():
+        import yaml
+
+        try:
+            info = yaml.safe_load(meta.read_text())["rosbag2_bagfile_information"]
+            files = list(info["relative_file_paths"])
+            storage = info.get("storage_identifier", "mcap")
+        except (yaml.YAMLError, KeyError, TypeError, OSError) as exc:
+            raise BagError(f"{meta}: not a rosbag2 metadata file ({exc})") from exc
+        if storage != "mcap":
+            raise BagError(f"{path}: storage {storage!r}; only mcap bags can be read")
+        if len(files) != 1:
+            raise BagError(f"{path}: {len(files)} bag files; split bags are not supported")
+        return path / files[0]
+    found = sorted(path.glob("*.mcap"))
+    if len(found) != 1:
+        raise BagError(f"{path}: a bag directory needs metadata.yaml or exactly one .mcap file, found {len(found)}")
+    return found[0]
+
+
+class BagWriter:
+    """Write a rosbag2 MCAP bag, as rosbag2_storage_mcap (Jazzy) does.
+
+    - Messages are written in log-time order across topics (chunks do not overlap), whatever the order of
+      the calls: with ``ordered=True`` (default) they are collected and written sorted at :meth:`close`
+      (ties keep call order); a live recorder whose log times are arrival times passes ``ordered=False``.
+    - Each channel carries ``offered_qos_profiles`` (the YAML list rosbag2 writes) and ``topic_type_hash``
+      (RIHS01, where the message package installs it); the file ends with the ``rosbag2`` metadata record
+      (``serialized_metadata``: the bag's metadata YAML).
+    - ``directory=True`` writes the bag-directory form ``PATH/PATH.name_0.mcap`` + ``PATH/metadata.yaml``.
+    - Every byte of a message written by :meth:`write_series` or :meth:`write` (contract types) is set
+      (:mod:`polyforce_ros.cdr`), so equal content gives equal files.
+
+    Use as a context manager.
     """
 
-    def __init__(self, path, chunk_size=1 << 20):
+    def __init__(self, path, chunk_size=1 << 20, ordered=True, directory=False):
         from mcap.writer import CompressionType, Writer
 
-        self.path = Path(path)
-        self.path.parent.mkdir(parents=True, exist_ok=True)
+        path = Path(path)
+        if directory:
+            path.mkdir(parents=True, exist_ok=True)
+            self.directory, self.path = path, path / f"{path.name}_0.mcap"
+        else:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            self.directory, self.path = None, path
         self._fh = open(self.path, "wb")
         self._writer = Writer(self._fh, chunk_size=chunk_size, compression=CompressionType.ZSTD)
         self._writer.start(profile="ros2", library="polyforce_ros")
-        self._schemas, self._channels, self._seq = {}, {}, {}
+        self._schemas, self._channels, self._seq, self._counts = {}, {}, {}, {}
+        self._ordered = ordered
+        self._singles: list = []   # (log ns, publish ns, channel id, bytes), in call order
+        self._series: list = []    # (channel id, encoded (n, size) uint8, log ns (n,)), in call order
+        self._t_min, self._t_max = None, None
 
     def _channel(self, topic, type_name, schema_data=None):
         if topic in self._channels:
@@ -882,25 +962,41 @@ class BagWriter:
         if type_name not in self._schemas:
             data = schema_data if schema_data is not None else schema_text(type_name).encode()
             self._schemas[type_name] = self._writer.register_schema(name=type_name, encoding="ros2msg", data=data)
-        cid = self._writer.register_channel(
-            topic=topic, message_encoding="cdr", schema_id=self._schemas[type_name],
-            metadata={"offered_qos_profiles": ""},
-        )
+        import yaml
+
+        metadata = {"offered_qos_profiles": yaml.safe_dump(DEFAULT_QOS, sort_keys=False).strip()}
+        digest = type_hash(type_name)
+        if digest:
+            metadata["topic_type_hash"] = digest
+        cid = self._writer.register_channel(topic=topic, message_encoding="cdr", schema_id=self._schemas[type_name],
+                                            metadata=metadata)
         self._channels[topic] = (cid, type_name)
-        self._seq[cid] = 0
+        self._seq[cid], self._counts[cid] = 0, 0
         return cid
 
-    def write_serialized(self, topic, type_name, data: bytes, log_time_ns: int, schema_data=None):
-        """One CDR message; ``schema_data`` supplies the schema text of types not installed here."""
+    def write_serialized(self, topic, type_name, data: bytes, log_time_ns: int, schema_data=None,
+                         publish_time_ns=None):
+        """One CDR message; ``publish_time_ns``: when it was sent (default: its log time);
+        ``schema_data`` supplies the schema text of types not installed here."""
         cid = self._channel(topic, type_name, schema_data)
-        self._seq[cid] += 1
-        self._writer.add_message(channel_id=cid, log_time=int(log_time_ns), data=data,
-                                 publish_time=int(log_time_ns), sequence=self._seq[cid])
+        log = int(log_time_ns)
+        publish = log if publish_time_ns is None else int(publish_time_ns)
+        if self._ordered:
+            self._singles.append((log, publish, cid, bytes(data)))
+        else:
+            self._emit(cid, log, publish, data)
 
     def write(self, topic, type_name, msg, log_time_ns: int):
-        from rclpy.serialization import serialize_message
+        """One ROS message object; contract types are encoded by :mod:`.cdr` (every byte set)."""
+        from . import cdr
 
-        self.write_serialized(topic, type_name, serialize_message(msg), log_time_ns)
+        try:
+            data = cdr.encode_message(type_name, msg)
+        except ValueError:  # not a contract type: the middleware's serialiser
+            from rclpy.serialization import serialize_message
+
+            data = serialize_message(msg)
+        self.write_serialized(topic, type_name, data, log_time_ns)
 
     def write_series(self, topic, type_name, stamp_ns, values, frame_id=FRAME_ID, joint_name=JOINT_NAME,
                      log_time_ns=None):
@@ -929,21 +1025,77 @@ class BagWriter:
         if log_time_ns.size and log_time_ns.min() < 0:
             raise ValueError("write_series: log times must be >= 0 ns")
         cid = self._channel(topic, type_name)
-        add, size, seq, batch = self._writer.add_message, layout.size, self._seq[cid], 1 << 16
-        try:
-            for lo in range(0, stamp_ns.size, batch):  # batches bound the memory of the encoded copy
-                raw = layout.encode(stamp_ns[lo : lo + batch], values[lo : lo + batch]).tobytes()
-                for i, t in enumerate(log_time_ns[lo : lo + batch].tolist()):
-                    seq += 1
-                    add(channel_id=cid, log_time=t, data=raw[i * size : (i + 1) * size], publish_time=t, sequence=seq)
-        finally:
-            self._seq[cid] = seq
+        encoded = layout.encode(stamp_ns, values)
+        if self._ordered:
+            self._series.append((cid, encoded, log_time_ns.copy()))
+        else:
+            raw = encoded.tobytes()
+            size = encoded.shape[1] if encoded.ndim == 2 else layout.size
+            for i, t in enumerate(log_time_ns.tolist()):
+                self._emit(cid, t, t, raw[i * size : (i + 1) * size])
+
+    def _emit(self, cid, log, publish, data):
+        self._seq[cid] += 1
+        self._counts[cid] += 1
+        self._writer.add_message(channel_id=cid, log_time=log, data=data, publish_time=publish, sequence=self._seq[cid])
+        self._t_min = log if self._t_min is None else min(self._t_min, log)
+        self._t_max = log if self._t_max is None else max(self._t_max, log)
+
+    def _flush_sorted(self):
+        """Every collected message, in log-time order (stable: ties keep call order)."""
+        parts = [np.array([s[0] for s in self._singles], dtype=np.int64)] + [log for _, _, log in self._series]
+        sizes = [len(p) for p in parts]
+        if not sum(sizes):
+            return
+        order = np.argsort(np.concatenate(parts), kind="stable")
+        source = np.repeat(np.arange(len(parts)), sizes)[order]
+        offset = np.concatenate(([0], np.cumsum(sizes)[:-1]))
+        index = order - offset[source]
+        series = [(cid, enc.tobytes(), enc.shape[1], log) for cid, enc, log in self._series]
+        singles = self._singles
+        for src, i in zip(source.tolist(), index.tolist()):
+            if src == 0:
+                log, publish, cid, data = singles[i]
+                self._emit(cid, log, publish, data)
+            else:
+                cid, raw, size, logs = series[src - 1]
+                t = int(logs[i])
+                self._emit(cid, t, t, raw[i * size : (i + 1) * size])
+        self._singles, self._series = [], []
+
+    def metadata(self) -> dict:
+        """The rosbag2 bag metadata (version 9) of what was written."""
+        start = self._t_min or 0
+        duration = (self._t_max - self._t_min) if self._t_min is not None else 0
+        count = sum(self._counts.values())
+        topics = []
+        for topic, (cid, type_name) in self._channels.items():
+            topics.append({"topic_metadata": {"name": topic, "type": type_name, "serialization_format": "cdr",
+                                              "offered_qos_profiles": copy.deepcopy(DEFAULT_QOS),  # no YAML aliases
+                                              "type_description_hash": type_hash(type_name)},
+                           "message_count": self._counts[cid]})
+        return {"rosbag2_bagfile_information": {
+            "version": 9, "storage_identifier": "mcap", "duration": {"nanoseconds": duration},
+            "starting_time": {"nanoseconds_since_epoch": start}, "message_count": count,
+            "topics_with_message_count": topics, "compression_format": "", "compression_mode": "",
+            "relative_file_paths": [self.path.name],
+            "files": [{"path": self.path.name, "starting_time": {"nanoseconds_since_epoch": start},
+                       "duration": {"nanoseconds": duration}, "message_count": count}],
+            "custom_data": None, "ros_distro": "jazzy"}}
 
     def close(self):
         if self._fh.closed:
             return
+        import yaml
+
+        self._flush_sorted()
+        info = self.metadata()
+        self._writer.add_metadata("rosbag2", {"serialized_metadata": yaml.safe_dump(
+            info["rosbag2_bagfile_information"], sort_keys=False)})
         self._writer.finish()
         self._fh.close()
+        if self.directory is not None:
+            (self.directory / "metadata.yaml").write_text(yaml.safe_dump(info, sort_keys=False))
 
     def __enter__(self):
         return self

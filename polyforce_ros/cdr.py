@@ -33,7 +33,7 @@ import numpy as np
 from .contract import FLOAT64, JOINT_STATE, SCALAR_FIELD, TEMPERATURE_MSG, WRENCH_STAMPED
 
 __all__ = [
-    "ENCAPSULATION", "STAMP_MIN_NS", "STAMP_MAX_NS", "SeriesLayout", "encode", "encode_float64", "encode_joint_state",
+    "ENCAPSULATION", "STAMP_MIN_NS", "STAMP_MAX_NS", "SeriesLayout", "encode", "encode_float64", "encode_message", "encode_joint_state",
     "encode_series", "encode_temperature", "encode_wrench_stamped", "series_layout", "split_stamp", "split_stamps",
 ]
 
@@ -205,6 +205,26 @@ def encode_temperature(stamp_ns=0, frame_id="", temperature=0.0, variance=0.0) -
 def encode_float64(data=0.0) -> bytes:
     """CDR bytes of a std_msgs/Float64."""
     return encode(FLOAT64, data=data)
+
+
+def encode_message(type_name: str, msg) -> bytes:
+    """CDR bytes of a ROS message object of a contract type (read by attribute; no rclpy needed).
+
+    ``ValueError`` for a type without an encoder here.
+    """
+    if type_name not in _BUILDERS:
+        raise ValueError(f"no CDR encoder for message type {type_name!r}; known: {sorted(_BUILDERS)}")
+    if type_name == FLOAT64:
+        return encode_float64(msg.data)
+    stamp_ns = int(msg.header.stamp.sec) * 1_000_000_000 + int(msg.header.stamp.nanosec)
+    frame_id = msg.header.frame_id
+    if type_name == JOINT_STATE:
+        return encode_joint_state(stamp_ns, frame_id, list(msg.name), list(msg.position), list(msg.velocity),
+                                  list(msg.effort))
+    if type_name == WRENCH_STAMPED:
+        f, q = msg.wrench.force, msg.wrench.torque
+        return encode_wrench_stamped(stamp_ns, frame_id, (f.x, f.y, f.z), (q.x, q.y, q.z))
+    return encode_temperature(stamp_ns, frame_id, msg.temperature, msg.variance)
 
 
 # ----------------------------------------------------------------------------- series

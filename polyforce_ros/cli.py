@@ -102,7 +102,8 @@ def cmd_compensate(args) -> int:
 
     model = load_model(args.model or default_model_path())
     n, warnings = compensate_bag(args.input, args.output, model, CompensatorConfig(force_limit_n=args.force_limit,
-                                                                                   auto_tare=not args.no_auto_tare))
+                                                                                   auto_tare=not args.no_auto_tare),
+                                 directory=args.directory)
     for warning in warnings:
         print(f"warning: {warning}", file=sys.stderr)
     print(f"{args.output}: copied {args.input} and added {n} /polyforce/wrench messages "
@@ -166,8 +167,10 @@ def cmd_diagnose(args) -> int:
 def cmd_make_bags(args) -> int:
     from .sim.recording import make_sample_bags
 
-    for path in make_sample_bags(args.out, progress=lambda name: print(f"simulating {name} ...", file=sys.stderr)):
-        print(f"{path}  {path.stat().st_size / 1e6:.2f} MB")
+    progress = lambda name: print(f"simulating {name} ...", file=sys.stderr)  # noqa: E731
+    for path in make_sample_bags(args.out, progress=progress, directory=args.directory):
+        size = sum(f.stat().st_size for f in path.rglob("*")) if path.is_dir() else path.stat().st_size
+        print(f"{path}  {size / 1e6:.2f} MB")
     return 0
 
 
@@ -211,6 +214,8 @@ def build_parser():
     comp.add_argument("output")
     comp.add_argument("--model", help="model YAML (default: the shipped paper model)")
     comp.add_argument("--force-limit", type=float, default=12.0, help="clamp |force| to this (N), like the node")
+    comp.add_argument("--directory", action="store_true",
+                      help="write OUT as a rosbag2 bag directory (OUT/OUT_0.mcap + metadata.yaml)")
     comp.add_argument("--no-auto-tare", action="store_true",
                       help="do not zero the bridge offset from the first 0.5 s (like the node's auto_tare: false)")
     comp.set_defaults(func=cmd_compensate)
@@ -243,6 +248,7 @@ def build_parser():
 
     mk = sub.add_parser("make-bags", help="regenerate the sample bags with the simulator")
     mk.add_argument("--out", default="bags")
+    mk.add_argument("--directory", action="store_true", help="write rosbag2 bag directories (NAME/NAME_0.mcap + metadata.yaml)")
     mk.set_defaults(func=cmd_make_bags)
 
     bu = sub.add_parser("bringup", help="start driver + compensation (+ haptic bridge, recorder) as processes; Ctrl-C stops them")

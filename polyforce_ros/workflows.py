@@ -133,7 +133,8 @@ def calibrate_bag(bag_path, output, **kwargs) -> CalibrationResult:
     return calibrate_record(rec.t_s, rec.force_n, rec.voltage_v, output, source=bag_path, warnings=rec.warnings, **kwargs)
 
 
-def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorConfig = CompensatorConfig()):
+def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorConfig = CompensatorConfig(),
+                   directory=False):
     """Copy every message of ``in_path`` to ``out_path`` and add ``/polyforce/wrench``.
 
     The raw samples go through the same :class:`Compensator` as in
@@ -153,7 +154,7 @@ def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorCon
     if not used.any():
         raise bags.BagError(f"{in_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
     warnings = list(bag.warnings) + runtime_warnings(compensator.counts)
-    with bags.BagWriter(out_path) as writer:
+    with bags.BagWriter(out_path, directory=directory) as writer:
         bags.copy_messages(in_path, writer)  # survives truncation and corrupt chunks, like read_bag
         writer.write_series(bags.WRENCH, bags.WRENCH_STAMPED, raw.stamp_ns[used], force[used],
                             log_time_ns=raw.log_time_ns[used], frame_id=contract.FRAME_ID)

@@ -266,13 +266,15 @@ def test_bags_are_byte_identical_whatever_the_memory_held(tmp_path):
     code = _CHILD.format(test_dir=str(Path(__file__).parent))
     digests = []
     for i, state in enumerate(("clean", "dirty")):
-        path = tmp_path / f"{state}.mcap"
+        path = tmp_path / state / "bag.mcap"  # one file name: the rosbag2 metadata record names the file
+        path.parent.mkdir()
         proc = subprocess.run([sys.executable, "-c", code, str(path), state], env=env, capture_output=True, text=True,
                               timeout=120)
         assert proc.returncode == 0, proc.stderr
         digests.append(hashlib.sha256(path.read_bytes()).hexdigest())
-    write_all_types(tmp_path / "here.mcap")
-    digests.append(hashlib.sha256((tmp_path / "here.mcap").read_bytes()).hexdigest())
+    (tmp_path / "here").mkdir()
+    write_all_types(tmp_path / "here" / "bag.mcap")
+    digests.append(hashlib.sha256((tmp_path / "here" / "bag.mcap").read_bytes()).hexdigest())
     assert len(set(digests)) == 1, digests
 
 

@@ -23,13 +23,19 @@ class RecorderNode(Node):
         super().__init__("recorder_node", **kwargs)
         path = declare(self, "bag_path", "", "Output mcap file", read_only=True)
         topics = declare(self, "topics", list(TOPICS), "Topics (relative names) to record", read_only=True)
+        bag_format = declare(self, "bag_format", "file",
+                             "'file': one .mcap file at bag_path; 'directory': a rosbag2 bag directory "
+                             "(bag_path/bag_path_0.mcap + metadata.yaml)", read_only=True)
+        if bag_format not in ("file", "directory"):
+            raise ValueError(f"bag_format must be 'file' or 'directory', got {bag_format!r}")
         declare_qos(self)
         if not path:
             raise ValueError("recorder_node needs the bag_path parameter")
         unknown = sorted(set(topics) - set(TOPICS))
         if unknown:
             raise ValueError(f"cannot record {unknown}; known: {sorted(TOPICS)}")
-        self.writer = bags.BagWriter(path)
+        # arrival order is log-time order: write as messages come (nothing held in memory)
+        self.writer = bags.BagWriter(path, ordered=False, directory=self.get_parameter("bag_format").value == "directory")
         self.counts = {t: 0 for t in topics}
         qos = data_qos(self)
         for name in topics:
@@ -41,8 +47,13 @@ class RecorderNode(Node):
         self.get_logger().info(f"recording {topics} to {path}")
 
     def _make_callback(self, name, full_topic, type_name):
-        def callback(data: bytes):
-            self.writer.write_serialized(full_topic, type_name, data, self.get_clock().now().nanoseconds)
+        clock = self.get_clock()
+
+        def callback(data: bytes, info):
+            # rosbag2's convention: log time = when the recorder received it, publish time = when it was sent
+            log = clock.now().nanoseconds
+            sent = info.get("source_timestamp") if isinstance(info, dict) else None  # MessageInfo (a dict here)
+            self.writer.write_serialized(full_topic, type_name, data, log, publish_time_ns=sent or log)
             self.counts[name] += 1
 
         return callback

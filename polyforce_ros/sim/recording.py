@@ -26,14 +26,16 @@ SAMPLE_BAGS = {
 }
 
 
-def write_bench_bag(path, t_s, force_n, voltage_v, temperature_c=None, t0_ns=T0_NS, temperature_every=10):
+def write_bench_bag(path, t_s, force_n, voltage_v, temperature_c=None, t0_ns=T0_NS, temperature_every=10,
+                    directory=False):
     """Write a bench record (raw voltage, reference force, optional temperature) as a bag.
 
     Stamps and log times are ``t0_ns + t_s``; temperature is written every
     ``temperature_every`` samples when given (scalar or per-sample array).
+    ``directory``: write the rosbag2 bag-directory form (``path/`` with ``metadata.yaml``).
     """
     stamps = t0_ns + np.round(np.asarray(t_s) * 1e9).astype(np.int64)
-    with bags.BagWriter(path) as writer:
+    with bags.BagWriter(path, directory=directory) as writer:
         writer.write_series(bags.BRIDGE_VOLTAGE, bags.JOINT_STATE, stamps, voltage_v)
         writer.write_series(bags.REFERENCE_FORCE, bags.WRENCH_STAMPED, stamps, force_n)
         if temperature_c is not None:
@@ -42,18 +44,24 @@ def write_bench_bag(path, t_s, force_n, voltage_v, temperature_c=None, t0_ns=T0_
     return Path(path)
 
 
-def simulate_bag(path, profile, rate_hz=1000.0, simulator=None, seed=0, temperature_c=24.0, **profile_kwargs):
+def simulate_bag(path, profile, rate_hz=1000.0, simulator=None, seed=0, temperature_c=24.0, directory=False,
+                 **profile_kwargs):
     """Run a profile through the simulator (default: paper truth, 1 mV noise) and write the bag."""
     t, f = profiles.make_profile(profile, rate_hz=rate_hz, seed=seed, **profile_kwargs)
     sim = simulator if simulator is not None else BridgeSimulator(seed=seed)
-    return write_bench_bag(path, t, f, sim.simulate(t, f), temperature_c)
+    return write_bench_bag(path, t, f, sim.simulate(t, f), temperature_c, directory=directory)
 
 
-def make_sample_bags(out_dir, progress=None):
-    """(Re)generate the shipped sample bags into ``out_dir``; returns their paths."""
+def make_sample_bags(out_dir, progress=None, directory=False):
+    """(Re)generate the shipped sample bags into ``out_dir``; returns their paths.
+
+    Deterministic: fixed seeds and epoch, no wall-clock time in the content, so every run gives
+    byte-identical files (tested against the shipped ones).
+    """
     out = []
     for i, (name, (profile, rate, kwargs)) in enumerate(SAMPLE_BAGS.items()):
         if progress:
             progress(name)
-        out.append(simulate_bag(Path(out_dir) / f"{name}.mcap", profile, rate_hz=rate, seed=i, **kwargs))
+        target = Path(out_dir) / (name if directory else f"{name}.mcap")
+        out.append(simulate_bag(target, profile, rate_hz=rate, seed=i, directory=directory, **kwargs))
     return out

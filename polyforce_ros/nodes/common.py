@@ -65,6 +65,15 @@ def ns_to_stamp(ns: int, stamp):
     return stamp
 
 
+def send_last_zero(node, wait_s=0.5):
+    """``node.publish_zero(wait_s)`` on the way out: the haptic master holds the last force it got,
+    so the last one must be zero. The context may already be gone at shutdown; then nothing is sent."""
+    try:
+        node.publish_zero(wait_s=wait_s)
+    except Exception:  # noqa: BLE001 - a dead context or publisher: nothing else to do
+        pass
+
+
 class Diagnostics:
     """Publishes one DiagnosticStatus of a node on /diagnostics."""
 

@@ -32,7 +32,8 @@ from ..model_file import default_model_path, load_model
 from ..physics.chain import ModelError
 from ..runtime import Compensator, CompensatorConfig
 from .. import contract
-from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run, stamp_to_ns
+from .common import (DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run,
+                     send_last_zero, stamp_to_ns)
 
 
 class _CompensationLogic:
@@ -248,10 +249,7 @@ class _CompensationLogic:
         return self.diag.publish(level, message, values)
 
     def destroy_node(self):
-        try:
-            self.publish_zero(wait_s=0.5)
-        except Exception:  # noqa: BLE001 - context may already be gone; nothing else to do
-            pass
+        send_last_zero(self)
         super().destroy_node()
 
 
@@ -344,10 +342,7 @@ class CompensationLifecycleNode(_CompensationLogic, LifecycleNode):
 
     def destroy_node(self):
         if self._active:
-            try:
-                self.publish_zero(wait_s=0.5)
-            except Exception:  # noqa: BLE001 - context may already be gone
-                pass
+            send_last_zero(self)
         self._active = False
         LifecycleNode.destroy_node(self)
 

@@ -35,7 +35,7 @@ from std_msgs.msg import Float64MultiArray
 
 from .. import contract
 from ..haptics import AXES, PARAMETERS, HapticBridge, HapticConfig, device_vector, parse_axis
-from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run
+from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run, send_last_zero
 
 #: Relative name of the WrenchStamped command (in the node's namespace).
 HAPTIC_COMMAND = contract.Rel.HAPTIC_COMMAND
@@ -149,10 +149,7 @@ class HapticBridgeNode(Node):
                     pub.wait_for_all_acked(Duration(nanoseconds=int(wait_s * 1e9)))
 
     def destroy_node(self):
-        try:
-            self.publish_zero(wait_s=0.5)
-        except Exception:  # noqa: BLE001 - context may already be gone; nothing else to do
-            pass
+        send_last_zero(self)
         super().destroy_node()
 
 

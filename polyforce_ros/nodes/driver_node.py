@@ -14,9 +14,10 @@ Backends
 * ``serial``: frames of :mod:`polyforce_ros.serial_protocol` from a
   microcontroller; counts are scaled to volts by parameters; stamps map the
   device clock onto host time; the port is reopened after it disappears.
-  Diagnostics WARN when the valid frames received over ``rate_window_s`` fall
-  below RATE_WARN_FRACTION of ``expected_rate_hz`` (a device or link too slow
-  for its rate; 0 turns the check off). Reference firmware: ``firmware/``.
+  Diagnostics WARN when the valid frames received stay below RATE_WARN_FRACTION
+  of ``expected_rate_hz`` in two consecutive windows of ``rate_window_s`` (a
+  device or link too slow for its rate; one window alone may just hold a host
+  stall; 0 turns the check off). Reference firmware: ``firmware/``.
 """
 from __future__ import annotations
 
@@ -74,7 +75,8 @@ class DriverNode(Node):
         declare(self, "volts_offset", 0.0, "Volts added after scaling (V)", -100.0, 100.0, read_only=True)
         declare(self, "reconnect_period_s", 0.5, "Delay between attempts to reopen the port (s)", 0.01, 60.0, read_only=True)
         declare(self, "expected_rate_hz", 1000.0, "Serial: frame rate the device should deliver; diagnostics WARN below "
-                f"{RATE_WARN_FRACTION:.0%} of it over rate_window_s (Hz, 0 = no check)", 0.0, 100000.0, read_only=True)
+                f"{RATE_WARN_FRACTION:.0%} of it in two consecutive rate windows (Hz, 0 = no check)", 0.0, 100000.0,
+                read_only=True)
         declare(self, "rate_window_s", 3.0, "Serial: window over which the received frame rate is measured (s)", 0.1, 600.0,
                 read_only=True)
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
@@ -194,7 +196,8 @@ class DriverNode(Node):
         self.outages = 0
         self.connected = False
         self._last_error = "not opened yet"
-        self._rate_hist = deque()  # (host ns, parser.frames, outages) at each diagnostics tick
+        self._rate_window = None  # (start ns, parser.frames, outages) of the window being counted
+        self._window_rates = deque(maxlen=2)  # frames/s of the last two completed windows
         self._open_port()
         self.create_timer(self._param("publish_period_s"), self._serial_tick)
         self.create_timer(self._param("reconnect_period_s"), self._reconnect)
@@ -255,22 +258,20 @@ class DriverNode(Node):
             self.published += 1
 
     # ------------------------------------------------------------------ diagnostics
-    def _received_rate(self):
-        """Valid frames/s over the last ``rate_window_s`` of connected time; None until a full window."""
-        hist = self._rate_hist
+    def _count_rate_window(self):
+        """Closes the rate window once ``rate_window_s`` of connected time have passed (called per diagnostics)."""
         now = self.get_clock().now().nanoseconds
-        if not self.connected or (hist and hist[-1][2] != self.outages):
-            hist.clear()  # an outage starts a new window: the rate of a device that is back, not of the gap
+        window = self._rate_window
+        if not self.connected or (window is not None and window[2] != self.outages):
+            window = self._rate_window = None  # an outage starts afresh: the rate of a device that is back
+            self._window_rates.clear()
         if not self.connected:
-            return None
-        hist.append((now, self.parser.frames, self.outages))
-        window_ns = self._param("rate_window_s") * 1e9
-        while len(hist) > 1 and now - hist[1][0] >= window_ns:
-            hist.popleft()
-        t0, n0, _ = hist[0]
-        if now - t0 < window_ns:
-            return None
-        return (self.parser.frames - n0) * 1e9 / (now - t0)
+            return
+        if window is None:
+            self._rate_window = (now, self.parser.frames, self.outages)
+        elif now - window[0] >= self._param("rate_window_s") * 1e9:
+            self._window_rates.append((self.parser.frames - window[1]) * 1e9 / (now - window[0]))
+            self._rate_window = (now, self.parser.frames, self.outages)
 
     def _publish_diagnostics(self):
         values = {"published": self.published}
@@ -280,7 +281,9 @@ class DriverNode(Node):
             if self.done:
                 level, message = WARN, "profile finished (loop is false)"
         else:
-            rate, expected = self._received_rate(), self._param("expected_rate_hz")
+            self._count_rate_window()
+            rates, expected = self._window_rates, self._param("expected_rate_hz")
+            rate = rates[-1] if rates else None
             values.update(port=self._param("port"), connected=self.connected, frames=self.parser.frames,
                           crc_errors=self.parser.crc_errors, lost_frames=self.parser.lost_frames, outages=self.outages,
                           implausible_stamp=self.clock.implausible, reanchored=self.clock.reanchored,
@@ -288,7 +291,7 @@ class DriverNode(Node):
             problems = []
             if self.parser.crc_errors or self.parser.lost_frames or self.clock.implausible:
                 problems.append("corrupt or lost frames or implausible device times seen")
-            if rate is not None and expected > 0 and rate < RATE_WARN_FRACTION * expected:
+            if expected > 0 and len(rates) == 2 and max(rates) < RATE_WARN_FRACTION * expected:
                 problems.append(f"receiving {rate:.0f} frames/s, expected {expected:g} (device or link too slow)")
             if not self.connected:
                 level, message = ERROR, f"serial device unavailable: {self._last_error}"

@@ -1,0 +1,1 @@
+../polyforce_fw.c

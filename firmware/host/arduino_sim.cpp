@@ -1,0 +1,157 @@
+/*
+ * arduino_sim.cpp - runs board_ads1220_arduino.ino on a PC with a scripted ADS1220.
+ *
+ *   arduino_sim MICROS0 < script
+ *
+ * setup() runs first, then the script (one command per line):
+ *   conv HEX6     one period (1000 us) passes, the ADC has the 24-bit word HEX6 ready: DRDY falls
+ *   loop          loop() runs once
+ *   advance US    time passes without conversions
+ * Output: "spi AA BB .." (MOSI bytes of each SPI transaction), "isr MICROS" (micros() at each
+ * DRDY), "serial HEX" (all bytes the sketch wrote, at the end), "baud N", "attach PIN MODE",
+ * and "error ..." for any misuse (transfer with CS high, wrong SPI mode, unbalanced masking).
+ */
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "Arduino.h"
+#include "SPI.h"
+
+void setup();
+void loop();
+
+static unsigned long long g_micros;
+static bool g_cs_low = false;
+static int g_masked = 0;
+static int g_in_isr = 0;
+static int g_cs_pin = -1;
+static void (*g_isr)(void) = nullptr;
+static std::vector<uint8_t> g_miso, g_mosi, g_serial;
+static bool g_in_transaction = false;
+
+StubSerial Serial;
+SPIClass SPI;
+
+void pinMode(uint8_t pin, uint8_t mode)
+{
+    if (mode == OUTPUT && g_cs_pin < 0) {
+        g_cs_pin = pin;  // the first output pin the sketch configures is CS
+    }
+}
+void digitalWrite(uint8_t pin, uint8_t value)
+{
+    if ((int)pin == g_cs_pin) {
+        g_cs_low = (value == LOW);
+    }
+}
+int digitalRead(uint8_t) { return HIGH; }
+unsigned long micros(void) { return (unsigned long)g_micros; }  // 64-bit on the PC; the sketch truncates
+unsigned long millis(void) { return (unsigned long)(g_micros / 1000u); }
+void delay(unsigned long ms) { g_micros += 1000ull * ms; }
+void delayMicroseconds(unsigned int us) { g_micros += us; }
+void noInterrupts(void) { g_masked++; }
+void interrupts(void)
+{
+    if (--g_masked < 0) {
+        std::printf("error interrupts() without noInterrupts()\n");
+    }
+}
+int digitalPinToInterrupt(uint8_t pin) { return pin; }
+void attachInterrupt(int interrupt, void (*isr)(void), int mode)
+{
+    g_isr = isr;
+    std::printf("attach %d %s\n", interrupt, mode == FALLING ? "falling" : "other");
+}
+
+void StubSerial::begin(unsigned long baud) { std::printf("baud %lu\n", baud); }
+size_t StubSerial::write(const uint8_t *data, size_t len)
+{
+    if (g_in_isr) {
+        std::printf("error Serial.write in the interrupt\n");
+    }
+    g_serial.insert(g_serial.end(), data, data + len);
+    return len;
+}
+
+void SPIClass::begin() {}
+void SPIClass::usingInterrupt(int) {}
+void SPIClass::beginTransaction(SPISettings s)
+{
+    if (s.mode != SPI_MODE1 || s.bit_order != MSBFIRST || s.clock > 6000000u) {
+        std::printf("error SPI settings mode=%d order=%d clock=%lu\n", s.mode, s.bit_order, (unsigned long)s.clock);
+    }
+    if (g_in_transaction) {
+        std::printf("error nested SPI transaction\n");
+    }
+    g_in_transaction = true;
+    g_mosi.clear();
+}
+uint8_t SPIClass::transfer(uint8_t data)
+{
+    if (!g_cs_low || !g_in_transaction) {
+        std::printf("error SPI transfer with CS high or outside a transaction\n");
+    }
+    g_mosi.push_back(data);
+    uint8_t out = 0xFF;
+    if (!g_miso.empty()) {
+        out = g_miso.front();
+        g_miso.erase(g_miso.begin());
+    }
+    return out;
+}
+void SPIClass::endTransaction()
+{
+    std::printf("spi");
+    for (uint8_t b : g_mosi) {
+        std::printf(" %02x", b);
+    }
+    std::printf("\n");
+    g_in_transaction = false;
+}
+
+int main(int argc, char **argv)
+{
+    g_micros = (argc > 1) ? std::strtoull(argv[1], nullptr, 0) : 0u;
+    setup();
+    char line[256];
+    while (std::fgets(line, sizeof line, stdin) != nullptr) {
+        char cmd[32] = "";
+        unsigned long long arg = 0;
+        int n = std::sscanf(line, "%31s %llx", cmd, &arg);
+        if (n < 1) {
+            continue;
+        }
+        if (std::strcmp(cmd, "conv") == 0 && n == 2) {
+            g_micros += 1000u;
+            g_miso = {uint8_t(arg >> 16), uint8_t(arg >> 8), uint8_t(arg)};
+            if (g_isr == nullptr || g_masked) {
+                std::printf("error DRDY with no handler or interrupts masked\n");
+                continue;
+            }
+            std::printf("isr %llu\n", g_micros);
+            g_in_isr = 1;
+            g_isr();
+            g_in_isr = 0;
+            if (!g_miso.empty()) {
+                std::printf("error conversion not read\n");
+            }
+        } else if (std::strcmp(cmd, "loop") == 0) {
+            loop();
+        } else if (std::strcmp(cmd, "advance") == 0) {
+            std::sscanf(line, "%31s %llu", cmd, &arg);
+            g_micros += arg;
+        }
+    }
+    if (g_masked != 0) {
+        std::printf("error interrupts left masked\n");
+    }
+    std::printf("serial ");
+    for (uint8_t b : g_serial) {
+        std::printf("%02x", b);
+    }
+    std::printf("\n");
+    return 0;
+}

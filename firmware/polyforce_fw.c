@@ -1,0 +1,238 @@
+/*
+ * polyforce_fw.c - portable core of the polyforce bridge-ADC firmware (C99).
+ * See polyforce_fw.h for the frame format and the concurrency rules.
+ */
+#include "polyforce_fw.h"
+
+#define PFW_US_PER_S 1000000u
+#define PFW_TWO_POW_24 16777216 /* fits int32_t */
+
+/* ------------------------------------------------------------------ frame */
+uint16_t pfw_crc16_ccitt(const uint8_t *data, size_t len, uint16_t crc)
+{
+    uint32_t c = crc; /* 32-bit intermediate: no shift ever reaches a signed int */
+    size_t i;
+    for (i = 0u; i < len; ++i) {
+        uint32_t bit;
+        c ^= ((uint32_t)data[i] << 8u);
+        for (bit = 0u; bit < 8u; ++bit) {
+            if ((c & 0x8000u) != 0u) {
+                c = ((c << 1u) ^ 0x1021u) & 0xFFFFu;
+            } else {
+                c = (c << 1u) & 0xFFFFu;
+            }
+        }
+    }
+    return (uint16_t)c;
+}
+
+static void put_u16(uint8_t *dst, uint16_t v)
+{
+    dst[0] = (uint8_t)(v & 0xFFu);
+    dst[1] = (uint8_t)((uint32_t)v >> 8u);
+}
+
+static void put_u32(uint8_t *dst, uint32_t v)
+{
+    dst[0] = (uint8_t)(v & 0xFFu);
+    dst[1] = (uint8_t)((v >> 8u) & 0xFFu);
+    dst[2] = (uint8_t)((v >> 16u) & 0xFFu);
+    dst[3] = (uint8_t)((v >> 24u) & 0xFFu);
+}
+
+void pfw_encode_frame(uint8_t out[PFW_FRAME_SIZE], uint16_t seq, uint32_t t_us, int32_t counts)
+{
+    out[0] = (uint8_t)PFW_SYNC0;
+    out[1] = (uint8_t)PFW_SYNC1;
+    put_u16(&out[2], seq);
+    put_u32(&out[4], t_us);
+    /* int32 -> uint32 is defined (modulo 2^32): the two's complement bit pattern on every target */
+    put_u32(&out[8], (uint32_t)counts);
+    put_u16(&out[12], pfw_crc16_ccitt(&out[2], 10u, (uint16_t)PFW_CRC_INIT));
+}
+
+uint16_t pfw_seq_next(uint16_t seq)
+{
+    return (uint16_t)(((uint32_t)seq + 1u) & 0xFFFFu);
+}
+
+int32_t pfw_time_diff_us(uint32_t a, uint32_t b)
+{
+    const uint32_t d = a - b; /* modulo 2^32 */
+    int32_t result;
+    if (d <= (uint32_t)INT32_MAX) {
+        result = (int32_t)d;
+    } else {
+        /* d - 2^32, written as -(2^32 - 1 - d) - 1 so that every value stays in int32 range */
+        result = -(int32_t)(~d) - 1;
+    }
+    return result;
+}
+
+int32_t pfw_counts_from_be24(uint8_t msb, uint8_t mid, uint8_t lsb)
+{
+    const uint32_t raw = ((uint32_t)msb << 16u) | ((uint32_t)mid << 8u) | (uint32_t)lsb;
+    int32_t value = (int32_t)raw; /* raw < 2^24: exact */
+    if ((raw & 0x800000u) != 0u) {
+        value -= (int32_t)PFW_TWO_POW_24; /* sign bit set: value - 2^24, in [-2^23, -1] */
+    }
+    return value;
+}
+
+/* ------------------------------------------------------------------ ring */
+#define PFW_RING_MASK ((uint32_t)PFW_RING_CAPACITY - 1u)
+
+void pfw_ring_init(pfw_ring_t *ring, uint16_t first_seq)
+{
+    ring->head = 0u;
+    ring->tail = 0u;
+    ring->overflows = 0u;
+    ring->next_seq = first_seq;
+}
+
+static uint32_t ring_used(pfw_index_t head, pfw_index_t tail)
+{
+    /* free-running indices: the difference modulo the index range is the fill level */
+    return (uint32_t)(pfw_index_t)(head - tail);
+}
+
+bool pfw_ring_push(pfw_ring_t *ring, const pfw_sample_t *sample)
+{
+    const pfw_index_t head = ring->head; /* own index: no race */
+    const pfw_index_t tail = ring->tail; /* the consumer's index: one volatile load */
+    bool stored = false;
+    PFW_BARRIER(); /* acquire: the consumer has finished reading every slot before `tail` */
+    if (ring_used(head, tail) >= (uint32_t)PFW_RING_CAPACITY) {
+        ring->overflows = ring->overflows + 1u; /* never overwrite unread data */
+    } else {
+        ring->slot[(uint32_t)head & PFW_RING_MASK] = *sample;
+        PFW_BARRIER(); /* release: the slot is complete before the consumer can see it */
+        ring->head = (pfw_index_t)(head + 1u);
+        stored = true;
+    }
+    return stored;
+}
+
+bool pfw_ring_record(pfw_ring_t *ring, uint32_t t_us, int32_t counts)
+{
+    pfw_sample_t sample;
+    sample.t_us = t_us;
+    sample.counts = counts;
+    sample.seq = ring->next_seq;
+    ring->next_seq = pfw_seq_next(ring->next_seq);
+    return pfw_ring_push(ring, &sample);
+}
+
+bool pfw_ring_pop(pfw_ring_t *ring, pfw_sample_t *out)
+{
+    const pfw_index_t tail = ring->tail; /* own index */
+    const pfw_index_t head = ring->head; /* the producer's index: one volatile load */
+    bool taken = false;
+    PFW_BARRIER(); /* acquire: the slots before `head` are complete */
+    if (head != tail) {
+        *out = ring->slot[(uint32_t)tail & PFW_RING_MASK];
+        PFW_BARRIER(); /* release: the slot is read before the producer may refill it */
+        ring->tail = (pfw_index_t)(tail + 1u);
+        taken = true;
+    }
+    return taken;
+}
+
+bool pfw_ring_pop_frame(pfw_ring_t *ring, uint8_t out[PFW_FRAME_SIZE])
+{
+    pfw_sample_t sample;
+    const bool taken = pfw_ring_pop(ring, &sample);
+    if (taken) {
+        pfw_encode_frame(out, sample.seq, sample.t_us, sample.counts);
+    }
+    return taken;
+}
+
+uint32_t pfw_ring_count(const pfw_ring_t *ring)
+{
+    const pfw_index_t tail = ring->tail;
+    const pfw_index_t head = ring->head;
+    return ring_used(head, tail);
+}
+
+/* ------------------------------------------------------------------ clock */
+static uint32_t gcd_u32(uint32_t a, uint32_t b)
+{
+    while (b != 0u) {
+        const uint32_t r = a % b;
+        a = b;
+        b = r;
+    }
+    return a;
+}
+
+int pfw_clock_init(pfw_clock_t *clock, uint32_t tick_hz, uint32_t counter_bits, uint32_t ticks_now, uint32_t us_start)
+{
+    int status = -1;
+    if ((tick_hz != 0u) && (counter_bits >= 1u) && (counter_bits <= 32u)) {
+        const uint32_t g = gcd_u32(PFW_US_PER_S, tick_hz);
+        clock->num = PFW_US_PER_S / g;
+        clock->den = tick_hz / g;
+        clock->mask = (counter_bits == 32u) ? 0xFFFFFFFFu : (((uint32_t)1u << counter_bits) - 1u);
+        /* rem + step * num must fit: rem <= den - 1 */
+        clock->max_chunk = (0xFFFFFFFFu - (clock->den - 1u)) / clock->num;
+        clock->last_ticks = ticks_now & clock->mask;
+        clock->rem = 0u;
+        clock->us = us_start;
+        status = 0;
+    }
+    return status;
+}
+
+uint32_t pfw_clock_update(pfw_clock_t *clock, uint32_t ticks_now)
+{
+    const uint32_t now = ticks_now & clock->mask;
+    uint32_t delta = (now - clock->last_ticks) & clock->mask; /* one counter wrap at most */
+    clock->last_ticks = now;
+    while (delta != 0u) {
+        const uint32_t step = (delta > clock->max_chunk) ? clock->max_chunk : delta;
+        const uint32_t acc = clock->rem + (step * clock->num); /* <= UINT32_MAX by max_chunk */
+        clock->us += acc / clock->den;                          /* wraps at 2^32 by design */
+        clock->rem = acc % clock->den;
+        delta -= step;
+    }
+    return clock->us;
+}
+
+/* ------------------------------------------------------------------ rate */
+uint32_t pfw_period_us(uint32_t rate_hz)
+{
+    return ((rate_hz == 0u) || (rate_hz > PFW_MAX_RATE_HZ)) ? 0u : (PFW_US_PER_S / rate_hz);
+}
+
+int pfw_pacer_init(pfw_pacer_t *pacer, uint32_t rate_hz, uint32_t first_us)
+{
+    int status = -1;
+    if ((rate_hz != 0u) && (rate_hz <= PFW_MAX_RATE_HZ)) {
+        pacer->rate_hz = rate_hz;
+        pacer->period_us = PFW_US_PER_S / rate_hz;
+        pacer->frac = PFW_US_PER_S % rate_hz;
+        pacer->acc = 0u;
+        pacer->next_us = first_us;
+        status = 0;
+    }
+    return status;
+}
+
+bool pfw_pacer_due(const pfw_pacer_t *pacer, uint32_t now_us)
+{
+    return pfw_time_diff_us(now_us, pacer->next_us) >= 0;
+}
+
+uint32_t pfw_pacer_advance(pfw_pacer_t *pacer)
+{
+    const uint32_t due = pacer->next_us;
+    uint32_t step = pacer->period_us;
+    pacer->acc += pacer->frac; /* < 2 * rate_hz <= 2e6: no overflow */
+    if (pacer->acc >= pacer->rate_hz) {
+        pacer->acc -= pacer->rate_hz;
+        step += 1u;
+    }
+    pacer->next_us = due + step; /* wraps at 2^32 by design */
+    return due;
+}

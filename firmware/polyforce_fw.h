@@ -1,0 +1,221 @@
+/*
+ * polyforce_fw.h - portable core of the polyforce bridge-ADC firmware (C99).
+ *
+ * The device end of polyforce_ros/serial_protocol.py: one 14-byte frame per
+ * ADC sample, little-endian,
+ *
+ *     offset size field
+ *     0      2    sync 0xA5 0x5A
+ *     2      2    seq    uint16, +1 per conversion, wraps 0xFFFF -> 0
+ *     4      4    t_us   uint32, device clock at the conversion (us), wraps 2^32 -> 0
+ *     8      4    counts int32, ADC reading (two's complement)
+ *     12     2    crc    CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF) of bytes 2..11
+ *
+ * What is here, none of it touching hardware, the heap or an OS:
+ *   - frame encoding (pfw_encode_frame) and the CRC;
+ *   - the sequence and device-clock rules (pfw_seq_next, pfw_time_diff_us);
+ *   - a single-producer / single-consumer ring buffer between the ADC interrupt
+ *     (producer) and the UART writer in the main loop (consumer);
+ *   - a drift-free microsecond clock from any free-running hardware tick
+ *     counter (pfw_clock_*), and the sample-rate bookkeeping (pfw_pacer_*,
+ *     pfw_period_us);
+ *   - 24-bit two's complement ADC words to int32 (pfw_counts_from_be24).
+ *
+ * Coding rules (MISRA-minded): fixed-width types only; all arithmetic on
+ * unsigned types (wrap-around is defined) or on values proven in range; no
+ * signed shifts, no conversion of out-of-range values to signed types; no
+ * recursion, no dynamic memory, no library calls.
+ *
+ * Concurrency rules of the ring (pfw_ring_t):
+ *   - exactly one producer context (the ADC/DRDY interrupt) calls
+ *     pfw_ring_record / pfw_ring_push; exactly one consumer context (the main
+ *     loop) calls pfw_ring_pop / pfw_ring_pop_frame;
+ *   - head is written only by the producer, tail only by the consumer; both
+ *     are free-running counters (slot = index & (capacity - 1)), so "full" is
+ *     head - tail == capacity and "empty" is head == tail, with no wasted slot
+ *     and no shared flag;
+ *   - each side reads the other's index once (a volatile load), then
+ *     PFW_BARRIER(), then touches the slot, then PFW_BARRIER(), then publishes
+ *     its own index (a volatile store). The barriers keep the compiler (and, on
+ *     multi-core hosts, the CPU) from moving slot accesses across the index
+ *     update, which is the acquire/release pairing the algorithm needs;
+ *   - an index load/store must be a single, untearable access: the index type
+ *     PFW_RING_INDEX_T defaults to uint32_t (32-bit cores) and to uint8_t on
+ *     AVR, where 16/32-bit loads are not atomic. The capacity must be a power
+ *     of two no larger than half the index range (checked at compile time);
+ *   - a full ring refuses the new sample and counts it in `overflows`; unread
+ *     data is never overwritten. The sequence number is assigned before the
+ *     push, so every refused sample shows up at the host as a sequence gap
+ *     (FrameParser.lost_frames).
+ *   - `overflows` is uint32_t, written only by the producer; on targets where
+ *     a 32-bit load is not atomic read it with interrupts masked.
+ */
+#ifndef POLYFORCE_FW_H
+#define POLYFORCE_FW_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ frame */
+#define PFW_FRAME_SIZE 14u
+#define PFW_SYNC0 0xA5u
+#define PFW_SYNC1 0x5Au
+#define PFW_CRC_INIT 0xFFFFu
+
+/** CRC-16/CCITT-FALSE (poly 0x1021, no reflection, no final xor), continuing from `crc`. */
+uint16_t pfw_crc16_ccitt(const uint8_t *data, size_t len, uint16_t crc);
+
+/** Encodes one frame into `out` (PFW_FRAME_SIZE bytes). */
+void pfw_encode_frame(uint8_t out[PFW_FRAME_SIZE], uint16_t seq, uint32_t t_us, int32_t counts);
+
+/** The sequence number after `seq` (wraps 0xFFFF -> 0). */
+uint16_t pfw_seq_next(uint16_t seq);
+
+/**
+ * Signed difference a - b of two wrapping 32-bit device times (us), exact
+ * whenever the true difference lies in [-2^31, 2^31). Pure unsigned arithmetic;
+ * no implementation-defined conversion.
+ */
+int32_t pfw_time_diff_us(uint32_t a, uint32_t b);
+
+/** A 24-bit two's complement word, most significant byte first (ADS1220 data) -> int32. */
+int32_t pfw_counts_from_be24(uint8_t msb, uint8_t mid, uint8_t lsb);
+
+/* ------------------------------------------------------------------ ring */
+#ifndef PFW_RING_CAPACITY
+#define PFW_RING_CAPACITY 256u
+#endif
+
+#ifndef PFW_RING_INDEX_T
+#if defined(__AVR__)
+#define PFW_RING_INDEX_T uint8_t
+#else
+#define PFW_RING_INDEX_T uint32_t
+#endif
+#endif
+
+typedef PFW_RING_INDEX_T pfw_index_t;
+
+/* Compile-time checks (C99 has no _Static_assert): a negative array size fails the build. */
+typedef char pfw_check_capacity_power_of_two[((PFW_RING_CAPACITY >= 2u) &&
+                                              ((PFW_RING_CAPACITY & (PFW_RING_CAPACITY - 1u)) == 0u)) ? 1 : -1];
+typedef char pfw_check_capacity_fits_index[((pfw_index_t)(2u * PFW_RING_CAPACITY - 1u) ==
+                                            (2u * PFW_RING_CAPACITY - 1u)) ? 1 : -1];
+
+/*
+ * The barrier between slot accesses and index updates. The default is a full
+ * fence on GCC/Clang (a compiler barrier plus, where the target has one, a
+ * memory barrier: DMB on Cortex-M, MFENCE on x86); on AVR, single-core and in
+ * order, a compiler barrier suffices. Other compilers must define it.
+ */
+#ifndef PFW_BARRIER
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__ATOMIC_SEQ_CST) && !defined(__AVR__)
+#define PFW_BARRIER() __atomic_thread_fence(__ATOMIC_SEQ_CST)
+#elif defined(__GNUC__) || defined(__clang__)
+#define PFW_BARRIER() __asm__ __volatile__("" ::: "memory")
+#else
+#error "polyforce_fw: define PFW_BARRIER() as a compiler and memory barrier for this toolchain"
+#endif
+#endif
+
+/** One conversion as recorded by the interrupt. */
+typedef struct {
+    uint32_t t_us;
+    int32_t counts;
+    uint16_t seq;
+} pfw_sample_t;
+
+typedef struct {
+    pfw_sample_t slot[PFW_RING_CAPACITY];
+    volatile pfw_index_t head;   /* next slot to fill; written by the producer only */
+    volatile pfw_index_t tail;   /* next slot to read; written by the consumer only */
+    volatile uint32_t overflows; /* samples refused because the ring was full; producer only */
+    uint16_t next_seq;           /* sequence number of the next conversion; producer only */
+} pfw_ring_t;
+
+/** Empties the ring; the next recorded conversion gets `first_seq`. Call before either side runs. */
+void pfw_ring_init(pfw_ring_t *ring, uint16_t first_seq);
+
+/** Producer: stores a copy of `sample`. Returns false (and counts an overflow) when full. */
+bool pfw_ring_push(pfw_ring_t *ring, const pfw_sample_t *sample);
+
+/**
+ * Producer: records one conversion, numbered with the next sequence number
+ * whether or not it fits (a refused sample becomes a sequence gap at the host).
+ */
+bool pfw_ring_record(pfw_ring_t *ring, uint32_t t_us, int32_t counts);
+
+/** Consumer: takes the oldest sample into `out`. Returns false when empty. */
+bool pfw_ring_pop(pfw_ring_t *ring, pfw_sample_t *out);
+
+/** Consumer: takes the oldest sample and encodes it as a frame. Returns false when empty. */
+bool pfw_ring_pop_frame(pfw_ring_t *ring, uint8_t out[PFW_FRAME_SIZE]);
+
+/** Number of unread samples (a snapshot; exact from either side's point of view). */
+uint32_t pfw_ring_count(const pfw_ring_t *ring);
+
+/* ------------------------------------------------------------------ clock */
+/**
+ * Device microsecond clock from a free-running hardware counter of
+ * `counter_bits` bits counting at `tick_hz`. The conversion carries the
+ * remainder, so it never drifts from the counter (no rounding accumulates),
+ * and the result wraps at 2^32 like the frame's t_us.
+ *
+ * pfw_clock_update must see every counter wrap: call it at least once per
+ * 2^counter_bits ticks, from one context only (or with interrupts masked).
+ */
+typedef struct {
+    uint32_t num;        /* 1e6 / gcd(1e6, tick_hz) */
+    uint32_t den;        /* tick_hz / gcd(1e6, tick_hz) */
+    uint32_t mask;       /* counter width */
+    uint32_t max_chunk;  /* largest tick step whose product with num cannot overflow */
+    uint32_t last_ticks; /* counter value at the last update */
+    uint32_t rem;        /* fraction of a microsecond carried, in 1/den us; < den */
+    uint32_t us;         /* the clock */
+} pfw_clock_t;
+
+/** Returns 0, or -1 when tick_hz is 0 or counter_bits is not in 1..32. */
+int pfw_clock_init(pfw_clock_t *clock, uint32_t tick_hz, uint32_t counter_bits, uint32_t ticks_now, uint32_t us_start);
+
+/** Advances the clock to the counter value `ticks_now` and returns it (us). */
+uint32_t pfw_clock_update(pfw_clock_t *clock, uint32_t ticks_now);
+
+/* ------------------------------------------------------------------ rate */
+#define PFW_MAX_RATE_HZ 1000000u
+
+/** Whole microseconds of one sample period (1e6 / rate, rounded down); 0 for an invalid rate. */
+uint32_t pfw_period_us(uint32_t rate_hz);
+
+/**
+ * Sample instants on the device clock at `rate_hz`: sample k is due at
+ * first + floor(k * 1e6 / rate_hz) us (mod 2^32), computed incrementally with
+ * the remainder carried, so rates that do not divide 1e6 (3 kHz: 333.33 us)
+ * keep their exact mean period forever.
+ */
+typedef struct {
+    uint32_t rate_hz;
+    uint32_t period_us; /* whole microseconds per period */
+    uint32_t frac;      /* 1e6 mod rate_hz */
+    uint32_t acc;       /* carried fraction, < rate_hz */
+    uint32_t next_us;   /* device time of the next sample */
+} pfw_pacer_t;
+
+/** Returns 0, or -1 when rate_hz is 0 or above PFW_MAX_RATE_HZ. */
+int pfw_pacer_init(pfw_pacer_t *pacer, uint32_t rate_hz, uint32_t first_us);
+
+/** True when the next sample is due at device time `now_us` (wrap-safe). */
+bool pfw_pacer_due(const pfw_pacer_t *pacer, uint32_t now_us);
+
+/** Returns the due time of the next sample and schedules the one after it. */
+uint32_t pfw_pacer_advance(pfw_pacer_t *pacer);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* POLYFORCE_FW_H */

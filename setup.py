@@ -8,6 +8,7 @@ PACKAGE = "polyforce_ros"
 CONSOLE_SCRIPTS = [
     "polyforce = polyforce_ros.cli:main",
     "driver_node = polyforce_ros.nodes.driver_node:main",
+    "driver_lifecycle_node = polyforce_ros.nodes.driver_node:main_lifecycle",
     "compensation_node = polyforce_ros.nodes.compensation_node:main",
     "compensation_lifecycle_node = polyforce_ros.nodes.compensation_node:main_lifecycle",
     "calibration_node = polyforce_ros.nodes.calibration_node:main",

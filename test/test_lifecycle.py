@@ -69,3 +69,46 @@ def test_a_bad_model_ends_configure_in_error_processing_with_the_reason(tmp_path
         assert _state(h, get) == State.PRIMARY_STATE_UNCONFIGURED  # via ErrorProcessing
         status = node._publish_diagnostics()
     assert status.level == status.ERROR and "k1_n_per_v" in status.message
+
+
+def test_driver_lifecycle_publishes_only_while_active():
+    from rclpy.node import Node
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+    from sensor_msgs.msg import JointState
+
+    from polyforce_ros.nodes.driver_node import DriverLifecycleNode
+
+    with ros() as h:
+        driver = h.add(DriverLifecycleNode(context=h.context, parameter_overrides=[Parameter("profile", value="step")]))
+        sink = h.add(Node("sink", namespace="/polyforce", context=h.context))
+        got = []
+        sink.create_subscription(JointState, "bridge_voltage", got.append, QoSProfile(depth=5000, reliability=ReliabilityPolicy.RELIABLE))
+        change = sink.create_client(ChangeState, "driver_node/change_state")
+        get = sink.create_client(GetState, "driver_node/get_state")
+        assert _change(h, change, Transition.TRANSITION_CONFIGURE)
+        h.spin_for(0.3)
+        assert got == [] and driver.published == 0  # configured, not active: silent
+        assert _change(h, change, Transition.TRANSITION_ACTIVATE)
+        assert h.spin_until(lambda: len(got) >= 200, 10.0)
+        assert _change(h, change, Transition.TRANSITION_DEACTIVATE)
+        h.spin_for(0.1)
+        n = len(got)
+        h.spin_for(0.3)
+        assert len(got) == n  # nothing after deactivation
+        assert _change(h, change, Transition.TRANSITION_CLEANUP)
+        assert _state(h, get) == State.PRIMARY_STATE_UNCONFIGURED
+
+
+def test_driver_lifecycle_without_its_serial_port_ends_configure_in_error(tmp_path):
+    from polyforce_ros.nodes.driver_node import DriverLifecycleNode
+
+    with ros() as h:
+        driver = h.add(DriverLifecycleNode(context=h.context, parameter_overrides=[
+            Parameter("backend", value="serial"), Parameter("port", value=str(tmp_path / "no_such_tty"))]))
+        probe = h.add(Probe(h.context))
+        change = probe.create_client(ChangeState, "driver_node/change_state")
+        get = probe.create_client(GetState, "driver_node/get_state")
+        assert not _change(h, change, Transition.TRANSITION_CONFIGURE)
+        assert _state(h, get) == State.PRIMARY_STATE_UNCONFIGURED
+        status = driver._publish_diagnostics()
+    assert status.level == status.ERROR and "no_such_tty" in status.message

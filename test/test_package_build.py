@@ -13,7 +13,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Every console entry point of setup.py; nodes are added here as they land.
-EXECUTABLES = ["polyforce", "driver_node", "compensation_node", "compensation_lifecycle_node", "calibration_node", "replay_node", "recorder_node",
+EXECUTABLES = ["polyforce", "driver_node", "compensation_node", "compensation_lifecycle_node", "driver_lifecycle_node", "calibration_node", "replay_node", "recorder_node",
                "haptic_bridge_node"]
 
 

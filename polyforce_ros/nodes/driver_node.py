@@ -25,6 +25,7 @@ from collections import deque
 
 import numpy as np
 from geometry_msgs.msg import WrenchStamped
+from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
 from std_srvs.srv import Trigger
@@ -44,11 +45,13 @@ MAX_BURST = 250
 RATE_WARN_FRACTION = 0.95
 
 
-class DriverNode(Node):
-    def __init__(self, **kwargs):
-        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
-        super().__init__("driver_node", **kwargs)
-        backend = declare(self, "backend", "sim", "Data source: 'sim' (embedded simulator) or 'serial' (ADC)", read_only=True)
+class _DriverLogic:
+    """Parameters, sources and publishing shared by the plain and the managed (lifecycle) driver."""
+
+    _active = True
+
+    def _declare_parameters(self):
+        declare(self, "backend", "sim", "Data source: 'sim' (embedded simulator) or 'serial' (ADC)", read_only=True)
         declare(self, "rate_hz", 1000.0, "Sample rate of the simulator (Hz)", 1.0, 20000.0, read_only=True)
         declare(self, "joint_name", contract.JOINT_NAME, "JointState name of the sensor's prismatic joint", read_only=True)
         declare(self, "frame_id", contract.FRAME_ID, "Frame of the sensor", read_only=True)
@@ -81,11 +84,17 @@ class DriverNode(Node):
                 read_only=True)
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
         declare_qos(self)
+
+    def _start(self, create_publisher):
+        """Open the source (simulator or serial port) and the topics; raises on bad parameters or files."""
+        backend = self._param("backend")
+        self._make_publisher, self._entities = create_publisher, []
         # Read-only parameters used for every published sample: read once.
         self._joint, self._frame = self._param("joint_name"), self._param("frame_id")
         qos = data_qos(self)
-        self.pub_raw = self.create_publisher(JointState, contract.Rel.BRIDGE_VOLTAGE, qos)
-        self.diag = Diagnostics(self, f"polyforce_ros: driver ({backend})")
+        self.pub_raw = create_publisher(JointState, contract.Rel.BRIDGE_VOLTAGE, qos)
+        if getattr(self, "diag", None) is None:
+            self.diag = Diagnostics(self, f"polyforce_ros: driver ({backend})")
         self.published = 0
         self.done = False
         if backend == "sim":
@@ -94,7 +103,7 @@ class DriverNode(Node):
             self._init_serial()
         else:
             raise ValueError(f"backend must be 'sim' or 'serial', got {backend!r}")
-        self.create_timer(self.get_parameter("diagnostics_period_s").value, self._publish_diagnostics)
+        self._entities.append(self.create_timer(self.get_parameter("diagnostics_period_s").value, self._publish_diagnostics))
 
     def _param(self, name):
         return self.get_parameter(name).value
@@ -107,8 +116,8 @@ class DriverNode(Node):
 
     # ------------------------------------------------------------------ simulator
     def _init_sim(self, qos):
-        self.pub_ref = self.create_publisher(WrenchStamped, contract.Rel.REFERENCE_FORCE, qos)
-        self.pub_temp = self.create_publisher(Temperature, contract.Rel.TEMPERATURE, 10)
+        self.pub_ref = self._make_publisher(WrenchStamped, contract.Rel.REFERENCE_FORCE, qos)
+        self.pub_temp = self._make_publisher(Temperature, contract.Rel.TEMPERATURE, 10)
         path = self._param("truth_model_file") or str(default_model_path())
         chain = load_model(path).chain.with_offset(self._param("offset_v"))  # the bridge zero is a property of this sensor
         truth = chain.viscoelastic
@@ -120,8 +129,8 @@ class DriverNode(Node):
         self._buf_f, self._buf_v, self._buf_t, self._buf_first = np.zeros(0), np.zeros(0), np.zeros(0), 0
         self.start_ns = None
         self._chain = chain
-        self.create_timer(self._param("publish_period_s"), self._sim_tick)
-        self.create_service(Trigger, "~/restart_profile", self._on_restart_profile)
+        self._entities += [self.create_timer(self._param("publish_period_s"), self._sim_tick),
+                           self.create_service(Trigger, "~/restart_profile", self._on_restart_profile)]
         self.get_logger().info(f"sim backend: profile {self._param('profile')} ({self.period_n / self.rate_hz:.1f} s), "
                                f"{self.rate_hz:.0f} Hz, truth {truth}")
 
@@ -156,6 +165,8 @@ class DriverNode(Node):
         return response
 
     def _sim_tick(self):
+        if not self._active:
+            return
         now = self.get_clock().now().nanoseconds
         if self.start_ns is None:
             if self.pub_raw.get_subscription_count() < self._param("wait_for_subscribers"):
@@ -199,8 +210,8 @@ class DriverNode(Node):
         self._rate_window = None  # (start ns, parser.frames, outages) of the window being counted
         self._window_rates = deque(maxlen=2)  # frames/s of the last two completed windows
         self._open_port()
-        self.create_timer(self._param("publish_period_s"), self._serial_tick)
-        self.create_timer(self._param("reconnect_period_s"), self._reconnect)
+        self._entities += [self.create_timer(self._param("publish_period_s"), self._serial_tick),
+                           self.create_timer(self._param("reconnect_period_s"), self._reconnect)]
 
     def _open_port(self):
         import serial
@@ -235,7 +246,7 @@ class DriverNode(Node):
         self._last_error = reason
 
     def _serial_tick(self):
-        if not self.connected:
+        if not self.connected or not self._active:
             return
         import serial
 
@@ -310,8 +321,104 @@ class DriverNode(Node):
         super().destroy_node()
 
 
+class DriverNode(_DriverLogic, Node):
+    """The driver, publishing from construction (``ros2 run polyforce_ros driver_node``)."""
+
+    def __init__(self, **kwargs):
+        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
+        Node.__init__(self, "driver_node", **kwargs)
+        self._declare_parameters()
+        self._start(self.create_publisher)
+
+
+class DriverLifecycleNode(_DriverLogic, LifecycleNode):
+    """The managed driver (``driver_lifecycle_node``): configure opens the source (loads the
+    simulator's truth model and profile, or opens the serial port) and the topics; activate
+    publishes (the simulated profile starts at its first sample; a serial stream resynchronises);
+    deactivate stops publishing; cleanup closes the port and the topics. A source that cannot be
+    opened ends configure in ErrorProcessing, with the reason in diagnostics (ERROR)."""
+
+    _active = False
+
+    def __init__(self, **kwargs):
+        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
+        LifecycleNode.__init__(self, "driver_node", **kwargs)
+        self._declare_parameters()
+        self.diag = Diagnostics(self, f"polyforce_ros: driver ({self._param('backend')})")
+        self.error, self._entities = "", []
+
+    def on_configure(self, state):
+        try:
+            self._start(self.create_lifecycle_publisher)
+            if self._param("backend") == "serial" and not self.connected:
+                raise OSError(f"cannot open {self._param('port')}: {self._last_error}")
+        except (ValueError, OSError) as exc:  # ModelError is a ValueError
+            self.error = f"configure failed: {exc}"
+            self.get_logger().error(self.error)
+            return TransitionCallbackReturn.ERROR
+        self.error = ""
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_activate(self, state):
+        if self._param("backend") == "sim":
+            self.start_ns, self.published, self.done = None, 0, False
+        elif self.port is not None:
+            self.port.reset_input_buffer()  # what waited while inactive is not this session's data
+            self.parser.reset()
+            self.clock.reset()
+        self._active = True
+        return super().on_activate(state)
+
+    def on_deactivate(self, state):
+        self._active = False
+        return super().on_deactivate(state)
+
+    def on_cleanup(self, state):
+        self._close()
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_shutdown(self, state):
+        self._active = False
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_error(self, state):
+        self.diag.publish(ERROR, self.error or "error", {"state": "error processing"})
+        self._close()
+        return TransitionCallbackReturn.SUCCESS
+
+    def _close(self):
+        from rclpy.service import Service
+
+        self._active = False
+        for entity in self._entities:
+            if isinstance(entity, Service):
+                self.destroy_service(entity)
+            else:
+                self.destroy_timer(entity)
+        self._entities = []
+        for name in ("pub_raw", "pub_ref", "pub_temp"):
+            pub = self.__dict__.pop(name, None)
+            if pub is not None:
+                self.destroy_lifecycle_publisher(pub)
+        if getattr(self, "port", None) is not None:
+            try:
+                self.port.close()
+            except Exception:  # noqa: BLE001 - the device may be gone already
+                pass
+            self.port = None
+
+    def _publish_diagnostics(self):
+        if "pub_raw" not in self.__dict__:
+            return self.diag.publish(ERROR if self.error else OK, self.error or "unconfigured", {"active": False})
+        return super()._publish_diagnostics()
+
+
 def main(args=None):
     return run(DriverNode, args)
+
+
+def main_lifecycle(args=None):
+    return run(DriverLifecycleNode, args)
 
 
 if __name__ == "__main__":

@@ -120,7 +120,14 @@ def run(node_class, args=None):
         gc.set_threshold(50_000, 20, 20)
         signal.signal(signal.SIGTERM, _stop)
         signal.signal(signal.SIGINT, _stop)
-        executor = EventsExecutor()
+        # The EventsExecutor cannot hand message info (send times) to a callback; a node that
+        # needs it (the recorder) says so and gets the single-threaded executor.
+        if getattr(node, "needs_message_info", False):
+            from rclpy.executors import SingleThreadedExecutor
+
+            executor = SingleThreadedExecutor()
+        else:
+            executor = EventsExecutor()
         executor.add_node(node)
         while rclpy.ok() and not stop["flag"] and not getattr(node, "done", False):
             executor.spin_once(timeout_sec=0.1)

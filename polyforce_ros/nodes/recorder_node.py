@@ -18,6 +18,9 @@ TOPICS = {rel: (message_class(type_name), type_name) for rel, type_name in contr
 
 
 class RecorderNode(Node):
+    #: run() gives it an executor that passes message info (the sender's timestamp)
+    needs_message_info = True
+
     def __init__(self, **kwargs):
         kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
         super().__init__("recorder_node", **kwargs)

@@ -12,6 +12,7 @@ elements that need it (thermal terms) read and others ignore.
 from __future__ import annotations
 
 import math
+from typing import Any, Mapping, Optional, Protocol, Sequence, runtime_checkable
 
 import numpy as np
 
@@ -25,9 +26,61 @@ from .viscoelastic import (
     simulate_deformation,
 )
 
+__all__ = ["ModelError", "ElementStream", "Element", "PARAMETER_BOUNDS", "MAX_PREISACH_LEVELS", "ViscoelasticElement",
+    "OffsetElement", "GainElement", "NonlinearGainElement", "SensorLagElement", "ThermalDriftElement",
+    "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "ThermalLagElement",
+    "ExponentialDriftElement", "PolynomialGainElement", "PolynomialDriftElement", "ELEMENT_TYPES", "SensorChain",
+    "ChainStream"]
+
 
 class ModelError(ValueError):
     """A model description that cannot be used (bad type, keys or values)."""
+
+
+@runtime_checkable
+class ElementStream(Protocol):
+    """Per-sample inverse of one element: O(1) state, ``step`` maps its output back to its input."""
+
+    def reset(self) -> None: ...
+
+    def step(self, t_s: float, value: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]: ...
+
+
+@runtime_checkable
+class Element(Protocol):
+    """What every element of a :class:`SensorChain` is: an immutable value that runs forward
+    (simulate), backward in batch and per sample, and describes itself for the model file.
+
+    ``t_s`` in s; ``x``/``y`` in the element's input/output units (N or V); ``aux`` holds
+    auxiliary signals sampled with the main one (``temperature_c``).
+    """
+
+    kind: str
+
+    def forward_state(self) -> Any: ...
+
+    def forward(self, t_s, x, aux=None, state=None) -> np.ndarray: ...
+
+    def backward(self, t_s, y, aux=None) -> np.ndarray: ...
+
+    def streaming(self) -> ElementStream: ...
+
+    def to_dict(self) -> dict: ...
+
+
+class _Frozen:
+    """Attributes are set once, in ``__init__`` (through ``_freeze``); a changed element is a new element."""
+
+    def _freeze(self, **values):
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"{type(self).__name__} is immutable (tried to set {name}); build a new element "
+                             "(SensorChain.with_offset for the bridge offset)")
+
+    def __delattr__(self, name):
+        raise AttributeError(f"{type(self).__name__} is immutable (tried to delete {name})")
 
 
 # Bounds of every parameter a model file may set: name -> (low, high, unit, why).
@@ -67,6 +120,19 @@ PARAMETER_BOUNDS = {
     "u_max": (-1e6, 1e6, "", "1 MN or 1 MV: beyond any sensor range"),
     "offset": (-1e6, 1e6, "", "1 MN or 1 MV: beyond any sensor range"),
     "density": (0.0, 1e6, "", "non-negative relay weights, each within the output range"),
+    # Prandtl-Ishlinskii (play-operator) hysteresis, input/output in N or V (either side of the core)
+    "linear_weight": (1e-6, 1e6, "", "the inverse divides by it (and by every partial sum of weights)"),
+    "radii": (1e-9, 1e6, "", "play half-widths > 0, in the input unit; 1 MN or 1 MV is beyond any sensor"),
+    "weights": (0.0, 1e6, "", "non-negative play weights (a monotone, invertible operator)"),
+    "history_max": (0.0, 1e6, "", "the input's maximum before the record, in the input unit"),
+    # polynomial offset drift: y = x + r t + c2 t**2 + c3 t**3 (t since the first sample)
+    # polynomial gain y = x + q x**2 + c x**3 (V in, V out); monotone over the range it was fitted on
+    "cubic_per_v2": (-1e3, 1e3, "1/V^2", "100 % nonlinearity at 30 mV already"),
+    "quartic_per_v3": (-1e3, 1e3, "1/V^3", "100 % nonlinearity at 0.1 V already"),
+    # exponential-approach drift y = x + amplitude_v (1 - exp(-t / tau_s)) (tau_s has its own entry)
+    "amplitude_v": (-1e3, 1e3, "V", "beyond any amplifier output"),
+    "curvature_v_per_s2": (-1e3, 1e3, "V/s^2", "over 24 h at most 7.5e12 V: finite"),
+    "cubic_v_per_s3": (-1e3, 1e3, "V/s^3", "over 24 h at most 6.5e17 V: finite"),
 }
 # Parameters where 0 means "off" and is allowed besides the range.
 _ZERO_MEANS_OFF = {"noise_filter_tau_s"}
@@ -209,12 +275,14 @@ def _check_core_numerics(kind, model):
                              f"run on a test record ({label}) is not finite")
 
 
-class ViscoelasticElement:
+class ViscoelasticElement(_Frozen):
     """The viscoelastic core: force (N) <-> deformation read as volts (seed 000)."""
 
+    model: ViscoelasticModel
+    kind: str
+
     def __init__(self, model: ViscoelasticModel):
-        self.model = model
-        self.kind = model.kind
+        self._freeze(model=model, kind=model.kind)
 
     def forward_state(self):
         return ForwardState(self.model)
@@ -259,18 +327,14 @@ class _ViscoelasticStream:
         return self._comp.step(t_s, value)
 
 
-class OffsetElement:
+class OffsetElement(_Frozen):
     """Bridge output at zero force: voltage = input + voltage_v."""
 
     kind = "offset"
     voltage_v: float
 
     def __init__(self, voltage_v: float = 0.0):
-        object.__setattr__(self, "voltage_v", float(voltage_v))
-
-    def __setattr__(self, name, value):
-        # A model is a description: a new offset is a new chain (SensorChain.with_offset).
-        raise AttributeError(f"OffsetElement is immutable; use SensorChain.with_offset (tried to set {name})")
+        self._freeze(voltage_v=float(voltage_v))
 
     def forward_state(self):
         return None
@@ -305,7 +369,7 @@ class _OffsetStream:
 
 
 
-class _SimpleElement:
+class _SimpleElement(_Frozen):
     """Base of the effect elements: parameters declared in PARAMS as (name, must_be_positive),
     optional ones in OPTIONAL as name -> default (numbers >= 0; the default leaves them out of files)."""
 
@@ -315,12 +379,12 @@ class _SimpleElement:
 
     def __init__(self, **values):
         for name, positive in self.PARAMS:
-            setattr(self, name, _number(self.kind, name, values[name], positive))
+            self._freeze(**{name: _number(self.kind, name, values[name], positive)})
         for name, default in self.OPTIONAL.items():
             raw = values.get(name, default)
             if isinstance(raw, (int, float)) and not isinstance(raw, bool) and raw < 0:
                 raise ModelError(f"{self.kind}: {name} must be >= 0, got {_short(raw)}")
-            setattr(self, name, _number(self.kind, name, raw, False))
+            self._freeze(**{name: _number(self.kind, name, raw, False)})
 
     def forward_state(self):
         return None
@@ -540,7 +604,7 @@ class OffsetDriftElement(_SimpleElement):
         return _FunctionStream(step, lambda: first.update(t=None))
 
 
-class PreisachElement:
+class PreisachElement(_Frozen):
     """Rate-independent hysteresis (seed 001): a Preisach operator from input to output (same or any units).
 
     ``continuous`` selects ramp hysterons and their exact inverse; otherwise the
@@ -552,8 +616,7 @@ class PreisachElement:
     KEYS = ("u_min", "u_max", "n_levels", "offset", "density", "continuous")
 
     def __init__(self, model, continuous=True):
-        self.model = model
-        self.continuous = bool(continuous)
+        self._freeze(model=model, continuous=bool(continuous))
 
     def forward_state(self):
         return {"stream": self.model.stream(self.continuous)}
@@ -597,19 +660,353 @@ class PreisachElement:
         return cls(model, d["continuous"])
 
 
+def play_operator(x, radii, y0=None, chunk=1 << 15):
+    """Play (backlash) operators of half-widths ``radii`` on the sequence ``x``; (n, m) out.
+
+    ``y_k = min(max(y_{k-1}, x_k - r), x_k + r)``, starting from ``y0`` (m,) before
+    the first sample (zeros when omitted). Each step is a clamp, and clamps
+    compose into clamps, so the sequence is a prefix composition, computed
+    with log2(chunk) vectorised doubling passes per chunk (no Python loop
+    over samples).
+    """
+    x = np.asarray(x, dtype=float)
+    r = np.atleast_1d(np.asarray(radii, dtype=float))
+    y = np.zeros(r.size) if y0 is None else np.array(y0, dtype=float)
+    out = np.empty((x.size, r.size))
+    for start in range(0, x.size, chunk):
+        xc = x[start:start + chunk, None]
+        lo, hi = xc - r, xc + r
+        shift = 1
+        while shift < lo.shape[0]:
+            # block ending at k, composed after the block ending at k - shift: clamp its bounds
+            new_lo = np.minimum(np.maximum(lo[:-shift], lo[shift:]), hi[shift:])
+            new_hi = np.minimum(np.maximum(hi[:-shift], lo[shift:]), hi[shift:])
+            lo[shift:], hi[shift:] = new_lo, new_hi
+            shift *= 2
+        block = np.minimum(np.maximum(y, lo), hi)
+        out[start:start + chunk] = block
+        y = block[-1]
+    return out
+
+
+def _float_list(kind, key, values, positive):
+    if not isinstance(values, (list, tuple, np.ndarray)) or len(values) == 0:
+        raise ModelError(f"{kind}: {key} must be a non-empty list of numbers, got {_short(values)}")
+    if len(values) > MAX_PREISACH_LEVELS:
+        raise ModelError(f"{kind}: {key} holds {len(values)} values; at most {MAX_PREISACH_LEVELS}")
+    return np.array([_number(kind, key, v.item() if isinstance(v, np.generic) else v, positive) for v in list(values)])
+
+
+class PlayHysteresisElement:
+    """Rate-independent hysteresis as a Prandtl-Ishlinskii operator: a weighted sum of play operators.
+
+        y = linear_weight * x + sum_i weights[i] * play_{radii[i]}[x]
+
+    Parameters (model file keys)
+    ----------------------------
+    linear_weight : float > 0
+        Weight of the input itself (the reversible part), output unit per input unit.
+    radii : list of float > 0, strictly increasing
+        Half-widths of the play (backlash) operators, in the input unit (N on the
+        force path, V on the voltage path).
+    weights : list of float >= 0
+        Weight of each play operator (same length as ``radii``).
+    history_max : float >= 0, optional
+        The input's history before the record: 0 (default) is a virgin sensor
+        (every play at zero); a value M means the input came down from M to 0
+        before the record (every play of radius r <= M/2 then starts at r).
+
+    Every play operator starts at zero before the first sample (an unloaded
+    sensor). With non-negative weights the operator is monotone and its inverse
+    is again a Prandtl-Ishlinskii operator (Kuhnen 2003): radii
+    ``r'_i = sum_{j<=i} a_j (r_i - r_j)`` (a_0 = linear_weight, r_0 = 0) and weights
+    ``b_0 = 1/a_0``, ``b_i = -a_i / (A_i A_{i-1})`` with ``A_i = sum_{j<=i} a_j``,
+    exact for the same initial state. ``backward`` (batch) and ``streaming()``
+    (O(n) per sample) both run it.
+    """
+
+    kind = "play_hysteresis"
+    KEYS = ("linear_weight", "radii", "weights")
+    OPTIONAL = {"history_max": 0.0}
+
+    def __init__(self, linear_weight, radii, weights, history_max=0.0):
+        linear_weight = _number(self.kind, "linear_weight", float(linear_weight), positive=True)
+        radii = _float_list(self.kind, "radii", radii, positive=True)
+        weights = _float_list(self.kind, "weights", weights, positive=False)
+        if weights.size != radii.size:
+            raise ModelError(f"{self.kind}: radii and weights must have the same length ({radii.size} != {weights.size})")
+        if np.any(np.diff(radii) <= 0):
+            raise ModelError(f"{self.kind}: radii must be strictly increasing")
+        if np.any(weights < 0):
+            raise ModelError(f"{self.kind}: weights must be >= 0")
+        history_max = _number(self.kind, "history_max", float(history_max), positive=False)
+        if history_max < 0:
+            raise ModelError(f"{self.kind}: history_max must be >= 0")
+        object.__setattr__(self, "linear_weight", linear_weight)
+        object.__setattr__(self, "radii", radii)
+        object.__setattr__(self, "weights", weights)
+        object.__setattr__(self, "history_max", history_max)
+
+    def _history(self):
+        """Input samples before the record: 0, then up to history_max and back to 0 (none when 0)."""
+        return np.array([0.0, self.history_max, 0.0]) if self.history_max > 0 else np.zeros(0)
+
+    def initial_states(self):
+        """(forward play states, inverse play states) after the history (zeros for a virgin sensor)."""
+        h = self._history()
+        fwd = play_operator(h, self.radii)[-1] if h.size else np.zeros(self.radii.size)
+        b0, r_inv, b = self.inverse_parameters()
+        if h.size:
+            y_hist = self.linear_weight * h + play_operator(h, self.radii) @ self.weights
+            inv = play_operator(y_hist, np.where(r_inv > 0, r_inv, 1e-300))[-1]
+        else:
+            inv = np.zeros(r_inv.size)
+        return fwd, inv
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"PlayHysteresisElement is immutable (tried to set {name})")
+
+    def inverse_parameters(self):
+        """(b_0, radii', weights') of the inverse operator (see the class docstring)."""
+        a = np.concatenate([[self.linear_weight], self.weights])
+        r = np.concatenate([[0.0], self.radii])
+        cum = np.cumsum(a)
+        r_inv = np.array([np.sum(a[: i + 1] * (r[i] - r[: i + 1])) for i in range(1, r.size)])
+        b = -a[1:] / (cum[1:] * cum[:-1])
+        return 1.0 / a[0], r_inv, b
+
+    def forward_state(self):
+        return {"y": self.initial_states()[0]}
+
+    def _rest_output(self):
+        """Sum of the weighted play states after the history: subtracted so that y = 0 at x = 0 at the start."""
+        return float(self.initial_states()[0] @ self.weights)
+
+    def forward(self, t_s, x, aux=None, state=None):
+        x = np.asarray(x, dtype=float)
+        st = state if state is not None else self.forward_state()
+        plays = play_operator(x, self.radii, st["y"])
+        if x.size:
+            st["y"] = plays[-1].copy()
+        return self.linear_weight * x + plays @ self.weights - self._rest_output()
+
+    def backward(self, t_s, y, aux=None):
+        y = np.asarray(y, dtype=float) + self._rest_output()
+        b0, r_inv, b = self.inverse_parameters()
+        keep = r_inv > 0  # r' > 0 for every i >= 1 (radii > 0, linear_weight > 0)
+        return b0 * y + play_operator(y, r_inv[keep], self.initial_states()[1][keep]) @ b[keep]
+
+    def streaming(self):
+        b0, r_inv, b = self.inverse_parameters()
+        keep = r_inv > 0
+        radii, weights = [float(v) for v in r_inv[keep]], [float(v) for v in b[keep]]
+        start = [float(v) for v in self.initial_states()[1][keep]]
+        state = list(start)
+        rest = self._rest_output()
+
+        def step(t_s, y, aux=None):
+            y = y + rest
+            total = b0 * y
+            for i, (r, w) in enumerate(zip(radii, weights)):
+                p = min(max(state[i], y - r), y + r)
+                state[i] = p
+                total += w * p
+            return total
+
+        def reset():
+            state[:] = start
+
+        return _FunctionStream(step, reset)
+
+    def to_dict(self):
+        out = {"type": self.kind, "linear_weight": float(self.linear_weight), "radii": [float(v) for v in self.radii],
+               "weights": [float(v) for v in self.weights]}
+        if self.history_max:
+            out["history_max"] = float(self.history_max)
+        return out
+
+    @classmethod
+    def from_dict(cls, d):
+        _check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
+        return cls(d["linear_weight"], d["radii"], d["weights"], d.get("history_max", 0.0))
+
+
+class ThermalLagElement(_SimpleElement):
+    """Output that follows temperature through a first-order thermal lag:
+    y = x + coefficient_v_per_c * (T_lag - reference_c), tau_s T_lag' + T_lag = T.
+
+    T comes from ``aux['temperature_c']``; the lag starts settled at the first
+    temperature sample (batch, or the first after a reset when streaming).
+    Without temperature there is no correction (as :class:`ThermalDriftElement`).
+    """
+
+    kind = "thermal_lag"
+    PARAMS = (("coefficient_v_per_c", False), ("reference_c", False), ("tau_s", True))
+
+    def _lagged(self, t_s, temp):
+        t = np.asarray(t_s, dtype=float)
+        if temp is None or t.size == 0:
+            return None
+        return exp_convolve(t, temp, [1.0 / self.tau_s], y0=[temp[0] * self.tau_s])[:, 0] / self.tau_s
+
+    def forward(self, t_s, x, aux=None, state=None):
+        x = np.asarray(x, dtype=float)
+        lagged = self._lagged(t_s, _temperature(aux, x.size))
+        return x if lagged is None else x + self.coefficient_v_per_c * (lagged - self.reference_c)
+
+    def backward(self, t_s, y, aux=None):
+        y = np.asarray(y, dtype=float)
+        lagged = self._lagged(t_s, _temperature(aux, y.size))
+        return y if lagged is None else y - self.coefficient_v_per_c * (lagged - self.reference_c)
+
+    def streaming(self):
+        c, ref, tau = self.coefficient_v_per_c, self.reference_c, self.tau_s
+        lag = ExpConvState([1.0 / tau])
+
+        def step(t_s, y, aux=None):
+            temp = None if not aux else aux.get("temperature_c")
+            if temp is None:
+                return y
+            if lag.t_prev_s is None:
+                lag.reset([temp * tau])
+            state = lag.update(t_s, float(temp))
+            if state is None:
+                state = lag.y
+            return y - c * (state[0] / tau - ref)
+
+        return _FunctionStream(step, lag.reset)
+
+
+class ExponentialDriftElement(_SimpleElement):
+    """Baseline drift that settles: y = x + amplitude_v * (1 - exp(-(t - t_first) / tau_s)).
+
+    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare).
+    """
+
+    kind = "exponential_drift"
+    PARAMS = (("amplitude_v", False), ("tau_s", True))
+
+    def _term(self, s):
+        return self.amplitude_v * -np.expm1(-np.asarray(s, dtype=float) / self.tau_s)
+
+    def forward_state(self):
+        return {"t_first": None}
+
+    def forward(self, t_s, x, aux=None, state=None):
+        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        st = state if state is not None else self.forward_state()
+        if st["t_first"] is None and t.size:
+            st["t_first"] = float(t[0])
+        return x + self._term(t - (st["t_first"] or 0.0))
+
+    def backward(self, t_s, y, aux=None):
+        t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+        return y - self._term(t - t[0]) if t.size else y
+
+    def streaming(self):
+        first = {"t": None}
+
+        def step(t_s, y, aux=None):
+            if first["t"] is None:
+                first["t"] = t_s
+            return y - float(self._term(t_s - first["t"]))
+
+        return _FunctionStream(step, lambda: first.update(t=None))
+
+
+class PolynomialGainElement(_SimpleElement):
+    """Static nonlinearity of the bridge gain up to the fourth power (V in, V out):
+    y = x + quadratic_per_v x**2 + cubic_per_v2 x**3 + quartic_per_v3 x**4.
+
+    Describes polynomial and saturating (tanh, exponential-approach) gain curves
+    over a sensor's range. Inverted per sample by Newton's method from x = y
+    (16 iterations, the slope kept away from zero); where the curve is not
+    monotone the last iterate is returned, as the quadratic element returns
+    its vertex.
+    """
+
+    kind = "polynomial_gain"
+    PARAMS = (("quadratic_per_v", False), ("cubic_per_v2", False), ("quartic_per_v3", False))
+
+    def _poly(self, x):
+        q, c, d = self.quadratic_per_v, self.cubic_per_v2, self.quartic_per_v3
+        return x + x * x * (q + x * (c + x * d)), 1.0 + x * (2.0 * q + x * (3.0 * c + 4.0 * d * x))
+
+    def forward(self, t_s, x, aux=None, state=None):
+        return self._poly(np.asarray(x, dtype=float))[0]
+
+    def _invert(self, y):
+        x = np.array(y, dtype=float, copy=True)
+        with np.errstate(all="ignore"):
+            for _ in range(16):
+                fx, slope = self._poly(x)
+                slope = np.where(np.abs(slope) < 0.05, np.copysign(0.05, slope + 0.0), slope)
+                x = x - (fx - y) / slope
+        return np.where(np.isfinite(x), x, y)
+
+    def backward(self, t_s, y, aux=None):
+        return self._invert(np.asarray(y, dtype=float))
+
+    def streaming(self):
+        return _FunctionStream(lambda t_s, y, aux=None: float(self._invert(np.array([y]))[0]))
+
+
+class PolynomialDriftElement(_SimpleElement):
+    """Load-independent baseline drift of any smooth shape:
+    y = x + rate_v_per_s * s + curvature_v_per_s2 * s**2 + cubic_v_per_s3 * s**3, s = t - t_first.
+
+    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare).
+    """
+
+    kind = "polynomial_drift"
+    PARAMS = (("rate_v_per_s", False), ("curvature_v_per_s2", False), ("cubic_v_per_s3", False))
+
+    def _term(self, s):
+        return s * (self.rate_v_per_s + s * (self.curvature_v_per_s2 + s * self.cubic_v_per_s3))
+
+    def forward_state(self):
+        return {"t_first": None}
+
+    def forward(self, t_s, x, aux=None, state=None):
+        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        st = state if state is not None else self.forward_state()
+        if st["t_first"] is None and t.size:
+            st["t_first"] = float(t[0])
+        return x + self._term(t - (st["t_first"] or 0.0))
+
+    def backward(self, t_s, y, aux=None):
+        t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+        return y - self._term(t - t[0]) if t.size else y
+
+    def streaming(self):
+        first = {"t": None}
+
+        def step(t_s, y, aux=None):
+            if first["t"] is None:
+                first["t"] = t_s
+            return y - float(self._term(t_s - first["t"]))
+
+        return _FunctionStream(step, lambda: first.update(t=None))
+
+
 ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
-for _element in (GainElement, NonlinearGainElement, SensorLagElement, ThermalDriftElement, OffsetDriftElement, PreisachElement):
+for _element in (GainElement, NonlinearGainElement, SensorLagElement, ThermalDriftElement, OffsetDriftElement, PreisachElement,
+                 PlayHysteresisElement, ThermalLagElement, PolynomialDriftElement, PolynomialGainElement,
+                 ExponentialDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
 
 
 class SensorChain:
     """Ordered elements from force (first) to voltage (last)."""
 
-    def __init__(self, elements):
-        self.elements = list(elements)
+    def __init__(self, elements: Sequence[Element]):
+        self.elements: list[Element] = list(elements)
         if not self.elements:
             raise ModelError("a sensor model needs at least one element")
+        odd = [type(e).__name__ for e in self.elements if not isinstance(e, Element)]
+        if odd:
+            raise ModelError(f"not sensor-chain elements: {odd}")
         cores = [e for e in self.elements if isinstance(e, ViscoelasticElement)]
         if len(cores) > 1:
             raise ModelError("a sensor model holds at most one viscoelastic core")

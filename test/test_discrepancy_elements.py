@@ -1,0 +1,116 @@
+"""The chain elements the discrepancy workflow adds: Prandtl-Ishlinskii hysteresis, thermal lag, polynomial gain
+and drift. Forward, batch backward and streaming agree; model files carry them; random parameters."""
+import numpy as np
+import pytest
+
+from polyforce_ros.model_file import SensorModel, load_model, save_model
+from polyforce_ros.physics.chain import (
+    ELEMENT_TYPES, ExponentialDriftElement, ModelError, OffsetElement, PlayHysteresisElement, PolynomialDriftElement, PolynomialGainElement,
+    SensorChain, ThermalLagElement, ViscoelasticElement, play_operator,
+)
+from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+
+
+def _signals(seed, n=6000, dt=5e-3):
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.5, 1.5, n)) * dt  # irregular stamps
+    x = np.abs(np.cumsum(rng.normal(0, 0.05, n))) + 0.3 * np.sin(t * rng.uniform(0.5, 3))
+    temp = 24 + 3 * np.sin(2 * np.pi * t / rng.uniform(5, 20))
+    return t, x, {"temperature_c": temp}
+
+
+def _random_play(rng, history=False):
+    n = int(rng.integers(1, 8))
+    radii = np.sort(rng.uniform(0.01, 1.0, n)) + 1e-3 * np.arange(n)
+    return PlayHysteresisElement(rng.uniform(0.3, 2.0), radii, rng.uniform(0, 1.0, n) * (rng.uniform(size=n) > 0.2),
+                                 history_max=float(rng.uniform(0, 3)) if history else 0.0)
+
+
+def _monotone_gain(rng, x_max=10.0):
+    """A random polynomial gain, shrunk until it is monotone (invertible) over 0..x_max V."""
+    q, c, d = rng.uniform(-0.05, 0.05), rng.uniform(-0.02, 0.02), rng.uniform(-0.005, 0.005)
+    x = np.linspace(-1.0, x_max, 200)
+    while np.min(1 + 2 * q * x + 3 * c * x ** 2 + 4 * d * x ** 3) < 0.2:
+        q, c, d = q / 2, c / 2, d / 2
+    return PolynomialGainElement(quadratic_per_v=q, cubic_per_v2=c, quartic_per_v3=d)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_play_operator_equals_the_sample_by_sample_definition(seed):
+    rng = np.random.default_rng(seed)
+    x = np.cumsum(rng.normal(size=3000))
+    radii = np.sort(rng.uniform(0.1, 3.0, 5))
+    y0 = rng.uniform(-1, 1, 5)
+    y, expected = y0.copy(), []
+    for v in x:
+        y = np.minimum(np.maximum(y, v - radii), v + radii)
+        expected.append(y.copy())
+    np.testing.assert_allclose(play_operator(x, radii, y0, chunk=int(rng.integers(7, 1000))), expected, atol=1e-12)
+
+
+def _elements(seed):
+    rng = np.random.default_rng(seed)
+    return [_random_play(rng), _random_play(rng, history=True),
+            ThermalLagElement(coefficient_v_per_c=rng.uniform(-0.01, 0.01), reference_c=24.0, tau_s=rng.uniform(1, 60)),
+            PolynomialDriftElement(rate_v_per_s=rng.uniform(-1e-3, 1e-3), curvature_v_per_s2=rng.uniform(-1e-6, 1e-6),
+                                   cubic_v_per_s3=rng.uniform(-1e-8, 1e-8)),
+            _monotone_gain(rng),
+            ExponentialDriftElement(amplitude_v=rng.uniform(-0.1, 0.1), tau_s=rng.uniform(10, 100))]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_backward_undoes_forward_and_streaming_equals_batch(seed):
+    t, x, aux = _signals(seed)
+    for element in _elements(seed):
+        y = element.forward(t, x, aux)
+        assert np.abs(y - x).max() > 1e-4, element.kind  # the effect is really there
+        back = element.backward(t, y, aux)
+        np.testing.assert_allclose(back, x, atol=1e-9, err_msg=element.kind)
+        noisy = y + np.random.default_rng(seed).normal(0, 1e-3, y.size)
+        stream = element.streaming()
+        per_sample = [stream.step(ti, yi, {"temperature_c": ci}) for ti, yi, ci in zip(t, noisy, aux["temperature_c"])]
+        np.testing.assert_allclose(per_sample, element.backward(t, noisy, aux), atol=1e-9, err_msg=element.kind)
+        stream.reset()
+        again = [stream.step(ti, yi, {"temperature_c": ci}) for ti, yi, ci in zip(t, noisy, aux["temperature_c"])]
+        np.testing.assert_allclose(again, per_sample, atol=1e-12, err_msg=element.kind)
+
+
+def test_play_hysteresis_is_a_loop_and_history_starts_at_rest():
+    e = PlayHysteresisElement(1.0, [0.2, 0.5], [0.3, 0.2], history_max=2.0)
+    t = np.linspace(0, 4, 401)
+    x = np.concatenate([np.linspace(0, 2, 201), np.linspace(2, 0, 201)[1:]])
+    y = e.forward(t, x)
+    assert y[0] == pytest.approx(0.0)
+    up, down = y[:201], y[200:][::-1]
+    assert np.max(down - up) > 0.2  # unloading above loading: a loop
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_model_file_round_trip_and_chain_inverse(tmp_path, seed):
+    rng = np.random.default_rng(seed)
+    elements = _elements(seed)
+    chain = SensorChain([elements[0], ViscoelasticElement(PAPER_BURGERS), elements[4], elements[1], elements[2], elements[3],
+                         elements[5], OffsetElement(0.03)])
+    path = save_model(tmp_path / "m.yaml", SensorModel(chain, {"source": "test"}))
+    loaded = load_model(path).chain
+    assert [e.to_dict() for e in loaded.elements] == [e.to_dict() for e in chain.elements]
+    t, f, aux = _signals(seed + 10, n=4000, dt=0.01)
+    f = 5 * f / f.max()
+    v = loaded.forward(t, f, aux)
+    np.testing.assert_allclose(loaded.backward(t, v, aux), f, atol=1e-6)
+    assert set(ELEMENT_TYPES) >= {"play_hysteresis", "thermal_lag", "polynomial_drift", "polynomial_gain", "exponential_drift"}
+    del rng
+
+
+@pytest.mark.parametrize("mapping, message", [
+    ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": [0.2, 0.1], "weights": [0.1, 0.1]}, "increasing"),
+    ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": [0.1], "weights": [-0.1]}, "weights"),
+    ({"type": "play_hysteresis", "linear_weight": 0.0, "radii": [0.1], "weights": [0.1]}, "linear_weight"),
+    ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": [0.1, 0.2], "weights": [0.1]}, "same length"),
+    ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": "0.1", "weights": [0.1]}, "list"),
+    ({"type": "thermal_lag", "coefficient_v_per_c": 0.01, "reference_c": 24.0, "tau_s": -1.0}, "tau_s"),
+    ({"type": "polynomial_drift", "rate_v_per_s": 0.0, "curvature_v_per_s2": 1e9, "cubic_v_per_s3": 0.0}, "curvature"),
+])
+def test_bad_element_mappings_are_model_errors(mapping, message):
+    with pytest.raises(ModelError, match=message):
+        ELEMENT_TYPES[mapping["type"]].from_dict(mapping)

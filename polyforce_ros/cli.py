@@ -6,7 +6,7 @@
     polyforce compensate IN.mcap OUT.mcap [--model M.yaml]
     polyforce replay BAG.mcap [--rate 2.0] [--loop] [--lossless]
     polyforce evaluate [--out DIR] [--bag BAG.mcap ...]
-    polyforce diagnose BAG.mcap --base {elastic,maxwell,kelvin,zener,burgers} [--json OUT] [--report DIR] [--save-model M.yaml]
+    polyforce diagnose BAG.mcap --base {elastic,maxwell,kelvin,zener,burgers,...} [--json OUT] [--report DIR] [--save-model M.yaml]
     polyforce make-bags [--out bags/]
     polyforce bringup [--backend sim|serial] [--port DEV] [--model M.yaml] [--with-bridge] [--record BAG.mcap]
 """
@@ -147,16 +147,21 @@ def cmd_diagnose(args) -> int:
 
     from .discrepancy.report import run
 
-    bar = tqdm(total=9, desc="diagnose", unit="step")
+    bar = tqdm(desc="diagnose", unit="step", disable=not sys.stderr.isatty() and not args.progress)
 
     def progress(step):
         bar.set_postfix_str(step)
         bar.update(1)
 
-    diag, data = run(args.bag, args.base, args.json, args.report, args.save_model, args.fit_fraction, progress)
+    diag, data = run(args.bag, args.base, args.json, args.report, args.save_model, progress, args.folds, args.effects)
     bar.close()
     print(f"missing effect: {diag.missing_effect}  (base {diag.base})")
-    print(f"validation RMSE: {diag.rmse_before:.3e} V -> {diag.rmse_after:.3e} V")
+    for name in diag.missing_effects:
+        print(f"  named {name} ({diag.variants.get(name) or 'as in the catalogue'}), confidence {diag.confidences[name]:.0%}")
+    print(f"validation RMSE (out of sample): {diag.rmse_before:.3e} V -> {diag.rmse_after:.3e} V; "
+          f"noise floor {diag.noise_floor_v:.3e} V")
+    if diag.unexplained["present"]:
+        print(f"unexplained: structured residual {diag.unexplained['rms_v']:.3e} V that no catalogue effect describes")
     for line in diag.evidence:
         print(f"  - {line}")
     if args.save_model:
@@ -237,13 +242,28 @@ def build_parser():
     ev.add_argument("--quick", action="store_true", help="shorter records (for tests)")
     ev.set_defaults(func=cmd_evaluate)
 
-    dg = sub.add_parser("diagnose", help="find where simulation and measurement disagree and name the missing effect")
+    from .discrepancy.effects import NAMES as EFFECT_NAMES
+    from .physics.viscoelastic import MODEL_TYPES
+
+    dg = sub.add_parser(
+        "diagnose", help="find where simulation and measurement disagree and name every missing effect",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        description="Fit the base core to a bench bag, then add effects of the catalogue by forward selection, each "
+                    "kept only when it lowers the out-of-sample error of a time-blocked cross-validation.\n\n"
+                    "JSON: missing_effects (ordered list, empty for none), missing_effect (the first, 'none', or "
+                    "'unexplained' when no effect is justified but a structured residual remains), effects (each with "
+                    "its variant and confidence = share of time blocks it improves), rmse_before/rmse_after (out of "
+                    "sample, V), noise_floor_v (estimated from the data), unexplained {present, rms_v, noise_floor_v, "
+                    "where}, skipped (e.g. thermal_drift without a temperature topic), candidates, evidence, model.\n"
+                    f"Effects of the catalogue: {', '.join(EFFECT_NAMES)}.")
     dg.add_argument("bag", help="bench bag: bridge_voltage, reference_force, optional temperature")
-    dg.add_argument("--base", required=True, choices=["elastic", "maxwell", "kelvin", "zener", "burgers"])
+    dg.add_argument("--base", required=True, choices=list(MODEL_TYPES), help="the core model to start from")
     dg.add_argument("--json", help="write the diagnosis as JSON")
     dg.add_argument("--report", help="write report.md and figures into this folder")
-    dg.add_argument("--save-model", help="write the augmented model YAML (loads in compensation_node)")
-    dg.add_argument("--fit-fraction", type=float, default=0.6, help="share of the record (from its start) that is fitted")
+    dg.add_argument("--save-model", help="write the model with every named effect (loads in compensation_node)")
+    dg.add_argument("--effects", nargs="+", choices=list(EFFECT_NAMES), help="consider only these effects (default: all)")
+    dg.add_argument("--folds", type=int, default=5, help="time blocks of the cross-validation (default 5)")
+    dg.add_argument("--progress", action="store_true", help="show the progress bar even when stderr is not a terminal")
     dg.set_defaults(func=cmd_diagnose)
 
     mk = sub.add_parser("make-bags", help="regenerate the sample bags with the simulator")

@@ -1,9 +1,13 @@
-"""Discrepancy workflow on data in which one effect is hidden (the workflow is never told which).
+"""Discrepancy workflow on records with hidden effects (the workflow is never told which).
 
-Each case draws its magnitude at random (fixed seed) from the upper half of
-the generator's range and runs on a random load profile; the workflow must
-name the effect and shrink the validation RMSE at least threefold, and say
-`none` on clean data.
+Every case draws the family of each hidden effect at random (from all of its
+families, the held-out ones included) and its magnitude from the upper part of
+the generator's range, with seeds of a range used by no tuning run
+(3000..3999); the sensor's base parameters are random too (+-30 %). The
+workflow must name exactly the hidden effects (and nothing on clean data or
+out-of-catalogue effects), bring the out-of-sample error near the noise
+floor it estimates from the data, and write every named effect to JSON, the
+report and the saved model.
 """
 import json
 import subprocess
@@ -13,72 +17,154 @@ import numpy as np
 import pytest
 
 from conftest import REPO
+from polyforce_ros.discrepancy.effects import EFFECTS, NAMES
 from polyforce_ros.discrepancy.engine import diagnose
-from polyforce_ros.record import Record
 from polyforce_ros.model_file import load_model
-from polyforce_ros.sim.bench import simulate_bench, write_bench_bag
+from polyforce_ros.sim.bench import OUT_OF_CATALOGUE, bench_record, default_base, write_bench_bag
 
-CASES = [
-    ("none", "burgers", 1),
-    ("none", "zener", 2),
-    ("viscous_flow", "zener", 3),
-    ("viscous_flow", "elastic", 4),
-    ("delayed_elasticity", "maxwell", 5),
-    ("delayed_elasticity", "elastic", 6),
-    ("delayed_elasticity", "zener", 12),
-    ("delayed_elasticity", "burgers", 13),
-    ("hysteresis", "burgers", 7),
-    ("sensor_lag", "burgers", 8),
-    ("nonlinear_gain", "burgers", 9),
-    ("thermal_drift", "burgers", 10),
-    ("offset_drift", "burgers", 11),
-]
+DURATION_S, RATE_HZ = 420.0, 100.0
 
 
-@pytest.mark.parametrize("effect, base, seed", CASES, ids=[f"{e}-vs-{b}" for e, b, _ in CASES])
-def test_hidden_effect_is_named_and_the_gap_shrinks(effect, base, seed):
-    magnitude = float(np.random.default_rng(seed).uniform(0.5, 1.0))
-    t, f, v, temp, case = simulate_bench(effect, magnitude, base, duration_s=240.0, rate_hz=100.0, seed=seed)
-    d = diagnose(Record(t, f, v, temp), base=base)
-    assert d.missing_effect == effect, (magnitude, [c.summary() for c in d.candidates[:3]])
-    if effect == "none":
-        assert d.rmse_after == d.rmse_before
-        assert d.rmse_before < 1.5e-3  # the base model alone explains clean data (1 mV noise)
-    else:
-        assert d.rmse_after <= d.rmse_before / 3
-    assert d.split_s > 0.5 * (t[-1] - t[0])  # validation part is the later part of the record
+def _family(effect, seed):
+    return str(np.random.default_rng(seed).choice(list(EFFECTS[effect].families)))
+
+
+def _magnitude(seed):
+    return float(np.random.default_rng(seed + 1).uniform(0.5, 1.0))
+
+
+#: Known gaps (the README's held-out matrix shows them): family drawn -> why the case fails today.
+KNOWN_GAPS = {"bouc_wen_voltage": "Bouc-Wen hysteresis is answered 'unexplained' (the play-operator fit falls short)",
+              "random_walk": "a random-walk drift is not described by the polynomial/settling drift elements",
+              "pole_pair": "a second-order lag is taken for a fast delayed elasticity"}
+
+
+def _single_cases():
+    for i, effect in enumerate(NAMES):
+        seed = 3000 + 11 * i
+        family = _family(effect, seed)
+        marks = [pytest.mark.xfail(reason=KNOWN_GAPS[family], strict=False)] if family in KNOWN_GAPS else []
+        yield pytest.param(effect, seed, marks=marks, id=f"{effect}[{family}]")
+
+
+@pytest.mark.parametrize("effect, seed", list(_single_cases()))
+def test_hidden_effect_of_a_random_family_is_named_and_the_error_reaches_the_noise_floor(effect, seed):
+    family = _family(effect, seed)
+    rec, case = bench_record(effect, _magnitude(seed), default_base([effect]), DURATION_S, RATE_HZ, seed, split="held_out",
+                             families={effect: family})
+    d = diagnose(rec, base=case.base)
+    info = (family, [c.summary() for c in d.candidates if c.step == 1])
+    assert d.missing_effects == [effect], info
+    assert d.missing_effect == effect
+    assert 0.5 <= d.confidences[effect] <= 1.0
+    assert d.rmse_after <= d.rmse_before / 3, info
+    assert d.rmse_after <= 2.0 * d.noise_floor_v, (d.rmse_after, d.noise_floor_v, info)
+    # the noise floor is estimated from the data: the truth is 2 mV bridge noise + 5 mN reference noise
+    assert 1.5e-3 < d.noise_floor_v < 3.5e-3
+
+
+@pytest.mark.parametrize("base, seed", [("burgers", 3101), ("zener", 3102), ("elastic", 3103)])
+def test_clean_data_is_none_and_nothing_is_unexplained(base, seed):
+    rec, _ = bench_record("none", 0.0, base, DURATION_S, RATE_HZ, seed)
+    d = diagnose(rec, base=base)
+    assert d.missing_effects == [] and d.missing_effect == "none", [c.summary() for c in d.candidates]
+    assert not d.unexplained["present"]
+    assert d.rmse_after == d.rmse_before <= 1.3 * d.noise_floor_v
+
+
+@pytest.mark.parametrize("pair, seed", [
+    pytest.param(("hysteresis", "thermal_drift"), 3201, id="hysteresis+thermal_drift", marks=pytest.mark.xfail(
+        reason="play_voltage hysteresis with a lagged thermal drift: the partial-fit guard answers 'unexplained'", strict=False)),
+    pytest.param(("sensor_lag", "nonlinear_gain"), 3202, id="sensor_lag+nonlinear_gain", marks=pytest.mark.xfail(
+        reason=KNOWN_GAPS["pole_pair"], strict=False)),
+    pytest.param(("viscous_flow", "offset_drift"), 3203, id="viscous_flow+offset_drift"),
+    pytest.param(("hysteresis", "offset_drift"), 3204, id="hysteresis+offset_drift", marks=pytest.mark.xfail(
+        reason=KNOWN_GAPS["random_walk"], strict=False))])
+def test_two_hidden_effects_are_both_named(pair, seed):
+    rec, case = bench_record(list(pair), 0.8, default_base(pair), DURATION_S, RATE_HZ, seed, split="held_out")
+    d = diagnose(rec, base=case.base)
+    assert sorted(d.missing_effects) == sorted(pair), (case.families, [c.summary() for c in d.candidates])
+    assert d.missing_effect == d.missing_effects[0]
+    assert d.rmse_after <= 2.0 * d.noise_floor_v
+
+
+@pytest.mark.parametrize("effect, seed", [(e, 3300 + i) for i, e in enumerate(OUT_OF_CATALOGUE)], ids=list(OUT_OF_CATALOGUE))
+def test_out_of_catalogue_effect_is_unexplained_never_a_catalogue_name(effect, seed):
+    rec, _ = bench_record(effect, 0.9, "burgers", DURATION_S, RATE_HZ, seed)
+    d = diagnose(rec, base="burgers")
+    assert d.missing_effects == [], [c.summary() for c in d.candidates]
+    assert d.missing_effect == "unexplained"
+    u = d.unexplained
+    assert u["present"] and u["rms_v"] > u["noise_floor_v"] and u["ljung_box_p"] < 1e-3
+    assert set(u["where"]) == {"segments", "follows"}
+
+
+def test_without_temperature_thermal_is_skipped_with_the_reason_and_answers_match():
+    hidden = ["hysteresis"]
+    with_temp, case = bench_record(hidden, 0.8, "burgers", DURATION_S, 200.0, 3401, split="held_out")
+    real, _ = bench_record(hidden, 0.8, "burgers", DURATION_S, 1000.0, 3401, split="held_out", families=case.families,
+                           jitter=0.4, drops=5, temperature=False)
+    assert real.temperature_c is None and np.diff(real.t_s).max() > 0.05  # gaps are really there
+    a, b = diagnose(with_temp, base="burgers"), diagnose(real, base="burgers")
+    assert a.missing_effects == b.missing_effects == hidden
+    assert "thermal_drift" in b.skipped and "temperature" in b.skipped["thermal_drift"]
+    assert "thermal_drift" not in a.skipped
+    assert not any(c.effect == "thermal_drift" for c in b.candidates)
+    assert any("thermal_drift not tested" in e for e in b.evidence)
+
+
+def test_registry_is_the_one_source_of_effect_names():
+    from polyforce_ros.cli import build_parser
+    from polyforce_ros.discrepancy.localise import HINTS
+    from polyforce_ros.physics.chain import ELEMENT_TYPES
+    from polyforce_ros.sim import bench
+
+    assert bench.EFFECTS == ("none",) + NAMES
+    sub = next(a for a in build_parser()._subparsers._group_actions[0].choices["diagnose"]._actions if a.dest == "effects")
+    assert tuple(sub.choices) == NAMES
+    for effect in EFFECTS.values():
+        assert set(effect.elements) <= set(ELEMENT_TYPES), effect.name
+        assert effect.families and effect.hint
+        assert any(effect.name in HINTS[k] for k in effect.segments + effect.signals)
+        assert any(not f.held_out for f in effect.families.values())  # something to tune on
 
 
 def test_cli_contract_json_report_and_saved_model(tmp_path):
     bag = tmp_path / "bench.mcap"
-    write_bench_bag(bag, "nonlinear_gain", 0.7, "burgers", duration_s=180.0, rate_hz=100.0, seed=21)
+    write_bench_bag(bag, ["nonlinear_gain", "offset_drift"], 0.8, "burgers", duration_s=DURATION_S, rate_hz=RATE_HZ, seed=3501,
+                    families={"nonlinear_gain": "polynomial", "offset_drift": "linear"})
     out_json, report, model = tmp_path / "d.json", tmp_path / "report", tmp_path / "aug.yaml"
-    proc = subprocess.run([sys.executable, "-m", "polyforce_ros.cli", "diagnose", str(bag), "--base", "burgers",
-                           "--json", str(out_json), "--report", str(report), "--save-model", str(model)],
+    proc = subprocess.run([sys.executable, "-m", "polyforce_ros.cli", "diagnose", str(bag), "--base", "burgers", "--json",
+                           str(out_json), "--report", str(report), "--save-model", str(model), "--progress"],
                           cwd=REPO, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
+    assert "diagnose" in proc.stderr  # the progress bar
     data = json.loads(out_json.read_text())
-    assert {"base", "missing_effect", "rmse_before", "rmse_after", "evidence", "candidates", "model"} <= set(data)
-    assert data["base"] == "burgers" and data["missing_effect"] == "nonlinear_gain"
+    assert {"base", "missing_effect", "missing_effects", "effects", "rmse_before", "rmse_after", "noise_floor_v",
+            "unexplained", "skipped", "evidence", "candidates", "model"} <= set(data)
+    assert sorted(data["missing_effects"]) == ["nonlinear_gain", "offset_drift"]
+    assert data["missing_effect"] == data["missing_effects"][0]
+    assert all(0.5 <= e["confidence"] <= 1.0 for e in data["effects"])
+    assert {"present", "rms_v", "noise_floor_v", "where"} <= set(data["unexplained"])
     assert data["rmse_after"] <= data["rmse_before"] / 3
-    assert all({"effect", "rmse", "criterion"} <= set(c) for c in data["candidates"])
-    assert {c["effect"] for c in data["candidates"]} >= {"none", "hysteresis", "sensor_lag", "nonlinear_gain", "offset_drift"}
-    assert any("nonlinear_gain" in e for e in data["evidence"])
-    assert (report / "report.md").is_file()
+    assert all({"effect", "rmse", "criterion", "confidence", "step"} <= set(c) for c in data["candidates"])
+    text = (report / "report.md").read_text()
+    assert "nonlinear_gain" in text and "offset_drift" in text and "confidence" in text
     for fig in ("measured_vs_simulated.png", "residual.png", "localisation.png"):
         assert (report / "figures" / fig).is_file()
-    chain = load_model(model).chain
-    assert [e.kind for e in chain.elements] == ["burgers", "nonlinear_gain", "offset"]
-    assert data["model"]["elements"][1]["type"] == "nonlinear_gain"
-    # The augmented model compensates the sensor far better than the base model would.
+    saved = load_model(model)
+    kinds = [e.kind for e in saved.chain.elements]
+    assert kinds[:2] == ["burgers", "polynomial_gain"] and kinds[-1] == "offset"
+    assert set(kinds[2:-1]) <= {"polynomial_drift", "exponential_drift"} and "polynomial_drift" in kinds
+    assert saved.provenance["missing_effects"] == data["missing_effects"]
+    # the saved model compensates the sensor far better than its base would
     from polyforce_ros.record import load_record
 
     rec = load_record(bag)
-    t, force, volts = rec.t_s, rec.force_n, rec.voltage_v
-    err_aug = np.sqrt(np.mean((chain.backward(t, volts) - force) ** 2))
-    base_chain = load_model(model).chain
-    base_chain.elements = [e for e in base_chain.elements if e.kind != "nonlinear_gain"]
-    err_base = np.sqrt(np.mean((base_chain.backward(t, volts) - force) ** 2))
+    err_aug = np.sqrt(np.mean((saved.chain.backward(rec.t_s, rec.voltage_v) - rec.force_n) ** 2))
+    base = load_model(model).chain
+    base.elements = [e for e in base.elements if e.kind in ("burgers", "offset")]
+    err_base = np.sqrt(np.mean((base.backward(rec.t_s, rec.voltage_v) - rec.force_n) ** 2))
     assert err_aug < err_base / 3
 
 
@@ -97,7 +183,7 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
     """driver_node (sim, a nonlinear gain hidden in its truth) -> recorder_node -> diagnose -> compensation_node.
 
     A Zener sensor and base: 40 s of recording cannot pin a Burgers dashpot of
-    ~4600 N s/V (24 s are fitted), which would blur what this test is about.
+    ~4600 N s/V, which would blur what this test is about.
     """
     from rclpy.parameter import Parameter
 
@@ -129,7 +215,7 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
                           cwd=REPO, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     data = json.loads((tmp_path / "d.json").read_text())
-    assert data["missing_effect"] == "nonlinear_gain" and data["rmse_after"] <= data["rmse_before"] / 3
+    assert data["missing_effects"] == ["nonlinear_gain"] and data["rmse_after"] <= data["rmse_before"] / 3, data["candidates"]
     # The augmented model runs in the compensation node unchanged.
     from polyforce_ros.record import load_record
 
@@ -140,7 +226,7 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
     with ros() as h:
         comp = h.add(CompensationNode(context=h.context, parameter_overrides=[
             Parameter("model_file", value=str(tmp_path / "aug.yaml")), Parameter("stale_timeout_s", value=30.0)]))
-        assert [e.kind for e in comp.model.chain.elements] == ["zener", "nonlinear_gain", "offset"]
+        assert [e.kind for e in comp.model.chain.elements] == ["zener", "polynomial_gain", "offset"]
         stream = comp.compensator.chain.streaming()
         forces = [stream.step(ti, vi, comp._aux) for ti, vi in zip(t[:400], volts[:400])]
     np.testing.assert_allclose(forces, expected, rtol=1e-9, atol=1e-9)

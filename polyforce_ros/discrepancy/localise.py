@@ -10,23 +10,11 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
-#: What a concentration or a correlation suggests.
-HINTS = {
-    "hold_under_load": "creep during holds (viscous_flow / delayed_elasticity)",
-    "rest_after_unloading": "recovery after unloading (delayed_elasticity / viscous_flow)",
-    "load_reversal": "path dependence at reversals (hysteresis)",
-    "fast_transient": "dynamics faster than the model (sensor_lag)",
-    "high_load": "gain changing with load (nonlinear_gain)",
-    "temperature_change": "output following temperature (thermal_drift)",
-    "late_in_record": "a slow drift over time (offset_drift / viscous_flow)",
-    "force": "gain error",
-    "force_squared": "nonlinear_gain",
-    "force_rate": "sensor_lag",
-    "load_direction": "hysteresis",
-    "load_history": "viscous_flow (integral of force)",
-    "temperature": "thermal_drift",
-    "time": "offset_drift",
-}
+from .effects import hints as _registry_hints
+
+#: What a concentration or a correlation suggests: the registry's effects that show there.
+HINTS = {key: " / ".join(names) for key, names in _registry_hints().items()}
+HINTS.setdefault("force", "gain error of the base")
 
 
 def segment_labels(t_s, force_n, temperature_c=None):
@@ -92,24 +80,33 @@ def localise(rec, residual_v):
     return {"rms_residual_v": overall, "concentration": concentration, "correlation": correlation, "masks": labels}
 
 
-def describe(loc, base_fit, chosen, candidates):
+def describe(loc, diag):
     """Evidence as short sentences with numbers (the JSON ``evidence`` list)."""
-    out = [f"base model RMSE {base_fit.rmse_fit_v:.3e} V on the fitting part, {base_fit.rmse_val_v:.3e} V on validation"]
+    out = [f"noise floor estimated from the data: {diag.noise_floor_v:.3e} V (high-frequency differences of the raw "
+           f"voltage and of the reference force through the static gain)",
+           f"base model: out-of-sample RMSE {diag.rmse_before:.3e} V ({diag.folds}-block time-blocked cross-validation)"]
     conc = sorted(loc["concentration"].items(), key=lambda kv: -kv[1]["rms_ratio"])
     for name, c in conc[:3]:
         if c["rms_ratio"] > 1.1:
             out.append(f"residual concentrates in {name.replace('_', ' ')}: RMS x{c['rms_ratio']:.2f} of overall "
-                       f"({100 * c['fraction']:.0f} % of samples) -> {HINTS[name]}")
+                       f"({100 * c['fraction']:.0f} % of samples) -> {HINTS.get(name, '?')}")
     corr = sorted(loc["correlation"].items(), key=lambda kv: -abs(kv[1]))
     for name, c in corr[:3]:
         if abs(c) > 0.2:
-            out.append(f"residual correlates with {name.replace('_', ' ')}: r = {c:+.2f} -> {HINTS[name]}")
-    base_bic = next(c.bic for c in candidates if c.effect == "none")
-    for c in candidates[:3]:
-        if c.effect != "none":
-            out.append(f"candidate {c.effect}: validation RMSE {c.rmse_val_v:.3e} V, BIC {c.bic - base_bic:+.1f} vs base")
-    if chosen.effect == "none":
-        out.append("no augmentation is justified: none lowers BIC clearly and shrinks the validation error")
+            out.append(f"residual correlates with {name.replace('_', ' ')}: r = {c:+.2f} -> {HINTS.get(name, '?')}")
+    for c in diag.candidates:
+        if c.accepted:
+            out.append(f"step {c.step}: named {c.effect}{' (' + c.variant + ')' if c.variant else ''}: out-of-sample RMSE "
+                       f"-> {c.rmse_v:.3e} V at the fit rate, lower in {100 * c.confidence:.0f} % of the blocks, removes "
+                       f"{100 * c.excess_share:.0f} % of the error above the noise floor")
+    for name, why in diag.skipped.items():
+        out.append(f"{name} not tested: {why}")
+    if not diag.missing_effects:
+        out.append("no catalogue effect is justified: none lowers the out-of-sample error in enough blocks")
     else:
-        out.append(f"named {chosen.effect}: validation RMSE {base_fit.rmse_val_v:.3e} -> {chosen.rmse_val_v:.3e} V")
+        out.append(f"validation RMSE {diag.rmse_before:.3e} -> {diag.rmse_after:.3e} V with {', '.join(diag.missing_effects)}")
+    u = diag.unexplained
+    if u["present"]:
+        out.append(f"unexplained: structured residual {u['rms_v']:.3e} V remains (Ljung-Box p = {u['ljung_box_p']:.1e}) "
+                   f"against a noise floor of {u['noise_floor_v']:.3e} V; no catalogue effect describes it")
     return out

@@ -18,18 +18,18 @@ def write_report(diag, rec, out_dir, bag_name=""):
     out = Path(out_dir)
     (out / "figures").mkdir(parents=True, exist_ok=True)
     t = rec.t_s
-    val = t >= diag.split_s
-    before = rec.voltage_v - diag.base_fit.simulated_v
-    after = rec.voltage_v - diag.chosen.simulated_v
+    named = ", ".join(diag.missing_effects) or diag.missing_effect
+    before = rec.voltage_v - diag.simulated_before_v
+    after = rec.voltage_v - diag.simulated_after_v
 
     fig, ax = plt.subplots(2, 1, figsize=(11, 6), sharex=True)
-    ax[0].plot(t[val], rec.voltage_v[val], "k", lw=0.8, label="measured")
-    ax[0].plot(t[val], diag.base_fit.simulated_v[val], "r", lw=0.8, label=f"base {diag.base} (RMSE {diag.rmse_before:.2e} V)")
-    ax[0].plot(t[val], diag.chosen.simulated_v[val], "b--", lw=0.8,
-               label=f"with {diag.missing_effect} (RMSE {diag.rmse_after:.2e} V)")
-    ax[0].set(ylabel="bridge output [V]", title="Validation part (never fitted): measured vs simulated")
+    ax[0].plot(t, rec.voltage_v, "k", lw=0.8, label="measured")
+    ax[0].plot(t, diag.simulated_before_v, "r", lw=0.8, label=f"base {diag.base} (RMSE {diag.rmse_before:.2e} V)")
+    ax[0].plot(t, diag.simulated_after_v, "b--", lw=0.8, label=f"with {named} (RMSE {diag.rmse_after:.2e} V)")
+    ax[0].set(ylabel="bridge output [V]",
+              title=f"Out-of-sample predictions ({diag.folds} time blocks, each predicted by the fit that left it out)")
     ax[0].legend(fontsize=8)
-    ax[1].plot(t[val], rec.force_n[val], "g", lw=0.8)
+    ax[1].plot(t, rec.force_n, "g", lw=0.8)
     ax[1].set(xlabel="time [s]", ylabel="reference force [N]")
     fig.tight_layout()
     fig.savefig(out / "figures" / "measured_vs_simulated.png", dpi=100)
@@ -43,9 +43,11 @@ def write_report(diag, rec, out_dir, bag_name=""):
         ax.fill_between(t, 0, 1, where=mask, transform=ax.get_xaxis_transform(), color="orange", alpha=0.25,
                         label=f"{top.replace('_', ' ')} (residual x{conc[top]['rms_ratio']:.2f})")
     ax.plot(t, before, "r", lw=0.6, label=f"base {diag.base}")
-    ax.plot(t, after, "b", lw=0.6, label=f"with {diag.missing_effect}")
-    ax.axvline(diag.split_s, color="k", ls="--", lw=1, label="fit | validation")
-    ax.set(xlabel="time [s]", ylabel="residual, measured - simulated [V]", title="Residual over time")
+    ax.plot(t, after, "b", lw=0.6, label=f"with {named}")
+    for k in range(1, diag.folds):
+        ax.axvline(t[0] + k * (t[-1] - t[0]) / diag.folds, color="k", ls=":", lw=0.8)
+    ax.axhspan(-diag.noise_floor_v, diag.noise_floor_v, color="grey", alpha=0.3, label="noise floor (+-1 sigma)")
+    ax.set(xlabel="time [s]", ylabel="residual, measured - simulated [V]", title="Out-of-sample residual over time")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(out / "figures" / "residual.png", dpi=100)
@@ -55,7 +57,7 @@ def write_report(diag, rec, out_dir, bag_name=""):
     names = sorted(conc, key=lambda k: -conc[k]["rms_ratio"])
     ax[0].barh([n.replace("_", " ") for n in names], [conc[n]["rms_ratio"] for n in names], color="tab:orange")
     ax[0].axvline(1.0, color="k", lw=0.8)
-    ax[0].set(xlabel="RMS residual inside / overall [-]", title="Where the base model's residual concentrates")
+    ax[0].set(xlabel="RMS residual inside / overall [-]", title="Where the residual concentrates")
     corr = diag.localisation["correlation"]
     ax[1].barh([n.replace("_", " ") for n in corr], list(corr.values()), color="tab:blue")
     ax[1].set(xlabel="correlation with the residual [-]", title="What the residual follows", xlim=(-1, 1))
@@ -64,33 +66,49 @@ def write_report(diag, rec, out_dir, bag_name=""):
     plt.close(fig)
 
     data = diag.to_json()
-    base_bic = next(c["criterion"] for c in data["candidates"] if c["effect"] == "none")
+    u = diag.unexplained
     lines = [f"# Discrepancy diagnosis {bag_name}", "",
-             f"**Missing effect: `{diag.missing_effect}`** (base `{diag.base}`). Validation RMSE "
-             f"{diag.rmse_before:.3e} V -> {diag.rmse_after:.3e} V (x{diag.rmse_before / diag.rmse_after:.1f}); "
-             f"the validation part starts at {diag.split_s:.1f} s and was never fitted.", "", "## Evidence", ""]
+             f"**Missing effects: {', '.join(f'`{e}` (confidence {diag.confidences[e]:.0%})' for e in diag.missing_effects) or '`' + diag.missing_effect + '`'}** "
+             f"(base `{diag.base}`). Out-of-sample RMSE {diag.rmse_before:.3e} V -> {diag.rmse_after:.3e} V "
+             f"(x{diag.rmse_before / max(diag.rmse_after, 1e-300):.1f}); noise floor estimated from the data "
+             f"{diag.noise_floor_v:.3e} V. Validation: {data['validation']}.", ""]
+    if u["present"]:
+        lines += [f"**Unexplained:** a structured residual of {u['rms_v']:.3e} V remains (Ljung-Box p = {u['ljung_box_p']:.1e}), "
+                  f"{u['rms_v'] / max(u['noise_floor_v'], 1e-300):.1f}x the noise floor; no effect of the catalogue describes it. "
+                  f"Where: {u['where']}.", ""]
+    for name, why in diag.skipped.items():
+        lines.append(f"- `{name}` not tested: {why}")
+    lines += ["", "## Evidence", ""]
     lines += [f"- {e}" for e in diag.evidence]
-    lines += ["", "## Candidates", "", "| effect | validation RMSE [V] | fitting RMSE [V] | BIC vs base | parameters |", "|---|---|---|---|---|"]
+    lines += ["", "## Candidates (forward selection)", "",
+              "| step | effect | variant | out-of-sample RMSE [V] (fit rate) | fitting RMSE [V] | blocks improved | "
+              "share of excess removed | BIC | accepted |", "|---|---|---|---|---|---|---|---|---|"]
     for c in data["candidates"]:
-        lines.append(f"| {c['effect']} | {c['rmse']:.3e} | {c['rmse_fit']:.3e} | {c['criterion'] - base_bic:+.1f} | {c['n_params']} |")
+        lines.append(f"| {c['step']} | {c['effect']} | {c['variant']} | {c['rmse']:.3e} | {c['rmse_fit']:.3e} | "
+                     f"{c['confidence']:.0%} | {c['excess_share']:+.2f} | {c['criterion']:.1f} | {'yes' if c['accepted'] else ''} |")
     lines += ["", "![measured vs simulated](figures/measured_vs_simulated.png)", "", "![residual](figures/residual.png)", "",
               "![localisation](figures/localisation.png)", ""]
     (out / "report.md").write_text("\n".join(lines) + "\n")
     return out / "report.md"
 
 
-def run(bag, base, json_path=None, report_dir=None, save_model_path=None, fit_fraction=0.6, progress=None):
+def run(bag, base, json_path=None, report_dir=None, save_model_path=None, progress=None, n_folds=5, effects=None):
     rec = load_record(bag)
-    diag = diagnose(rec, base=base, fit_fraction=fit_fraction, progress=progress)
+    diag = diagnose(rec, base=base, n_folds=n_folds, effects=effects, progress=progress)
     data = diag.to_json()
     data["bag"] = str(bag)
+    data["record_warnings"] = list(rec.warnings)
     if json_path:
         Path(json_path).parent.mkdir(parents=True, exist_ok=True)
-        Path(json_path).write_text(json.dumps(data, indent=2))
+        Path(json_path).write_text(json.dumps(data, indent=2, default=float))
     if report_dir:
         write_report(diag, rec, report_dir, Path(bag).name)
     if save_model_path:
         provenance = {"source": str(bag), "created": now_iso(), "method": f"polyforce diagnose --base {base}",
-                      "missing_effect": diag.missing_effect, "rmse_before_v": diag.rmse_before, "rmse_after_v": diag.rmse_after}
-        save_model(save_model_path, SensorModel(diag.chosen.chain, provenance))
+                      "missing_effect": diag.missing_effect, "missing_effects": list(diag.missing_effects),
+                      "confidence": {k: float(v) for k, v in diag.confidences.items()},
+                      "rmse_before_v": diag.rmse_before, "rmse_after_v": diag.rmse_after,
+                      "noise_floor_v": diag.noise_floor_v,
+                      "unexplained": {"present": bool(diag.unexplained["present"]), "rms_v": float(diag.unexplained["rms_v"])}}
+        save_model(save_model_path, SensorModel(diag.chain, provenance))
     return diag, data

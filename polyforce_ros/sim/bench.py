@@ -1,37 +1,29 @@
-"""Bench experiments with one physical effect hidden in them (tests of the discrepancy workflow).
+"""Bench experiments with hidden effects (tests and the confusion matrix of the discrepancy workflow).
 
-A bench record is a random load profile (holds, rests, ramps, reversals,
-fast steps, short sine bursts) applied to a sensor whose truth is a base
-viscoelastic model plus, optionally, one effect of the catalogue at a given
-magnitude. Temperature always varies (independently of the load), so its
-mere presence gives nothing away. The discrepancy workflow is never told
-which effect was hidden.
+A bench record is a random load profile (holds, rests, ramps, reversals, fast
+steps, short sine bursts) applied to a sensor whose truth is a base
+viscoelastic model with random parameters (+-30 % around the base's) plus
+any number of hidden effects. Each effect is drawn from one of its
+*families* in the effect registry (:mod:`polyforce_ros.discrepancy.effects`)
+with random parameters; none is the element the engine fits. Families marked
+``held_out`` and the seeds of ``SPLITS["held_out"]`` are never used while
+tuning the engine. Out-of-catalogue effects (:data:`OUT_OF_CATALOGUE`) have no
+element in the catalogue at all. Temperature always varies (independently of
+the load), so its mere presence gives nothing away; :func:`bench_record`
+adds real recording conditions (rate, stamp jitter, dropped blocks, no
+temperature topic, a reference load cell with its own noise).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..physics.chain import (
-    NonlinearGainElement, OffsetDriftElement, OffsetElement, PreisachElement, SensorChain, SensorLagElement,
-    ThermalDriftElement, ViscoelasticElement,
-)
+from ..discrepancy.effects import EFFECTS as REGISTRY, NAMES, Additive, Truth
+from ..physics.chain import OffsetElement, SensorChain, ViscoelasticElement
 from ..physics.preisach import PreisachModel
-from ..physics.viscoelastic import PAPER_BURGERS, Burgers, Burgers2, Elastic, Maxwell, Zener, Zener2
+from ..physics.viscoelastic import PAPER_BURGERS, Elastic, Maxwell, Zener
 from .sensor import BridgeSimulator
-
-EFFECTS = ("none", "viscous_flow", "delayed_elasticity", "hysteresis", "sensor_lag", "nonlinear_gain", "thermal_drift",
-           "offset_drift")
-
-#: The base model's truth (what a fit of the base can describe exactly) for each base type.
-BASE_TRUTH = {
-    "elastic": Elastic(3.24),
-    "maxwell": Maxwell(4.8, 4627.94),
-    "zener": Zener(4.8, 10.0, 85.12),
-    "burgers": PAPER_BURGERS,
-}
-
 
 def random_load(duration_s, rate_hz, seed):
     """Force (N) of a random bench session: holds, rests, ramps, reversals, fast steps, sine bursts."""
@@ -114,67 +106,206 @@ def hysteretic_identity(u_min, u_max, loop_fraction, n_levels=24):
     return PreisachModel(u_min, u_max, density, offset=u_min + (u_max - u_min) / 2.0)
 
 
+
+#: The base model's truth (randomised +-30 % per seed) for each base type.
+BASE_TRUTH = {
+    "elastic": Elastic(3.24),
+    "maxwell": Maxwell(4.8, 4627.94),
+    "zener": Zener(4.8, 10.0, 85.12),
+    "burgers": PAPER_BURGERS,
+}
+
+
+class LoadDependentCore:
+    """Out of catalogue: the delayed (Kelvin) stiffness grows with load, k2(F) = k2 (1 + alpha F).
+
+    The instantaneous and viscous parts stay linear, so the creep amplitude grows
+    less than in proportion to the load; no static gain curve or linear core
+    describes that.
+    """
+
+    kind = "sim"
+
+    def __init__(self, core, alpha):
+        self.core, self.alpha = core, alpha
+
+    def forward_state(self):
+        return {}
+
+    def forward(self, t, f, aux=None, state=None):
+        from ..physics.viscoelastic import simulate_deformation
+
+        f = np.asarray(f, dtype=float)
+        comp = self.core.compliance()
+        instant = comp.j0_v_per_n * f
+        flow = (comp.fluidity_v_per_n_s * np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))])
+                if comp.fluidity_v_per_n_s else 0.0)
+        delayed = simulate_deformation(self.core, t, np.log1p(self.alpha * np.clip(f, 0, None)) / self.alpha)
+        delayed = delayed - comp.j0_v_per_n * np.log1p(self.alpha * np.clip(f, 0, None)) / self.alpha
+        if comp.fluidity_v_per_n_s:
+            g = np.log1p(self.alpha * np.clip(f, 0, None)) / self.alpha
+            delayed = delayed - comp.fluidity_v_per_n_s * np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(t))])
+        return instant + flow + delayed
+
+
+def _sens_drift(rng, m, ctx):
+    rel = float(np.interp(m, [0, 1], [0.02, 0.1]) * rng.choice([-1, 1]))  # sensitivity change over the record
+    p, d = rng.uniform(0.6, 1.4), ctx["duration_s"]
+    truth = Truth()
+    truth.after.append(_TimeGain(lambda s, rel=rel, p=p, d=d: 1.0 + rel * (s / d) ** p))
+    return truth
+
+
+def _stiffening(rng, m, ctx):
+    alpha = float(np.interp(m, [0, 1], [0.1, 0.4]))
+    return Truth(core=LoadDependentCore(ctx["core"], alpha))
+
+
+def _periodic(rng, m, ctx):
+    amp = float(np.interp(m, [0, 1], [0.004, 0.03]))
+    period = rng.uniform(20.0, 90.0)
+    phase = rng.uniform(0, 2 * np.pi)
+    return Truth(late=[Additive(lambda s, T, a=amp, w=2 * np.pi / period, ph=phase: a * np.sin(w * s + ph))])
+
+
+class _TimeGain:
+    kind = "sim"
+
+    def __init__(self, fn):
+        self.fn = fn
+
+    def forward_state(self):
+        return {}
+
+    def forward(self, t, x, aux=None, state=None):
+        t = np.asarray(t, dtype=float)
+        return np.asarray(x, dtype=float) * self.fn(t - t[0])
+
+
+#: Effects no catalogue holds: the workflow must answer "unexplained" (or "none"), never a catalogue name.
+OUT_OF_CATALOGUE = {"sensitivity_drift": _sens_drift, "load_stiffening": _stiffening, "periodic_interference": _periodic}
+EFFECTS = ("none",) + NAMES
+#: Order of effects along the chain (core first, drift last).
+_ORDER = ("viscous_flow", "delayed_elasticity", "hysteresis", "nonlinear_gain", "sensor_lag", "thermal_drift",
+          "offset_drift")
+
+
+def default_base(effects):
+    """A base the hidden effects can be hidden against (core effects need a core without them)."""
+    effects = [e for e in effects if e in REGISTRY]
+    if "viscous_flow" in effects:
+        return "zener"
+    if "delayed_elasticity" in effects:
+        return "maxwell"
+    return "burgers"
+
+
+def random_core(base, rng):
+    core = BASE_TRUTH[base]
+    return type(core).from_vector(core.as_vector() * rng.uniform(0.7, 1.3, core.as_vector().size))
+
+
 @dataclass
 class BenchCase:
-    effect: str
+    effects: tuple
     magnitude: float  # 0..1, from barely detectable to large
     base: str
     truth: SensorChain
     seed: int
+    families: dict = field(default_factory=dict)
+
+    @property
+    def effect(self):
+        return self.effects[0] if self.effects else "none"
 
 
-def truth_chain(effect, magnitude, base="burgers", seed=0, force_range_n=10.0):
-    """The sensor truth: the base model plus one effect of relative size ``magnitude`` (0..1)."""
+def truth_chain(effects, magnitude, base="burgers", seed=0, force_range_n=9.0, duration_s=600.0, split="tune",
+                families=None):
+    """The sensor truth and the family of each hidden effect: ``(SensorChain, {effect: family})``.
+
+    ``effects``: a name, a list of names (catalogue or :data:`OUT_OF_CATALOGUE`), or "none".
+    ``families``: {effect: family} to force a family; otherwise one is drawn from ``split``.
+    """
+    from ..discrepancy.effects import families as split_families
+
+    if isinstance(effects, str):
+        effects = [] if effects == "none" else [effects]
     rng = np.random.default_rng(seed + 1234)
-    core = BASE_TRUTH[base]
+    core = random_core(base, rng)
+    comp = core.compliance()
+    ctx = {"core": core, "force_range_n": force_range_n, "duration_s": duration_s,
+           "gain_v_per_n": comp.j0_v_per_n + sum(comp.c_v_per_n)}
     m = float(np.clip(magnitude, 0.0, 1.0))
-    before, extra = [], []
-    if effect == "viscous_flow":
-        if base not in ("elastic", "zener"):
-            raise ValueError("viscous_flow is hidden against an elastic or zener base")
-        eta1 = float(np.exp(np.interp(m, [0, 1], np.log([40000.0, 1500.0]))))
-        core = Maxwell(core.k_n_per_v, eta1) if base == "elastic" else Burgers(core.k1_n_per_v, core.k2_n_per_v, eta1, core.eta2_n_s_per_v)
-    elif effect == "delayed_elasticity":
-        if base == "kelvin":
-            raise ValueError("delayed_elasticity is hidden against an elastic, maxwell, zener or burgers base")
-        k_new = float(np.interp(m, [0, 1], [60.0, 6.0]))
-        if base in ("elastic", "maxwell"):
-            tau = rng.uniform(3.0, 15.0)
-            core = (Zener(core.k_n_per_v, k_new, k_new * tau) if base == "elastic"
-                    else Burgers(core.k_n_per_v, k_new, core.eta_n_s_per_v, k_new * tau))
-        else:  # a second Kelvin element, faster than the base's own (8.5 s)
-            tau = rng.uniform(0.8, 2.5)
-            core = (Zener2(core.k1_n_per_v, core.k2_n_per_v, core.eta2_n_s_per_v, k_new, k_new * tau) if base == "zener"
-                    else Burgers2(core.k1_n_per_v, core.k2_n_per_v, core.eta1_n_s_per_v, core.eta2_n_s_per_v, k_new, k_new * tau))
-    elif effect == "hysteresis":
-        # rate-independent hysteresis of the force path (friction in the mechanism), before the core
-        before.append(PreisachElement(hysteretic_identity(0.0, force_range_n, loop_fraction=0.01 + 0.07 * m), continuous=True))
-    elif effect == "sensor_lag":
-        extra.append(SensorLagElement(tau_s=float(np.interp(m, [0, 1], [0.01, 0.15]))))
-    elif effect == "nonlinear_gain":
-        extra.append(NonlinearGainElement(quadratic_per_v=float(np.interp(m, [0, 1], [0.005, 0.05]) * rng.choice([-1, 1]))))
-    elif effect == "thermal_drift":
-        extra.append(ThermalDriftElement(coefficient_v_per_c=float(np.interp(m, [0, 1], [0.001, 0.01])), reference_c=24.0))
-    elif effect == "offset_drift":
-        extra.append(OffsetDriftElement(rate_v_per_s=float(np.interp(m, [0, 1], [2e-5, 2e-4]) * rng.choice([-1, 1]))))
-    elif effect != "none":
-        raise ValueError(f"unknown effect {effect!r}; choose from {EFFECTS}")
-    return SensorChain([*before, ViscoelasticElement(core), *extra, OffsetElement(0.05)])
+    before, after, lags, late, chosen = [], [], [], [], {}
+    core_el = None
+    for name in sorted(effects, key=lambda e: _ORDER.index(e) if e in _ORDER else len(_ORDER)):
+        if name in OUT_OF_CATALOGUE:
+            truth, chosen[name] = OUT_OF_CATALOGUE[name](rng, m, ctx), name
+        elif name in REGISTRY:
+            eff = REGISTRY[name]
+            if eff.needs_base and base not in eff.needs_base:
+                raise ValueError(f"{name} is hidden against a base in {eff.needs_base}, not {base}")
+            fam = (families or {}).get(name) or rng.choice(split_families(name, split))
+            chosen[name] = str(fam)
+            truth = eff.families[fam].make(rng, m, ctx)
+        else:
+            raise ValueError(f"unknown effect {name!r}; choose from {EFFECTS + tuple(OUT_OF_CATALOGUE)}")
+        if truth.core is not None:
+            if isinstance(truth.core, LoadDependentCore):
+                core_el = truth.core
+            else:
+                core = truth.core
+                ctx["core"] = core
+        before += truth.before
+        (lags if name == "sensor_lag" else after).extend(truth.after)
+        late += truth.late
+    core_el = core_el or ViscoelasticElement(core)
+    chain = SensorChain.__new__(SensorChain)  # truth chains may hold simulate-only elements
+    chain.elements = [*before, core_el, *after, *lags, *late, OffsetElement(0.05)]
+    return chain, chosen
 
 
-def simulate_bench(effect, magnitude, base="burgers", duration_s=600.0, rate_hz=200.0, seed=0, noise_std_v=1e-3):
-    """(t_s, force_n, voltage_v, temperature_c, BenchCase) of a bench session with the effect hidden."""
+def simulate_bench(effects, magnitude, base="burgers", duration_s=600.0, rate_hz=200.0, seed=0, noise_std_v=2e-3,
+                   split="tune", families=None):
+    """(t_s, force_n, voltage_v, temperature_c, BenchCase) of a bench session with the effects hidden."""
     t, f = random_load(duration_s, rate_hz, seed)
     temp = random_temperature(t, seed)
-    chain = truth_chain(effect, magnitude, base, seed)
-    volts = BridgeSimulator(chain=chain, noise_std_v=noise_std_v, seed=seed).simulate(t, f, temperature_c=temp)
-    return t, f, volts, temp, BenchCase(effect, magnitude, base, chain, seed)
+    chain, chosen = truth_chain(effects, magnitude, base, seed, duration_s=duration_s, split=split, families=families)
+    sim = BridgeSimulator(noise_std_v=noise_std_v, seed=seed)
+    sim.chain, sim._states = chain, chain.forward_states()
+    volts = sim.simulate(t, f, temperature_c=temp)
+    names = tuple([] if effects == "none" else [effects] if isinstance(effects, str) else effects)
+    return t, f, volts, temp, BenchCase(names, magnitude, base, chain, seed, chosen)
 
 
-def write_bench_bag(path, effect, magnitude, base="burgers", duration_s=600.0, rate_hz=200.0, seed=0):
+def bench_record(effects, magnitude, base="burgers", duration_s=600.0, rate_hz=200.0, seed=0, split="tune", families=None,
+                 jitter=0.0, drops=0, temperature=True, reference_noise_n=0.005, noise_std_v=2e-3):
+    """A :class:`~polyforce_ros.record.Record` of a bench session under recording conditions, and its BenchCase.
+
+    jitter: stamp jitter as a fraction of the sample interval (uniform +-); drops: number of
+    dropped blocks (each up to 0.5 s); temperature: whether the temperature topic exists;
+    reference_noise_n: white noise of the reference load cell (N, 1 sigma).
+    """
+    from ..record import Record
+
+    t, f, v, temp, case = simulate_bench(effects, magnitude, base, duration_s, rate_hz, seed, noise_std_v, split, families)
+    rng = np.random.default_rng(seed + 77)
+    keep = np.ones(t.size, dtype=bool)
+    for _ in range(drops):
+        start = rng.uniform(0.05, 0.95) * duration_s
+        keep &= ~((t >= start) & (t < start + rng.uniform(0.05, 0.5)))
+    stamps = t + jitter * rng.uniform(-1.0, 1.0, t.size) / rate_hz
+    f_meas = f + rng.normal(0.0, reference_noise_n, t.size)
+    stamps, f_meas, v, temp = stamps[keep], f_meas[keep], v[keep], temp[keep]
+    return Record(stamps - stamps[0], f_meas, v, temp if temperature else None), case
+
+
+def write_bench_bag(path, effects, magnitude, base="burgers", duration_s=600.0, rate_hz=200.0, seed=0, split="tune",
+                    families=None, temperature=True):
     """Write a hidden-effect bench session as a bag of the topic contract; returns the BenchCase."""
     from .recording import write_bench_bag as write
 
-    t, f, volts, temp, case = simulate_bench(effect, magnitude, base, duration_s, rate_hz, seed)
-    write(path, t, f, volts, temperature_c=temp, temperature_every=max(1, int(rate_hz / 10)))
+    t, f, volts, temp, case = simulate_bench(effects, magnitude, base, duration_s, rate_hz, seed, split=split,
+                                             families=families)
+    write(path, t, f, volts, temperature_c=temp if temperature else None, temperature_every=max(1, int(rate_hz / 10)))
     return case

@@ -1,0 +1,466 @@
+"""The one effect registry: every effect of the catalogue, defined in one place.
+
+An :class:`Effect` holds everything the project knows about one physical effect:
+
+* how to **simulate** it for the bench generator, as several independent
+  *families* with random parameters (:attr:`Effect.families`; a family marked
+  ``held_out`` is never used while tuning the engine, see :data:`SPLITS`);
+* how to **fit** it: the linear design columns it adds to the sensor model for
+  a value of its nonlinear parameter, the grid that parameter is searched on,
+  its variants (e.g. hysteresis on the force or on the voltage path), and, for
+  the two core effects, the core type it turns the base into;
+* its **model-file elements** (how fitted coefficients become chain elements,
+  which ``polyforce compensate`` and ``compensation_node`` run backward);
+* its **localisation hint**: the segment kinds and signals its residual shows in.
+
+The generator (:mod:`polyforce_ros.sim.bench`), the engine (:mod:`.engine`),
+the localiser (:mod:`.localise`), the report and the CLI choices all read
+:data:`EFFECTS`; nothing about an effect is spelled anywhere else.
+
+The fitted sensor model is linear in its coefficients once the nonlinear
+parameters (retardation times, lag and thermal time constants) are fixed::
+
+    V = Lag_tau( sum_j c_j s_j ) + sum_k d_k a_k + offset
+
+with *sensor* columns ``s_j`` (the core's compliance terms F, int F, K_tau F;
+hysteresis play operators; the squared core output) and *additive* columns
+``a_k`` (temperature, drift polynomials). Cores are written in compliance
+form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Optional
+
+import numpy as np
+
+from ..physics.chain import (
+    ExponentialDriftElement, PlayHysteresisElement, PolynomialGainElement, PolynomialDriftElement, PreisachElement, SensorLagElement,
+    ThermalDriftElement, ThermalLagElement, play_operator,
+)
+from ..physics.expconv import exp_convolve
+from ..physics.viscoelastic import Burgers, Burgers2, Maxwell, Zener, Zener2, simulate_deformation_columns
+
+#: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
+Col = tuple
+
+#: Play-operator half-widths of the hysteresis fit, as fractions of the input span (a regularised
+#: non-negative weight distribution over them is fitted; dense enough for any loop shape).
+PLAY_FRACTIONS = np.array([0.005, 0.01, 0.02, 0.035, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.45])
+#: Ridge weight on the play weights, relative to the mean diagonal of the normal matrix.
+PLAY_RIDGE = 1e-4
+
+
+def lag_columns(t, x, tau_s):
+    """Unit-gain first-order lag of each column of x (n,) or (n, m), from rest."""
+    x = np.asarray(x, dtype=float)
+    one = x.ndim == 1
+    x2 = x[:, None] if one else x
+    out = np.column_stack([exp_convolve(t, x2[:, k], [1.0 / tau_s])[:, 0] / tau_s for k in range(x2.shape[1])])
+    return out[:, 0] if one else out
+
+
+# --------------------------------------------------------------------------- simulate-only elements
+# Truth elements of the generator's families that the engine never fits in this form
+# (forward only; the bench simulator needs nothing else).
+
+class _SimElement:
+    kind = "sim"
+
+    def forward_state(self):
+        return {}
+
+
+class BoucWen(_SimElement):
+    """Bouc-Wen hysteresis on the voltage path: y = x + z, dz = A dx - beta |dx| |z|^(n-1) z - gamma dx |z|^n."""
+
+    def __init__(self, amplitude, beta, gamma, n=1.0):
+        self.a, self.beta, self.gamma, self.n = amplitude, beta, gamma, n
+
+    def forward(self, t, x, aux=None, state=None):
+        x = np.asarray(x, dtype=float)
+        st = state if state is not None else {}
+        z, xp = st.get("z", 0.0), st.get("x", 0.0)
+        out = np.empty_like(x)
+        for i, xi in enumerate(x):
+            dx = xi - xp
+            for _ in range(4):  # four sub-steps per sample: stable for the loop sizes used
+                d = dx / 4
+                z += self.a * d - self.beta * abs(d) * abs(z) ** (self.n - 1) * z - self.gamma * d * abs(z) ** self.n
+            xp = xi
+            out[i] = xi + z
+        st["z"], st["x"] = z, xp
+        return out
+
+
+class SecondOrderLag(_SimElement):
+    """A damped pole pair (electronics / anti-alias filter): y'' + 2 zeta w y' + w^2 y = w^2 x."""
+
+    def __init__(self, omega, zeta):
+        self.w, self.z = omega, zeta
+
+    def forward(self, t, x, aux=None, state=None):
+        from scipy import signal
+
+        t, x = np.asarray(t, dtype=float), np.asarray(x, dtype=float)
+        sys = signal.lti([self.w ** 2], [1.0, 2 * self.z * self.w, self.w ** 2])
+        h = float(np.median(np.diff(t)))
+        tu = np.arange(t[0], t[-1] + h, h)
+        _, y, _ = signal.lsim(sys, np.interp(tu, t, x), tu - tu[0])
+        return np.interp(t, tu, y)
+
+
+class StaticMap(_SimElement):
+    """y = fn(x) per sample."""
+
+    def __init__(self, fn):
+        self.fn = fn
+
+    def forward(self, t, x, aux=None, state=None):
+        return self.fn(np.asarray(x, dtype=float))
+
+
+class Additive(_SimElement):
+    """y = x + fn(t - t_first, temperature)."""
+
+    def __init__(self, fn):
+        self.fn = fn
+
+    def forward(self, t, x, aux=None, state=None):
+        t = np.asarray(t, dtype=float)
+        temp = None if not aux or aux.get("temperature_c") is None else np.broadcast_to(aux["temperature_c"], t.shape)
+        return np.asarray(x, dtype=float) + self.fn(t - t[0], temp)
+
+
+@dataclass
+class Truth:
+    """What a family does to the sensor truth: core replaced, elements before/after the core, at the end."""
+
+    core: object = None
+    before: list = field(default_factory=list)  # force path (before the core)
+    after: list = field(default_factory=list)   # voltage path (after the core, before the lag)
+    late: list = field(default_factory=list)    # after the lag: thermal, drift
+
+
+@dataclass(frozen=True)
+class Family:
+    """One way an effect appears in a sensor; ``make(rng, magnitude, ctx) -> Truth``."""
+
+    make: Callable
+    held_out: bool = False
+
+
+@dataclass(frozen=True)
+class Effect:
+    """An effect of the catalogue (see the module docstring)."""
+
+    name: str
+    hint: str
+    segments: tuple
+    signals: tuple
+    elements: tuple
+    families: dict
+    variants: tuple = ("",)
+    grid: Optional[Callable] = None            # (variant, sig) -> nonlinear parameter values (or [None])
+    columns: Optional[Callable] = None         # (sig, variant, param) -> list of Col
+    to_elements: Optional[Callable] = None     # (coef: name -> value, variant, param, sig) -> [(slot, element)]
+    core_change: Optional[dict] = None         # base core kind -> augmented kind (core effects only)
+    needs_temperature: bool = False
+    needs_base: tuple = ()                     # generator: bases it is hidden against
+
+
+# --------------------------------------------------------------------------- generator helpers
+
+def _span_v(ctx):
+    return ctx["gain_v_per_n"] * ctx["force_range_n"]
+
+
+def _random_play(rng, span, loop_fraction, n):
+    """A Prandtl-Ishlinskii operator with random radii and weights whose loop is ``loop_fraction`` of ``span``."""
+    radii = np.sort(rng.uniform(0.01, 0.35, n)) * span
+    w = rng.gamma(1.5, 1.0, n)
+    # the loop width at full amplitude is about 2 sum w_i r_i (for small weights)
+    w *= loop_fraction * span / (2.0 * np.sum(w * radii))
+    return PlayHysteresisElement(1.0, np.maximum.accumulate(radii + 1e-9 * np.arange(n)), w)
+
+
+def _hyst_preisach(rng, m, ctx):
+    from ..sim.bench import hysteretic_identity
+
+    frac = np.interp(m, [0, 1], [0.01, 0.06])
+    return Truth(before=[PreisachElement(hysteretic_identity(0.0, ctx["force_range_n"], frac / 1.0), continuous=True)])
+
+
+def _hyst_play_force(rng, m, ctx):
+    frac = np.interp(m, [0, 1], [0.01, 0.06])
+    return Truth(before=[_random_play(rng, ctx["force_range_n"], frac, int(rng.integers(2, 6)))])
+
+
+def _hyst_play_voltage(rng, m, ctx):
+    frac = np.interp(m, [0, 1], [0.01, 0.06])
+    return Truth(after=[_random_play(rng, _span_v(ctx), frac, int(rng.integers(2, 6)))])
+
+
+def _hyst_bouc_wen(rng, m, ctx):
+    frac = np.interp(m, [0, 1], [0.01, 0.06])
+    span = _span_v(ctx)
+    n = 1.0
+    # loop height ~ 2 z_max, z_max = A / (beta + gamma) for n = 1
+    a = rng.uniform(0.5, 1.0)
+    total = a / (frac * span / 2.0)
+    beta = total * rng.uniform(0.5, 0.8)
+    return Truth(after=[BoucWen(a * rng.uniform(0.8, 1.2), beta, total - beta, n)])
+
+
+def _lag_first(rng, m, ctx):
+    return Truth(after=[SensorLagElement(tau_s=float(np.interp(m, [0, 1], [0.01, 0.15]) * rng.uniform(0.8, 1.2)))])
+
+
+def _lag_second(rng, m, ctx):
+    tau = float(np.interp(m, [0, 1], [0.012, 0.15]) * rng.uniform(0.8, 1.2))
+    zeta = rng.uniform(0.5, 1.0)
+    return Truth(after=[SecondOrderLag(2 * zeta / tau, zeta)])  # effective delay 2 zeta / omega = tau
+
+
+def _gain_poly(rng, m, ctx):
+    span = _span_v(ctx)
+    rel = np.interp(m, [0, 1], [0.015, 0.12]) * rng.choice([-1, 1])  # deviation at full scale
+    share = rng.uniform(0.0, 1.0)
+    q2, q3 = share * rel / span, (1 - share) * rel / span ** 2
+    return Truth(after=[StaticMap(lambda x, q2=q2, q3=q3: x + q2 * x * x + q3 * x ** 3)])
+
+
+def _gain_tanh(rng, m, ctx):
+    span = _span_v(ctx)
+    rel = np.interp(m, [0, 1], [0.015, 0.12])  # saturation deficit at full scale
+    # s tanh(x / s) = x (1 - (x/s)^2 / 3 ...): deficit rel at x = span -> s = span / sqrt(3 rel)
+    s = span / np.sqrt(3 * rel)
+    return Truth(after=[StaticMap(lambda x, s=s: s * np.tanh(x / s))])
+
+
+def _gain_exp(rng, m, ctx):
+    span = _span_v(ctx)
+    rel = np.interp(m, [0, 1], [0.015, 0.12])
+    s = span / (2 * rel)  # s (1 - exp(-x/s)) = x - x^2 / (2 s): deficit rel at full scale
+    return Truth(after=[StaticMap(lambda x, s=s: s * (-np.expm1(-x / s)))])
+
+
+def _drift_size(rng, m):
+    return float(np.interp(m, [0, 1], [0.012, 0.1]) * rng.choice([-1, 1]))  # V over the record
+
+
+def _drift_linear(rng, m, ctx):
+    a, d = _drift_size(rng, m), ctx["duration_s"]
+    return Truth(late=[Additive(lambda s, T, a=a, d=d: a * s / d)])
+
+
+def _drift_power(rng, m, ctx):
+    a, d, p = _drift_size(rng, m), ctx["duration_s"], rng.uniform(0.7, 1.5)
+    return Truth(late=[Additive(lambda s, T, a=a, d=d, p=p: a * (s / d) ** p)])
+
+
+def _drift_exp(rng, m, ctx):
+    a, d, tau = _drift_size(rng, m), ctx["duration_s"], rng.uniform(0.2, 0.8) * ctx["duration_s"]
+    return Truth(late=[Additive(lambda s, T, a=a, tau=tau, d=d: a * -np.expm1(-s / tau) / -np.expm1(-d / tau))])
+
+
+def _drift_walk(rng, m, ctx):
+    a, d = _drift_size(rng, m), ctx["duration_s"]
+    # a slow random walk: integrated noise, low-passed to periods longer than the record / 2
+    knots = np.concatenate([[0.0], np.cumsum(rng.normal(0, 1, 4))])
+    knots = knots / max(np.max(np.abs(knots)), 1e-9)
+    grid = np.linspace(0, d, knots.size)
+    from scipy.interpolate import CubicSpline
+
+    spline = CubicSpline(grid, knots, bc_type="natural")
+    return Truth(late=[Additive(lambda s, T, a=a, sp=spline: a * sp(s))])
+
+
+def _thermal_linear(rng, m, ctx):
+    c = float(np.interp(m, [0, 1], [0.0015, 0.01]) * rng.choice([-1, 1]))
+    return Truth(late=[ThermalDriftElement(coefficient_v_per_c=c, reference_c=24.0)])
+
+
+def _thermal_lag(rng, m, ctx):
+    c = float(np.interp(m, [0, 1], [0.0015, 0.01]) * rng.choice([-1, 1]))
+    return Truth(late=[ThermalLagElement(coefficient_v_per_c=c, reference_c=24.0, tau_s=float(rng.uniform(5.0, 60.0)))])
+
+
+def _viscous(rng, m, ctx):
+    core = ctx["core"]
+    eta1 = float(np.exp(np.interp(m, [0, 1], np.log([40000.0, 1500.0]))) * rng.uniform(0.7, 1.3))
+    if core.kind == "elastic":
+        return Truth(core=Maxwell(core.k_n_per_v, eta1))
+    return Truth(core=Burgers(core.k1_n_per_v, core.k2_n_per_v, eta1, core.eta2_n_s_per_v))
+
+
+def _delayed(rng, m, ctx):
+    core = ctx["core"]
+    k_new = float(np.interp(m, [0, 1], [60.0, 6.0]) * rng.uniform(0.8, 1.2))
+    if core.kind in ("elastic", "maxwell"):
+        tau = float(np.exp(rng.uniform(np.log(1.0), np.log(100.0))))  # two decades
+        return Truth(core=Zener(core.k_n_per_v, k_new, k_new * tau) if core.kind == "elastic"
+                     else Burgers(core.k_n_per_v, k_new, core.eta_n_s_per_v, k_new * tau))
+    own = core.eta2_n_s_per_v / core.k2_n_per_v
+    # a second Kelvin element a decade or more away from the base's own (two decades overall)
+    tau = float(own * np.exp(rng.choice([-1, 1]) * rng.uniform(np.log(5.0), np.log(15.0))))
+    if core.kind == "zener":
+        return Truth(core=Zener2(core.k1_n_per_v, core.k2_n_per_v, core.eta2_n_s_per_v, k_new, k_new * tau))
+    return Truth(core=Burgers2(core.k1_n_per_v, core.k2_n_per_v, core.eta1_n_s_per_v, core.eta2_n_s_per_v, k_new, k_new * tau))
+
+
+# --------------------------------------------------------------------------- fitting helpers
+
+def _log_grid(lo, hi, n):
+    return list(np.exp(np.linspace(np.log(lo), np.log(hi), n)))
+
+
+def _hyst_start(radii, variant):
+    """Play states before the record: virgin (zero) or after the input came down from the span (r)."""
+    return radii if variant.endswith("descending") else np.zeros(radii.size)
+
+
+def _hyst_columns(sig, variant, param):
+    # each play relative to its rest state (zero at rest at the start), as PlayHysteresisElement outputs
+    if variant.startswith("force"):
+        radii = PLAY_FRACTIONS * sig.span_f
+        plays = play_operator(sig.f, radii, _hyst_start(radii, variant)) - _hyst_start(radii, variant)
+        cols = simulate_deformation_columns(sig.core_ref, sig.t, plays)
+    else:
+        radii = PLAY_FRACTIONS * sig.span_x
+        cols = play_operator(sig.x_ref, radii, _hyst_start(radii, variant)) - _hyst_start(radii, variant)
+    return [(f"play{i}", cols[:, i], 0.0, np.inf, "sensor", "play") for i in range(cols.shape[1])]
+
+
+def _hyst_elements(coef, variant, param, sig):
+    span = sig.span_f if variant.startswith("force") else sig.span_x
+    w = np.array([max(coef.get(f"play{i}", 0.0), 0.0) for i in range(PLAY_FRACTIONS.size)])
+    keep = w > 1e-12 * max(w.max(), 1e-300)
+    if not keep.any():
+        return []
+    # on the force path the plays enter through the core (core(F + sum w p(F))); on the voltage path
+    # the core output x stands for itself (x + sum w p(x)); linear weight 1 either way
+    history = 2.0 * span if variant.endswith("descending") else 0.0
+    return [("before" if variant.startswith("force") else "after",
+             PlayHysteresisElement(1.0, PLAY_FRACTIONS[keep] * span, np.minimum(w[keep], 1e6), history_max=history))]
+
+
+def _lag_apply(sig, variant, param):  # the lag has no columns of its own: it filters the sensor columns
+    return []
+
+
+def _gain_columns(sig, variant, param):
+    return [("quadratic", sig.x_ref ** 2, -np.inf, np.inf, "sensor", None),
+            ("cubic", sig.x_ref ** 3, -np.inf, np.inf, "sensor", None),
+            ("quartic", sig.x_ref ** 4, -np.inf, np.inf, "sensor", None)]
+
+
+def _gain_elements(coef, variant, param, sig):
+    q = float(np.clip(coef.get("quadratic", 0.0), -1e3, 1e3))
+    c = float(np.clip(coef.get("cubic", 0.0), -1e3, 1e3))
+    d = float(np.clip(coef.get("quartic", 0.0), -1e3, 1e3))
+    return [("after", PolynomialGainElement(quadratic_per_v=q, cubic_per_v2=c, quartic_per_v3=d))]
+
+
+def _thermal_columns(sig, variant, param):
+    temp = sig.temp - sig.temp_ref
+    if variant == "lag":  # the lag starts settled at the first temperature, as ThermalLagElement
+        temp = exp_convolve(sig.t, sig.temp, [1.0 / param], y0=[sig.temp[0] * param])[:, 0] / param - sig.temp_ref
+    return [("thermal", temp, -np.inf, np.inf, "additive", None)]
+
+
+def _thermal_elements(coef, variant, param, sig):
+    c = float(np.clip(coef.get("thermal", 0.0), -10.0, 10.0))
+    ref = float(np.clip(sig.temp_ref, -100.0, 300.0))
+    if variant == "lag":
+        return [("late", ThermalLagElement(coefficient_v_per_c=c, reference_c=ref, tau_s=float(param)))]
+    return [("late", ThermalDriftElement(coefficient_v_per_c=c, reference_c=ref))]
+
+
+def _drift_columns(sig, variant, param):
+    s = (sig.t - sig.t0) / sig.duration_s
+    if variant == "settling":  # a linear part and an exponential approach of time constant param (s)
+        return [("drift1", s, -np.inf, np.inf, "additive", None),
+                ("drift_exp", -np.expm1(-(sig.t - sig.t0) / param), -np.inf, np.inf, "additive", None)]
+    return [(f"drift{p}", s ** p, -np.inf, np.inf, "additive", None) for p in (1, 2, 3)]
+
+
+def _drift_elements(coef, variant, param, sig):
+    d = sig.duration_s
+    c = [float(np.clip(coef.get(f"drift{p}", 0.0) / d ** p, -1e3, 1e3)) for p in (1, 2, 3)]
+    out = [("late", PolynomialDriftElement(rate_v_per_s=c[0], curvature_v_per_s2=c[1], cubic_v_per_s3=c[2]))]
+    if variant == "settling":
+        out.append(("late", ExponentialDriftElement(amplitude_v=float(np.clip(coef.get("drift_exp", 0.0), -1e3, 1e3)),
+                                                    tau_s=float(param))))
+    return out
+
+
+def _lag_elements(coef, variant, param, sig):
+    return [("lag", SensorLagElement(tau_s=float(param)))]
+
+
+_FAM = Family
+EFFECTS = {
+    "viscous_flow": Effect(
+        "viscous_flow", "creep during holds that never settles (viscous_flow)", ("hold_under_load", "late_in_record"),
+        ("load_history",), ("maxwell", "burgers", "burgers2"),
+        {"eta_two_decades": _FAM(_viscous)},
+        core_change={"elastic": "maxwell", "zener": "burgers", "zener2": "burgers2"}, needs_base=("elastic", "zener")),
+    "delayed_elasticity": Effect(
+        "delayed_elasticity", "creep and recovery that settle (delayed_elasticity)", ("hold_under_load", "rest_after_unloading"),
+        ("load_history",), ("zener", "burgers", "zener2", "burgers2"),
+        {"tau_two_decades": _FAM(_delayed)},
+        # retardation times up to a quarter of the record: a slower one is flow within the record
+        grid=lambda variant, sig: _log_grid(0.3, max(min(300.0, sig.duration_s / 4.0), 1.0), 12),
+        core_change={"elastic": "zener", "maxwell": "burgers", "zener": "zener2", "burgers": "burgers2"},
+        needs_base=("elastic", "maxwell", "zener", "burgers")),
+    "hysteresis": Effect(
+        "hysteresis", "path dependence at load reversals (hysteresis)", ("load_reversal",), ("load_direction",),
+        ("play_hysteresis",),
+        {"preisach_force": _FAM(_hyst_preisach), "play_voltage": _FAM(_hyst_play_voltage),
+         "play_force": _FAM(_hyst_play_force, held_out=True), "bouc_wen_voltage": _FAM(_hyst_bouc_wen, held_out=True)},
+        variants=("force", "voltage", "force_descending", "voltage_descending"), grid=lambda variant, sig: [None],
+        columns=_hyst_columns, to_elements=_hyst_elements),
+    "sensor_lag": Effect(
+        "sensor_lag", "dynamics faster than the model (sensor_lag)", ("fast_transient",), ("force_rate",), ("sensor_lag",),
+        {"first_order": _FAM(_lag_first), "pole_pair": _FAM(_lag_second, held_out=True)},
+        grid=lambda variant, sig: _log_grid(0.003, 0.4, 10), columns=_lag_apply, to_elements=_lag_elements),
+    "nonlinear_gain": Effect(
+        "nonlinear_gain", "gain changing with load (nonlinear_gain)", ("high_load",), ("force_squared",), ("polynomial_gain",),
+        {"polynomial": _FAM(_gain_poly), "exp_approach": _FAM(_gain_exp), "tanh": _FAM(_gain_tanh, held_out=True)},
+        grid=lambda variant, sig: [None], columns=_gain_columns, to_elements=_gain_elements),
+    "thermal_drift": Effect(
+        "thermal_drift", "output following temperature (thermal_drift)", ("temperature_change",), ("temperature",),
+        ("thermal_drift", "thermal_lag"),
+        {"linear": _FAM(_thermal_linear), "thermal_lag": _FAM(_thermal_lag, held_out=True)},
+        variants=("direct", "lag"), grid=lambda variant, sig: [None] if variant == "direct" else _log_grid(3.0, 120.0, 6),
+        columns=_thermal_columns, to_elements=_thermal_elements, needs_temperature=True),
+    "offset_drift": Effect(
+        "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",), ("polynomial_drift", "exponential_drift"),
+        {"linear": _FAM(_drift_linear), "exp_approach": _FAM(_drift_exp), "power_law": _FAM(_drift_power, held_out=True),
+         "random_walk": _FAM(_drift_walk, held_out=True)},
+        variants=("polynomial", "settling"),
+        grid=lambda variant, sig: [None] if variant == "polynomial" else [sig.duration_s * f for f in (0.05, 0.1, 0.2, 0.35, 0.6, 1.0)],
+        columns=_drift_columns, to_elements=_drift_elements),
+}
+
+#: The catalogue's names, in a fixed order (CLI choices, report tables, the matrix).
+NAMES = tuple(EFFECTS)
+
+#: Seeds of the split the engine was tuned on, and of the held-out split (never used while tuning).
+SPLITS = {"tune": range(0, 5000), "held_out": range(5000, 10000)}
+
+
+def families(effect, split):
+    """Family names of ``effect`` usable in ``split`` ("tune": those not held out; "held_out": all)."""
+    fams = EFFECTS[effect].families
+    return [n for n, f in fams.items() if split == "held_out" or not f.held_out]
+
+
+def hints():
+    """Localisation hints: segment kind / signal -> the effects whose residual shows there."""
+    out = {}
+    for e in EFFECTS.values():
+        for key in e.segments + e.signals:
+            out.setdefault(key, []).append(e.name)
+    return out

@@ -243,3 +243,38 @@ def test_auto_tare_rearms_after_reset_and_can_be_off():
     off = Compensator(CHAIN, CompensatorConfig(auto_tare=False))
     _feed(off, np.full(600, 0.05))
     assert off.tare_offset_v is None and off.auto_tare_status == "off"
+
+
+def test_simulated_source_hands_out_what_is_due_on_its_schedule():
+    from polyforce_ros.runtime.sources import MAX_BURST, SimulatedSource
+    from polyforce_ros.sim.sensor import BridgeSimulator
+
+    profile = np.linspace(0.0, 5.0, 500)
+    source = SimulatedSource(lambda: BridgeSimulator(noise_std_v=0.0, adc_bits=0, offset_v=0.0), profile, 1000.0,
+                             lambda t: np.full(np.shape(t), 24.0), loop=False)
+    assert source.due(T0) is None  # not started
+    source.start(T0)
+    first = source.due(T0 + 100 * MS)
+    assert first.first == 0 and first.stamp_ns.size == 101 and first.stamp_ns[0] == T0
+    np.testing.assert_array_equal(np.diff(first.stamp_ns), MS)
+    burst = source.due(T0 + 10**10)  # a long stall is caught up gradually
+    assert burst.first == 101 and burst.stamp_ns.size == MAX_BURST
+    while source.due(T0 + 10**10) is not None:
+        pass
+    assert source.published == 500 and source.due(T0 + 10**10) is None and source.done
+    np.testing.assert_allclose(first.force_n, profile[:101])
+    source.restart()
+    assert not source.started and source.published == 0 and not source.done
+
+
+def test_serial_source_scales_valid_frames_and_gives_nothing_for_corrupt_ones():
+    from polyforce_ros.runtime.sources import SerialSource
+    from polyforce_ros.serial_protocol import encode_frame
+
+    source = SerialSource(volts_per_count=1e-6, volts_offset=0.5)
+    bad = bytearray(encode_frame(3, 3000, 7))
+    bad[-1] ^= 0xFF
+    got = source.feed(encode_frame(1, 1000, 2000), arrival_ns=T0)
+    got += source.feed(encode_frame(2, 2000, -2000) + bytes(bad), arrival_ns=T0 + MS)
+    assert [v for _, v in got] == pytest.approx([0.502, 0.498])
+    assert got[1][0] - got[0][0] == MS and source.parser.crc_errors == 1

@@ -31,16 +31,12 @@ from sensor_msgs.msg import JointState, Temperature
 from std_srvs.srv import Trigger
 
 from ..model_file import default_model_path, load_model
-from ..serial_protocol import DeviceClock, FrameParser
+from ..runtime.sources import SerialSource, SimulatedSource
 from ..sim import profiles
 from ..sim.sensor import BridgeSimulator
 from .. import contract
 from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run
 
-#: Samples simulated ahead per block (1 s at 1 kHz): small enough not to stall the executor.
-SIM_BLOCK = 1000
-#: At most this many samples are published per timer tick (a long stall is caught up gradually).
-MAX_BURST = 250
 #: Serial backend: WARN when fewer than this fraction of expected_rate_hz frames arrive (covers ADC oscillator tolerance).
 RATE_WARN_FRACTION = 0.95
 
@@ -96,7 +92,6 @@ class _DriverLogic:
         if getattr(self, "diag", None) is None:
             self.diag = Diagnostics(self, f"polyforce_ros: driver ({backend})")
         self.published = 0
-        self.done = False
         if backend == "sim":
             self._init_sim(qos)
         elif backend == "serial":
@@ -120,19 +115,23 @@ class _DriverLogic:
         self.pub_temp = self._make_publisher(Temperature, contract.Rel.TEMPERATURE, 10)
         path = self._param("truth_model_file") or str(default_model_path())
         chain = load_model(path).chain.with_offset(self._param("offset_v"))  # the bridge zero is a property of this sensor
-        truth = chain.viscoelastic
         self.rate_hz = float(self._param("rate_hz"))
-        self.sim = BridgeSimulator(chain=chain, noise_std_v=self._param("noise_std_v"),
-                                   adc_bits=self._param("adc_bits"), seed=self._param("seed"))
-        self.profile_t, self.profile_f = profiles.make_profile(self._param("profile"), rate_hz=self.rate_hz, seed=self._param("seed"))
-        self.period_n = self.profile_t.size
-        self._buf_f, self._buf_v, self._buf_t, self._buf_first = np.zeros(0), np.zeros(0), np.zeros(0), 0
-        self.start_ns = None
-        self._chain = chain
+        self.profile_t, profile_f = profiles.make_profile(self._param("profile"), rate_hz=self.rate_hz, seed=self._param("seed"))
+        noise, bits, seed = self._param("noise_std_v"), self._param("adc_bits"), self._param("seed")
+        self.source = SimulatedSource(lambda: BridgeSimulator(chain=chain, noise_std_v=noise, adc_bits=bits, seed=seed),
+                                      profile_f, self.rate_hz, self.temperature_at, loop=self._param("loop"))
         self._entities += [self.create_timer(self._param("publish_period_s"), self._sim_tick),
                            self.create_service(Trigger, "~/restart_profile", self._on_restart_profile)]
         self.get_logger().info(f"sim backend: profile {self._param('profile')} ({self.period_n / self.rate_hz:.1f} s), "
-                               f"{self.rate_hz:.0f} Hz, truth {truth}")
+                               f"{self.rate_hz:.0f} Hz, truth {chain.viscoelastic}")
+
+    # the source's state, read by diagnostics, the run loop, the demo and tests
+    profile_f = property(lambda self: self.source.profile_f)
+    period_n = property(lambda self: self.source.period_n)
+    start_ns = property(lambda self: self.source.start_ns)
+    done = property(lambda self: getattr(self.source, "done", False))
+    parser = property(lambda self: self.source.parser)
+    clock = property(lambda self: self.source.clock)
 
     def temperature_at(self, t_s):
         """Simulated temperature (degC): mean plus an optional sinusoidal swing."""
@@ -140,26 +139,10 @@ class _DriverLogic:
         swing = amplitude * np.sin(2 * np.pi * np.asarray(t_s) / self._param("temperature_period_s")) if amplitude else 0.0
         return np.broadcast_to(self._param("temperature_c") + swing, np.shape(t_s)).astype(float)
 
-    def _simulate_until(self, k_end):
-        """Make sure samples [.., k_end) are simulated (blocks of SIM_BLOCK, state carried)."""
-        while self._buf_first + self._buf_v.size < k_end:
-            k0 = self._buf_first + self._buf_v.size
-            ks = np.arange(k0, k0 + SIM_BLOCK)
-            f = self.profile_f[ks % self.period_n]
-            temp = self.temperature_at(ks / self.rate_hz)
-            v = self.sim.simulate(ks / self.rate_hz, f, temperature_c=temp)
-            drop = max(0, self._buf_v.size - 4 * SIM_BLOCK)  # keep the buffer short
-            self._buf_f = np.concatenate((self._buf_f[drop:], f))
-            self._buf_v = np.concatenate((self._buf_v[drop:], v))
-            self._buf_t = np.concatenate((self._buf_t[drop:], temp))
-            self._buf_first += drop
-
     def _on_restart_profile(self, request, response):
         """Start the profile again from its first sample, stamped from now, with a relaxed sensor."""
-        self.sim = BridgeSimulator(chain=self._chain, noise_std_v=self._param("noise_std_v"),
-                                   adc_bits=self._param("adc_bits"), seed=self._param("seed"))
-        self._buf_f, self._buf_v, self._buf_t, self._buf_first = np.zeros(0), np.zeros(0), np.zeros(0), 0
-        self.start_ns, self.published, self.done = None, 0, False
+        self.source.restart()
+        self.published = 0
         response.success, response.message = True, "profile restarts at its first sample"
         self.get_logger().info(response.message)
         return response
@@ -168,41 +151,31 @@ class _DriverLogic:
         if not self._active:
             return
         now = self.get_clock().now().nanoseconds
-        if self.start_ns is None:
+        if not self.source.started:
             if self.pub_raw.get_subscription_count() < self._param("wait_for_subscribers"):
                 return  # matched readers are counted by DDS itself: what is published next reaches them
-            self.start_ns = now
-        due = int((now - self.start_ns) * self.rate_hz / 1e9) + 1
-        if not self._param("loop"):
-            due = min(due, self.period_n)
-            if self.published >= self.period_n:
-                self.done = True
-                return
-        end = min(due, self.published + MAX_BURST)
-        if end <= self.published:
+            self.source.start(now)
+        block = self.source.due(now)
+        if block is None:
             return
-        self._simulate_until(end)
         temp_every = max(1, int(self.rate_hz / 10))
-        for k in range(self.published, end):
-            stamp = self.start_ns + int(round(k * 1e9 / self.rate_hz))
-            i = k - self._buf_first
-            self.pub_raw.publish(self._raw_message(stamp, self._buf_v[i]))
+        for i, stamp in enumerate(block.stamp_ns.tolist()):
+            self.pub_raw.publish(self._raw_message(stamp, block.voltage_v[i]))
             ref = WrenchStamped()
             ns_to_stamp(stamp, ref.header.stamp)
             ref.header.frame_id = self._frame
-            ref.wrench.force.z = float(self._buf_f[i])
+            ref.wrench.force.z = float(block.force_n[i])
             self.pub_ref.publish(ref)
-            if k % temp_every == 0:
-                temp = Temperature(temperature=float(self._buf_t[i]), variance=0.0)
+            if (block.first + i) % temp_every == 0:
+                temp = Temperature(temperature=float(block.temperature_c[i]), variance=0.0)
                 ns_to_stamp(stamp, temp.header.stamp)
                 temp.header.frame_id = self._frame
                 self.pub_temp.publish(temp)
-        self.published = end
+        self.published = self.source.published
 
     # ------------------------------------------------------------------ serial
     def _init_serial(self):
-        self.parser = FrameParser()
-        self.clock = DeviceClock()
+        self.source = SerialSource(self._param("volts_per_count"), self._param("volts_offset"))
         self.port = None
         self.outages = 0
         self.connected = False
@@ -222,8 +195,7 @@ class _DriverLogic:
             self.port = None
             self._last_error = str(exc)
             return False
-        self.parser.reset()
-        self.clock.reset()
+        self.source.reset()
         self.connected = True
         self.get_logger().info(f"serial port {self._param('port')} open")
         return True
@@ -259,13 +231,8 @@ class _DriverLogic:
             return
         if not data:
             return
-        arrival = self.get_clock().now().nanoseconds
-        scale, offset = self._param("volts_per_count"), self._param("volts_offset")
-        for frame in self.parser.feed(data):
-            stamp = self.clock.stamp_ns(frame.t_us, arrival)
-            if stamp is None:  # implausible device time: no sample with a made-up stamp (counted)
-                continue
-            self.pub_raw.publish(self._raw_message(stamp, frame.counts * scale + offset))
+        for stamp, volts in self.source.feed(data, self.get_clock().now().nanoseconds):
+            self.pub_raw.publish(self._raw_message(stamp, volts))
             self.published += 1
 
     # ------------------------------------------------------------------ diagnostics
@@ -361,11 +328,11 @@ class DriverLifecycleNode(_DriverLogic, LifecycleNode):
 
     def on_activate(self, state):
         if self._param("backend") == "sim":
-            self.start_ns, self.published, self.done = None, 0, False
+            self.source.restart()
+            self.published = 0
         elif self.port is not None:
             self.port.reset_input_buffer()  # what waited while inactive is not this session's data
-            self.parser.reset()
-            self.clock.reset()
+            self.source.reset()
         self._active = True
         return super().on_activate(state)
 

@@ -1,0 +1,141 @@
+"""The driver's sample sources, ROS-free: what the node publishes, not how.
+
+* :class:`SimulatedSource`: the embedded simulator on the host clock. Given the time
+  now, it hands out every sample due since the profile started (stamped on its
+  schedule), simulated in blocks with the sensor's state carried across them.
+* :class:`SerialSource`: bytes from the ADC link in, stamped volts out (frames parsed
+  and checked by :class:`~polyforce_ros.serial_protocol.FrameParser`, device time mapped
+  onto host time by :class:`~polyforce_ros.serial_protocol.DeviceClock`, which drops
+  implausible device times).
+
+``driver_node`` (both variants) owns one of them and only publishes what it returns.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+
+from ..serial_protocol import DeviceClock, FrameParser
+
+__all__ = ["SimBlock", "SimulatedSource", "SerialSource", "SIM_BLOCK", "MAX_BURST"]
+
+#: Samples simulated ahead per block (1 s at 1 kHz): small enough not to stall a caller.
+SIM_BLOCK = 1000
+#: At most this many samples are handed out per call (a long stall is caught up gradually).
+MAX_BURST = 250
+
+
+@dataclass(frozen=True)
+class SimBlock:
+    """Samples ``first .. first + n - 1`` of the simulated session."""
+
+    first: int
+    stamp_ns: np.ndarray        #: acquisition stamps, ns
+    voltage_v: np.ndarray       #: bridge output, V
+    force_n: np.ndarray         #: applied (reference) force, N
+    temperature_c: np.ndarray   #: sensor temperature, degC
+
+
+class SimulatedSource:
+    """A simulated bridge sensor driven through a force profile on the host clock.
+
+    Parameters
+    ----------
+    make_simulator : callable returning a fresh simulator of the sensor (relaxed, unloaded), whose
+        ``simulate(t_s, force_n, temperature_c=...)`` continues from its previous call
+        (:class:`polyforce_ros.sim.sensor.BridgeSimulator`).
+    profile_f : force profile, N, one value per sample at ``rate_hz``.
+    rate_hz : sample rate, Hz.
+    temperature_at : callable ``t_s -> degC`` (arrays).
+    loop : start the profile again when it ends (else the source is ``done``).
+    """
+
+    def __init__(self, make_simulator: Callable, profile_f, rate_hz: float, temperature_at: Callable, loop=True):
+        self._make_simulator = make_simulator
+        self.profile_f = np.asarray(profile_f, dtype=float)
+        self.period_n = self.profile_f.size
+        self.rate_hz = float(rate_hz)
+        self.temperature_at = temperature_at
+        self.loop = bool(loop)
+        self.restart()
+
+    def restart(self):
+        """The profile starts again at its first sample (stamped from the next start), the sensor relaxed."""
+        self.sim = self._make_simulator()
+        self._buf_f, self._buf_v, self._buf_t, self._buf_first = np.zeros(0), np.zeros(0), np.zeros(0), 0
+        self.start_ns: Optional[int] = None
+        self.published = 0
+        self.done = False
+
+    @property
+    def started(self) -> bool:
+        return self.start_ns is not None
+
+    def start(self, now_ns: int):
+        """Sample 0 is stamped ``now_ns``."""
+        self.start_ns = int(now_ns)
+
+    def due(self, now_ns: int) -> Optional[SimBlock]:
+        """The samples due by ``now_ns`` not handed out yet (at most :data:`MAX_BURST`), or None."""
+        if self.start_ns is None:
+            return None
+        due = int((now_ns - self.start_ns) * self.rate_hz / 1e9) + 1
+        if not self.loop:
+            due = min(due, self.period_n)
+            if self.published >= self.period_n:
+                self.done = True
+                return None
+        end = min(due, self.published + MAX_BURST)
+        if end <= self.published:
+            return None
+        self._simulate_until(end)
+        ks = np.arange(self.published, end)
+        i = ks - self._buf_first
+        stamps = self.start_ns + np.round(ks * 1e9 / self.rate_hz).astype(np.int64)
+        block = SimBlock(self.published, stamps, self._buf_v[i], self._buf_f[i], self._buf_t[i])
+        self.published = end
+        return block
+
+    def _simulate_until(self, k_end):
+        """Make sure samples [.., k_end) are simulated (blocks of SIM_BLOCK, state carried)."""
+        while self._buf_first + self._buf_v.size < k_end:
+            k0 = self._buf_first + self._buf_v.size
+            ks = np.arange(k0, k0 + SIM_BLOCK)
+            f = self.profile_f[ks % self.period_n]
+            temp = self.temperature_at(ks / self.rate_hz)
+            v = self.sim.simulate(ks / self.rate_hz, f, temperature_c=temp)
+            drop = max(0, self._buf_v.size - 4 * SIM_BLOCK)  # keep the buffer short
+            self._buf_f = np.concatenate((self._buf_f[drop:], f))
+            self._buf_v = np.concatenate((self._buf_v[drop:], v))
+            self._buf_t = np.concatenate((self._buf_t[drop:], temp))
+            self._buf_first += drop
+
+
+class SerialSource:
+    """Bytes of the ADC link in, ``(stamp_ns, voltage_v)`` samples out.
+
+    Volts = counts x ``volts_per_count`` + ``volts_offset``. Corrupt frames, sequence
+    jumps (``parser``) and implausible device times (``clock``) are counted there and
+    give no sample.
+    """
+
+    def __init__(self, volts_per_count: float, volts_offset: float = 0.0):
+        self.volts_per_count, self.volts_offset = float(volts_per_count), float(volts_offset)
+        self.parser = FrameParser()
+        self.clock = DeviceClock()
+
+    def reset(self):
+        """A new connection: resynchronise on the sync word and re-learn the device clock."""
+        self.parser.reset()
+        self.clock.reset()
+
+    def feed(self, data: bytes, arrival_ns: int) -> list:
+        """Samples of the complete, valid frames in ``data`` (received at ``arrival_ns``)."""
+        out = []
+        for frame in self.parser.feed(data):
+            stamp = self.clock.stamp_ns(frame.t_us, arrival_ns)
+            if stamp is not None:  # an implausible device time gives no sample with a made-up stamp
+                out.append((stamp, frame.counts * self.volts_per_count + self.volts_offset))
+        return out

@@ -208,7 +208,13 @@ class Compensator:
         self._stream = chain.streaming()
         core = chain.viscoelastic
         self._g0 = core.relaxation().g0_n_per_v if core is not None else 1.0
+        self._update_shift()
         self._restart()
+
+    def _update_shift(self):
+        # what the input is moved by before the chain's inverse (its own offset element stays as it is);
+        # kept up to date here rather than derived per sample, which walked the chain twice at 1 kHz
+        self._shift_v = self.offset_v - self.chain.offset_v
 
     def configure(self, **changes):
         """New policy settings (names of :class:`CompensatorConfig`); take effect at the next sample."""
@@ -243,8 +249,7 @@ class Compensator:
         if self._auto is not None:
             self._collect_auto_tare(stamp_ns, voltage_v)
         self.last_valid_receive_ns = stamp_ns if receive_ns is None else receive_ns
-        shift = self.offset_v - self.chain.offset_v
-        force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v - shift, aux)
+        force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v - self._shift_v, aux)
         if force is None or not math.isfinite(force):
             self.counts["nonfinite_output"] += 1
             self._restart()
@@ -289,6 +294,7 @@ class Compensator:
             return False, "no valid samples received yet; nothing to tare"
         offset = sum(self._recent_v) / len(self._recent_v)
         self.tare_offset_v, self.drift_v = offset, 0.0
+        self._update_shift()
         self.counts["tares"] += 1
         self._restart()
         return True, f"tared: bridge offset {offset:.6f} V from {len(self._recent_v)} samples; history cleared"
@@ -315,6 +321,7 @@ class Compensator:
         shift = float(v.mean() - self.chain.offset_v)
         if spread <= cfg.auto_tare_max_std_v and drift <= cfg.auto_tare_max_std_v and abs(shift) <= cfg.auto_tare_max_shift_v:
             self.tare_offset_v, self.drift_v = float(v.mean()), 0.0
+            self._update_shift()
             self.counts["auto_tares"] += 1
             self.auto_tare_status = f"zeroed at start: bridge offset {v.mean():.6f} V from {v.size} samples"
             self._restart()
@@ -344,6 +351,7 @@ class Compensator:
             mean_force = self._rest_force_sum / self._rest_count
             # F = G(0) (V - offset) - history: a resting force F reads as an offset error of F / G(0).
             self.drift_v += mean_force / self._g0
+            self._update_shift()
             self.counts["drift_corrections"] += 1
             self._rest_since_ns, self._rest_force_sum, self._rest_count = stamp_ns, 0.0, 0
             force -= mean_force

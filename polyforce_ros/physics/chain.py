@@ -877,17 +877,9 @@ class ThermalLagElement(_SimpleElement):
         return _FunctionStream(step, lag.reset)
 
 
-class ExponentialDriftElement(_SimpleElement):
-    """Baseline drift that settles: y = x + amplitude_v * (1 - exp(-(t - t_first) / tau_s)).
-
-    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare).
-    """
-
-    kind = "exponential_drift"
-    PARAMS = (("amplitude_v", False), ("tau_s", True))
-
-    def _term(self, s):
-        return self.amplitude_v * -np.expm1(-np.asarray(s, dtype=float) / self.tau_s)
+class _TimeDriftElement(_SimpleElement):
+    """Base of the load-independent drifts: y = x + _term(t - t_first), t_first the first sample of the
+    record (forward, batch backward) or after a reset (streaming); subclasses define ``_term(s)`` (V)."""
 
     def forward_state(self):
         return {"t_first": None}
@@ -912,6 +904,20 @@ class ExponentialDriftElement(_SimpleElement):
             return y - float(self._term(t_s - first["t"]))
 
         return _FunctionStream(step, lambda: first.update(t=None))
+
+
+class ExponentialDriftElement(_TimeDriftElement):
+    """Baseline drift that settles: y = x + amplitude_v * (1 - exp(-(t - t_first) / tau_s)).
+
+    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare).
+    """
+
+    kind = "exponential_drift"
+    PARAMS = (("amplitude_v", False), ("tau_s", True))
+
+    def _term(self, s):
+        return self.amplitude_v * -np.expm1(-np.asarray(s, dtype=float) / self.tau_s)
+
 
 
 class PolynomialGainElement(_SimpleElement):
@@ -951,7 +957,7 @@ class PolynomialGainElement(_SimpleElement):
         return _FunctionStream(lambda t_s, y, aux=None: float(self._invert(np.array([y]))[0]))
 
 
-class PolynomialDriftElement(_SimpleElement):
+class PolynomialDriftElement(_TimeDriftElement):
     """Load-independent baseline drift of any smooth shape:
     y = x + rate_v_per_s * s + curvature_v_per_s2 * s**2 + cubic_v_per_s3 * s**3, s = t - t_first.
 
@@ -964,29 +970,6 @@ class PolynomialDriftElement(_SimpleElement):
     def _term(self, s):
         return s * (self.rate_v_per_s + s * (self.curvature_v_per_s2 + s * self.cubic_v_per_s3))
 
-    def forward_state(self):
-        return {"t_first": None}
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        st = state if state is not None else self.forward_state()
-        if st["t_first"] is None and t.size:
-            st["t_first"] = float(t[0])
-        return x + self._term(t - (st["t_first"] or 0.0))
-
-    def backward(self, t_s, y, aux=None):
-        t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
-        return y - self._term(t - t[0]) if t.size else y
-
-    def streaming(self):
-        first = {"t": None}
-
-        def step(t_s, y, aux=None):
-            if first["t"] is None:
-                first["t"] = t_s
-            return y - float(self._term(t_s - first["t"]))
-
-        return _FunctionStream(step, lambda: first.update(t=None))
 
 
 ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}

@@ -382,6 +382,14 @@ def test_live_stream_matches_device_through_wraps_and_follows_fast_clock(build, 
     # sequence wraps ~1.5 s and the device clock ~2.5 s after the device starts; its crystal is 100 ppm fast
     args = ["--rate", 1000, "--ppm", 100, "--seq0", 65536 - 1500, "--t0-us", 2**32 - 2_500_000]
     with live(tmp_path, build, args, expected_rate_hz=1000.0, rate_window_s=1.0) as (h, node, lis, dev):
+        arrival_ns = {}  # device time -> host instant the driver read its frame (the clock's only evidence)
+        stamp_ns = node.clock.stamp_ns
+
+        def spy(t_us, arrival):
+            arrival_ns[t_us] = arrival
+            return stamp_ns(t_us, arrival)
+
+        node.clock.stamp_ns = spy
         n0, crc0, lost0 = len(lis.raw), node.parser.crc_errors, node.parser.lost_frames
         assert h.spin_until(lambda: len(lis.raw) >= n0 + 8000, 120.0)
         assert h.spin_until(lambda: received_rate(lis) is not None, 20.0)
@@ -409,13 +417,19 @@ def test_live_stream_matches_device_through_wraps_and_follows_fast_clock(build, 
     assert settled.min() > -300, profile  # never earlier than the conversion (beyond clock-read rounding)
     assert np.median(settled) < 3000 and settled.max() < 20000, profile
     # 100 ppm fast: 1000 us of device time are 1 ms / (1 + 1e-4) = 999.9 us of host time. A mapping that
-    # kept its first offset would be late by 100 us per second of run; the driver's offset steps down
-    # as newer frames show a smaller delay (consecutive stamps are mostly exactly 1 ms apart, with a
-    # step now and then), so at the end the error is still just the latency of the best recent frame.
+    # kept its first offset would be late by 100 us per second of run on top of the first frame's
+    # latency. The driver's offset steps down as newer frames show a smaller delay, so at the end the
+    # error is the latency of the best recent frame plus the drift since it. That latency is this
+    # machine's (a loaded host reads late), so the bound is taken from the arrivals the driver saw.
     run_s = (acq[-1] - acq[1000]) / 1e9
     assert run_s > 6.5
-    assert err[-1000:].min() < 0.5 * 100e-6 * run_s * 1e6, (run_s, profile)
-
+    seen = np.array([t in arrival_ns for t in t_us])
+    assert seen[-2000:].all()
+    latency_us = np.array([arrival_ns[t] - a for t, a in zip(t_us[-2000:], acq[-2000:])]) / 1e3
+    since_s = (acq[-1] - acq[-2000:]) / 1e9
+    best_recent_us = np.min(latency_us + 100e-6 * since_s * 1e6)  # best evidence of the last 2 s, drift included
+    first_us = err[np.flatnonzero(seen)[0]]
+    assert err[-1000:].min() <= best_recent_us + 50, (best_recent_us, first_us, run_s, profile)
 
 def test_live_faults_are_counted_and_never_publish_a_corrupt_sample(build, tmp_path):
     with live(tmp_path, build, ["--rate", 1000, "--ppm", 30], expected_rate_hz=1000.0,

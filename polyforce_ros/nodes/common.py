@@ -4,12 +4,17 @@ from __future__ import annotations
 import gc
 import signal
 import sys
+from typing import Any
 
 import rclpy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rcl_interfaces.msg import FloatingPointRange, IntegerRange, ParameterDescriptor
 from rclpy.exceptions import ParameterException
+from rclpy.lifecycle import LifecyclePublisher, LifecycleState, TransitionCallbackReturn
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.service import Service
+from rclpy.subscription import Subscription
+from rclpy.timer import Timer
 
 from .. import contract
 
@@ -89,6 +94,161 @@ class Diagnostics:
         msg.header.stamp = self.node.get_clock().now().to_msg()
         self.pub.publish(msg)
         return status
+
+
+class PolyforceNode:
+    """Construction shared by the polyforce nodes, plain and managed.
+
+    The base of a node's logic class (``class _XLogic(PolyforceNode)``), placed
+    before ``Node`` or ``LifecycleNode`` in the node classes: it names the node,
+    puts it in the polyforce namespace unless one is given, declares the
+    parameters and, for a plain node, starts it at once.
+
+    Parameters
+    ----------
+    **kwargs : Any
+        Keyword arguments of ``Node`` / ``LifecycleNode`` (``context``,
+        ``parameter_overrides``, ``namespace``, ...).
+
+    Attributes
+    ----------
+    NODE_NAME : str
+        The ROS name of the node (class attribute of the logic class).
+    diagnostics_name : str
+        Name of the node's DiagnosticStatus (attribute or property of the logic class).
+
+    Notes
+    -----
+    The logic class supplies ``_declare_parameters()`` and
+    ``_start(create_publisher)``, which opens the source and the topics and
+    raises ``ValueError`` or ``OSError`` on a bad parameter, model file or device.
+    """
+
+    NODE_NAME: str
+    diagnostics_name: str
+
+    def __init__(self, **kwargs: Any) -> None:
+        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
+        super().__init__(self.NODE_NAME, **kwargs)  # Node or LifecycleNode, whichever follows in the MRO
+        self._declare_parameters()
+        self._ready()
+
+    def _ready(self) -> None:
+        """End of construction: a plain node starts at once, with ordinary publishers."""
+        self._start(self.create_publisher)
+
+    def _open_diagnostics(self) -> None:
+        """Open ``diag`` (:class:`Diagnostics` under :attr:`diagnostics_name`) unless it is open already."""
+        if getattr(self, "diag", None) is None:
+            self.diag = Diagnostics(self, self.diagnostics_name)
+
+
+class ManagedNode(PolyforceNode):
+    """Lifecycle plumbing of a managed node: construction, configure, error processing, cleanup.
+
+    Mixed in first (``class XLifecycleNode(ManagedNode, _XLogic, LifecycleNode)``),
+    it owns the rules the managed nodes share, so each lives once:
+
+    * construction opens only the diagnostics; configure opens the rest;
+    * configure runs :meth:`_configure`; a bad parameter, model file or device
+      (``ValueError``, which ``ModelError`` is, or ``OSError``) ends it in
+      ErrorProcessing, with the reason logged and kept in :attr:`error`;
+    * error processing publishes that reason on /diagnostics (ERROR) and
+      closes what configure opened; cleanup closes it too;
+    * closing destroys every publisher configure created and every
+      subscription, service and timer the logic kept in ``_entities``, then
+      calls :meth:`_release` for what else the node holds;
+    * diagnostics of an unconfigured node say so: ERROR with the reason after a
+      failed configure, else OK ``unconfigured``.
+
+    Parameters
+    ----------
+    **kwargs : Any
+        Keyword arguments of ``LifecycleNode``, as for :class:`PolyforceNode`.
+
+    Attributes
+    ----------
+    error : str
+        Why the last configure failed; empty after a successful one.
+
+    Notes
+    -----
+    Besides what :class:`PolyforceNode` needs, the logic class keeps the
+    subscriptions, services and timers ``_start`` creates in ``_entities`` and
+    supplies ``_publish_diagnostics()``. The node class may extend
+    :meth:`_configure` (a check after ``_start``) and :meth:`_release`.
+    The transition callbacks take the ``LifecycleState`` the transition starts
+    from and return a ``TransitionCallbackReturn``.
+    """
+
+    _active = False
+    _configured = False
+    error: str = ""
+    _entities: list[Any] | tuple[()] = ()
+    _opened_publishers: list[LifecyclePublisher] | tuple[()] = ()
+
+    def _ready(self) -> None:
+        """End of construction: only the diagnostics are open until configure."""
+        self._open_diagnostics()
+
+    def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """SUCCESS once :meth:`_configure` has opened everything; ERROR, with the reason, on bad input."""
+        try:
+            self._configure()
+        except (ValueError, OSError) as exc:  # ModelError is a ValueError
+            self.error = f"configure failed: {exc}"
+            self.get_logger().error(self.error)
+            return TransitionCallbackReturn.ERROR
+        self.error, self._configured = "", True
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """Close everything configure opened."""
+        self._close()
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_error(self, state: LifecycleState) -> TransitionCallbackReturn:
+        """ErrorProcessing: the reason on /diagnostics (ERROR), what was opened closed, back to unconfigured."""
+        self.diag.publish(ERROR, self.error or "error", {"state": "error processing"})
+        self._close()
+        return TransitionCallbackReturn.SUCCESS
+
+    def _configure(self) -> None:
+        """Open the source and the topics, with lifecycle publishers; raises ValueError or OSError on bad input."""
+        self._opened_publishers = []
+        self._start(self._create_publisher)
+
+    def _create_publisher(self, *args: Any, **kwargs: Any) -> LifecyclePublisher:
+        """``create_lifecycle_publisher``, remembered so that :meth:`_close` destroys it."""
+        pub = self.create_lifecycle_publisher(*args, **kwargs)
+        self._opened_publishers.append(pub)
+        return pub
+
+    def _close(self) -> None:
+        """Inactive, every entity configure opened destroyed, then :meth:`_release`; safe to call again."""
+        self._active = self._configured = False
+        for entity in self._entities:
+            if isinstance(entity, Subscription):
+                self.destroy_subscription(entity)
+            elif isinstance(entity, Service):
+                self.destroy_service(entity)
+            elif isinstance(entity, Timer):
+                self.destroy_timer(entity)
+            else:
+                raise TypeError(f"cannot close a {type(entity).__name__}")
+        for pub in self._opened_publishers:
+            self.destroy_lifecycle_publisher(pub)
+        self._entities, self._opened_publishers = [], []
+        self._release()
+
+    def _release(self) -> None:
+        """What the node holds besides ROS entities (a model, a port); nothing by default."""
+
+    def _publish_diagnostics(self) -> DiagnosticStatus:
+        """The logic's diagnostics once configured; before, the configure error (ERROR) or OK ``unconfigured``."""
+        if not self._configured:
+            return self.diag.publish(ERROR if self.error else OK, self.error or "unconfigured", {"active": False})
+        return super()._publish_diagnostics()
 
 
 def run(node_class, args=None):

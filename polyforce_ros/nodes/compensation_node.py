@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 import os
 import time
+from contextlib import suppress
 from pathlib import Path
 
 from geometry_msgs.msg import WrenchStamped
@@ -32,13 +33,15 @@ from ..model_file import default_model_path, load_model
 from ..physics.chain import ModelError
 from ..runtime import Compensator, CompensatorConfig
 from .. import contract
-from .common import (DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run,
+from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, ns_to_stamp, run,
                      send_last_zero, stamp_to_ns)
 
 
-class _CompensationLogic:
+class _CompensationLogic(PolyforceNode):
     """Parameters, runtime and callbacks shared by the plain and the managed (lifecycle) node."""
 
+    NODE_NAME = "compensation_node"
+    diagnostics_name = "polyforce_ros: compensation"
     _active = True
 
     def _declare_parameters(self):
@@ -77,8 +80,7 @@ class _CompensationLogic:
         # Parameter values read on every sample, kept in a dict refreshed by the set-parameters
         # callback (a get_parameter call per value and sample costs latency at 1 kHz).
         self.p = {name: param.value for name, param in self._parameters.items()}
-        if getattr(self, "diag", None) is None:
-            self.diag = Diagnostics(self, "polyforce_ros: compensation")
+        self._open_diagnostics()
         self.node_counts = dict(published=0, stale_events=0, bad_joint=0, model_reloads=0)
         self.compensator = None
         self._stale = True
@@ -256,14 +258,8 @@ class _CompensationLogic:
 class CompensationNode(_CompensationLogic, Node):
     """The compensation node, running from construction (``ros2 run polyforce_ros compensation_node``)."""
 
-    def __init__(self, **kwargs):
-        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
-        Node.__init__(self, "compensation_node", **kwargs)
-        self._declare_parameters()
-        self._start(self.create_publisher)
 
-
-class CompensationLifecycleNode(_CompensationLogic, LifecycleNode):
+class CompensationLifecycleNode(ManagedNode, _CompensationLogic, LifecycleNode):
     """The managed compensation node (``compensation_lifecycle_node``).
 
     configure loads and validates the model and opens the topics; activate starts
@@ -272,25 +268,7 @@ class CompensationLifecycleNode(_CompensationLogic, LifecycleNode):
     ErrorProcessing (diagnostics ERROR with the reason) and back to unconfigured.
     """
 
-    _active = False
-
-    def __init__(self, **kwargs):
-        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
-        LifecycleNode.__init__(self, "compensation_node", **kwargs)
-        self._declare_parameters()
-        self.diag = Diagnostics(self, "polyforce_ros: compensation")
-        self.compensator = None
-        self.error = ""
-
-    def on_configure(self, state):
-        try:
-            self._start(self.create_lifecycle_publisher)
-        except (ValueError, OSError) as exc:  # ModelError is a ValueError
-            self.error = f"configure failed: {exc}"
-            self.get_logger().error(self.error)
-            return TransitionCallbackReturn.ERROR
-        self.error = ""
-        return TransitionCallbackReturn.SUCCESS
+    compensator = None  # until configure
 
     def on_activate(self, state):
         self._active = True
@@ -302,43 +280,16 @@ class CompensationLifecycleNode(_CompensationLogic, LifecycleNode):
         self._active = False
         return super().on_deactivate(state)
 
-    def on_cleanup(self, state):
-        self._close()
-        return TransitionCallbackReturn.SUCCESS
-
     def on_shutdown(self, state):
         if self._active:
             self.publish_zero(wait_s=0.5)
         self._active = False
         return TransitionCallbackReturn.SUCCESS
 
-    def on_error(self, state):
-        self.diag.publish(ERROR, self.error or "error", {"state": "error processing"})
-        if self.compensator is not None:
-            self._close()
-        self._active = False
-        return TransitionCallbackReturn.SUCCESS
-
-    def _close(self):
-        from rclpy.service import Service
-        from rclpy.subscription import Subscription
-
-        for entity in self._entities:
-            if isinstance(entity, Subscription):
-                self.destroy_subscription(entity)
-            elif isinstance(entity, Service):
-                self.destroy_service(entity)
-            else:
-                self.destroy_timer(entity)
-        self._entities = []
-        self.remove_on_set_parameters_callback(self._on_set_parameters)
-        self.destroy_lifecycle_publisher(self.pub)
+    def _release(self) -> None:
+        with suppress(ValueError):  # not added yet when configure failed before the end of _start
+            self.remove_on_set_parameters_callback(self._on_set_parameters)
         self.compensator = None
-
-    def _publish_diagnostics(self):
-        if self.compensator is None:
-            return self.diag.publish(ERROR if self.error else OK, self.error or "unconfigured", {"active": False})
-        return super()._publish_diagnostics()
 
     def destroy_node(self):
         if self._active:

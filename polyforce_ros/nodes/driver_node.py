@@ -35,15 +35,16 @@ from ..runtime.sources import SerialSource, SimulatedSource
 from ..sim import profiles
 from ..sim.sensor import BridgeSimulator
 from .. import contract
-from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, ns_to_stamp, run
+from .common import ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, ns_to_stamp, run
 
 #: Serial backend: WARN when fewer than this fraction of expected_rate_hz frames arrive (covers ADC oscillator tolerance).
 RATE_WARN_FRACTION = 0.95
 
 
-class _DriverLogic:
+class _DriverLogic(PolyforceNode):
     """Parameters, sources and publishing shared by the plain and the managed (lifecycle) driver."""
 
+    NODE_NAME = "driver_node"
     _active = True
 
     def _declare_parameters(self):
@@ -89,8 +90,7 @@ class _DriverLogic:
         self._joint, self._frame = self._param("joint_name"), self._param("frame_id")
         qos = data_qos(self)
         self.pub_raw = create_publisher(JointState, contract.Rel.BRIDGE_VOLTAGE, qos)
-        if getattr(self, "diag", None) is None:
-            self.diag = Diagnostics(self, f"polyforce_ros: driver ({backend})")
+        self._open_diagnostics()
         self.published = 0
         if backend == "sim":
             self._init_sim(qos)
@@ -102,6 +102,10 @@ class _DriverLogic:
 
     def _param(self, name):
         return self.get_parameter(name).value
+
+    @property
+    def diagnostics_name(self) -> str:
+        return f"polyforce_ros: driver ({self._param('backend')})"
 
     def _raw_message(self, stamp_ns, volts):
         msg = JointState(name=[self._joint], position=[float(volts)])
@@ -205,12 +209,7 @@ class _DriverLogic:
             self.get_logger().info("serial device back: reconnected")
 
     def _drop_port(self, reason):
-        if self.port is not None:
-            try:
-                self.port.close()
-            except Exception:  # noqa: BLE001 - the device is gone; closing may fail too
-                pass
-        self.port = None
+        self._close_port()
         if self.connected:
             self.outages += 1
             self.get_logger().error(f"serial device lost ({reason}); retrying every {self._param('reconnect_period_s')} s")
@@ -279,52 +278,34 @@ class _DriverLogic:
                 level, message = OK, "connected"
         return self.diag.publish(level, message, values)
 
-    def destroy_node(self):
+    def _close_port(self) -> None:
         if getattr(self, "port", None) is not None:
             try:
                 self.port.close()
-            except Exception:  # noqa: BLE001
+            except Exception:  # noqa: BLE001 - the device may be gone already; closing may fail too
                 pass
+        self.port = None
+
+    def destroy_node(self):
+        self._close_port()
         super().destroy_node()
 
 
 class DriverNode(_DriverLogic, Node):
     """The driver, publishing from construction (``ros2 run polyforce_ros driver_node``)."""
 
-    def __init__(self, **kwargs):
-        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
-        Node.__init__(self, "driver_node", **kwargs)
-        self._declare_parameters()
-        self._start(self.create_publisher)
 
-
-class DriverLifecycleNode(_DriverLogic, LifecycleNode):
+class DriverLifecycleNode(ManagedNode, _DriverLogic, LifecycleNode):
     """The managed driver (``driver_lifecycle_node``): configure opens the source (loads the
     simulator's truth model and profile, or opens the serial port) and the topics; activate
     publishes (the simulated profile starts at its first sample; a serial stream resynchronises);
     deactivate stops publishing; cleanup closes the port and the topics. A source that cannot be
     opened ends configure in ErrorProcessing, with the reason in diagnostics (ERROR)."""
 
-    _active = False
-
-    def __init__(self, **kwargs):
-        kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
-        LifecycleNode.__init__(self, "driver_node", **kwargs)
-        self._declare_parameters()
-        self.diag = Diagnostics(self, f"polyforce_ros: driver ({self._param('backend')})")
-        self.error, self._entities = "", []
-
-    def on_configure(self, state):
-        try:
-            self._start(self.create_lifecycle_publisher)
-            if self._param("backend") == "serial" and not self.connected:
-                raise OSError(f"cannot open {self._param('port')}: {self._last_error}")
-        except (ValueError, OSError) as exc:  # ModelError is a ValueError
-            self.error = f"configure failed: {exc}"
-            self.get_logger().error(self.error)
-            return TransitionCallbackReturn.ERROR
-        self.error = ""
-        return TransitionCallbackReturn.SUCCESS
+    def _configure(self) -> None:
+        super()._configure()
+        if self._param("backend") == "serial" and not self.connected:
+            raise OSError(f"cannot open {self._param('port')}: {self._last_error}")
 
     def on_activate(self, state):
         if self._param("backend") == "sim":
@@ -340,44 +321,12 @@ class DriverLifecycleNode(_DriverLogic, LifecycleNode):
         self._active = False
         return super().on_deactivate(state)
 
-    def on_cleanup(self, state):
-        self._close()
-        return TransitionCallbackReturn.SUCCESS
-
     def on_shutdown(self, state):
         self._active = False
         return TransitionCallbackReturn.SUCCESS
 
-    def on_error(self, state):
-        self.diag.publish(ERROR, self.error or "error", {"state": "error processing"})
-        self._close()
-        return TransitionCallbackReturn.SUCCESS
-
-    def _close(self):
-        from rclpy.service import Service
-
-        self._active = False
-        for entity in self._entities:
-            if isinstance(entity, Service):
-                self.destroy_service(entity)
-            else:
-                self.destroy_timer(entity)
-        self._entities = []
-        for name in ("pub_raw", "pub_ref", "pub_temp"):
-            pub = self.__dict__.pop(name, None)
-            if pub is not None:
-                self.destroy_lifecycle_publisher(pub)
-        if getattr(self, "port", None) is not None:
-            try:
-                self.port.close()
-            except Exception:  # noqa: BLE001 - the device may be gone already
-                pass
-            self.port = None
-
-    def _publish_diagnostics(self):
-        if "pub_raw" not in self.__dict__:
-            return self.diag.publish(ERROR if self.error else OK, self.error or "unconfigured", {"active": False})
-        return super()._publish_diagnostics()
+    def _release(self) -> None:
+        self._close_port()
 
 
 def main(args=None):

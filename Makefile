@@ -32,6 +32,7 @@ demo: $(STAMP)
 bench: $(STAMP)
 	$(PY) bench/bench_offline.py
 	$(PY) bench/bench_live.py
+	$(PY) bench/bench_bridge.py
 
 bags: $(STAMP)
 	$(VENV)/bin/polyforce make-bags --out bags

@@ -39,9 +39,10 @@ def spawn(args):
     return subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
 
 
-def stop(proc):
+def stop(proc, sig=signal.SIGTERM):
+    """End a process this benchmark started: ``sig`` to its PID, SIGKILL if it is still there after 10 s."""
     if proc.poll() is None:
-        proc.send_signal(signal.SIGTERM)
+        proc.send_signal(sig)
         try:
             proc.wait(10)
         except subprocess.TimeoutExpired:

@@ -21,7 +21,7 @@ import shutil  # noqa: E402
 
 # Every test file belongs to exactly one layer (pytest -m <layer>); "slow" is added on top.
 LAYERS = {
-    "unit": ["test_bags.py", "test_bench_stats.py", "test_chain_elements.py", "test_expconv.py", "test_identification.py",
+    "unit": ["test_bags.py", "test_bench_bridge.py", "test_bench_stats.py", "test_chain_elements.py", "test_expconv.py", "test_identification.py",
              "test_metrics.py", "test_model_file.py", "test_fitting.py", "test_record.py", "test_preisach.py", "test_properties.py", "test_runtime.py",
              "test_serial_protocol.py", "test_thinfilm.py", "test_viscoelastic.py", "test_model_fuzz.py",
              "test_teleop_files.py"],

@@ -1,0 +1,250 @@
+"""Live benchmark of issue 13: the latency haptic_bridge_node adds at 1 kHz.
+
+A source process publishes `wrench` at 1 kHz, the node under test turns it into `haptic_command`,
+a sink process records every command. The node is haptic_bridge_node with parameters that make
+its output the latest input unchanged (force scale 1, no deadband, slew limit 1e6 N/s, saturation
+at 100 N, above every test force; device_axis z) or, as the baseline in the same run, a bare relay
+(`wrench` -> a WrenchStamped copy on `haptic_command`, the bridge's command QoS).
+
+The bridge stamps its command when it publishes it, from its own 1 kHz timer, so inputs and
+outputs are matched by value: message k carries force.z = SEQ_STEP_N * (k + 1), distinct for every
+message and passed through the bridge unchanged. For each measured input: publish -> arrival of
+the first command carrying its value. The bridge is a zero-order hold sampled by its timer: an
+input followed by a newer one before the next tick is never sent ("unmatched"); the figures
+"to the first command as new" (carrying that input or a newer one) cover every input, those included.
+
+Relay and bridge runs are interleaved in pairs (both see the same machine state, and each bridge
+run draws a new phase between the source's and the bridge's 1 kHz clocks); the latencies are
+pooled per kind. Every run warms up until the first command reaches the sink.
+
+    .venv/bin/python bench/bench_bridge.py [--seconds 30] [--pairs 5]
+DDS stays on loopback in an isolated domain (set by bench_live on import).
+"""
+import argparse
+import json
+import signal
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is a folder of scripts, not a package
+from bench_live import BIN, HERE, cpu_s, spawn, stop  # noqa: E402  (importing it sets the DDS environment)
+
+from polyforce_ros.evaluation.latency import latency_stats, pooled_p99_ratio  # noqa: E402
+
+#: haptic_bridge_node parameters under which its command is the latest input, unchanged.
+BRIDGE_PARAMETERS = {
+    "force_scale": 1.0,
+    "deadband_n": 0.0,
+    "max_force_n": 100.0,          # 24 N after 100 000 messages: never saturated
+    "max_slew_n_per_s": 1.0e6,     # the highest allowed: 1 N per us, messages differ by 2**-12 N
+    "stale_timeout_s": 10.0,       # no stale ramp during the run
+    "device_axis": "z",            # the command on force.z, where the relay copies it
+}
+#: Force of the wrench source's message k: SEQ_STEP_N * (k + 1) N, exact in binary, distinct for every message
+#: (24 N after 100 000 messages), and passed unchanged by a bridge with BRIDGE_PARAMETERS.
+SEQ_STEP_N = 2.0 ** -12
+KINDS = ("relay", "bridge")
+
+
+def node_cmd(kind):
+    if kind == "relay":
+        return [sys.executable, str(HERE / "live_parts.py"), "wrench_relay"]
+    return [str(BIN / "haptic_bridge_node"), "--ros-args",
+            *[a for name, value in BRIDGE_PARAMETERS.items() for a in ("-p", f"{name}:={value}")]]
+
+
+# ---------------------------------------------------------------------- value matching (pure, unit-tested)
+def match_by_value(sent_value, out_value):
+    """Pair outputs with inputs by exact value.
+
+    Parameters
+    ----------
+    sent_value : array (n_sent,)
+        The inputs' values in publish order, all distinct.
+    out_value : array (n_out,)
+        The outputs' values in arrival order (repeats, zeros and foreign values allowed).
+
+    Returns
+    -------
+    out_index : int array (n_out,)
+        For each output, the index of the input it carries, -1 if none.
+    first_out : int array (n_sent,)
+        For each input, the position of the first output that carries it, -1 if none.
+    """
+    sent_value = np.asarray(sent_value, dtype=float)
+    out_value = np.asarray(out_value, dtype=float)
+    order = np.argsort(sent_value, kind="stable")
+    ordered = sent_value[order]
+    if np.any(ordered[1:] == ordered[:-1]):
+        raise ValueError("sent values must be distinct to be matched by value")
+    out_index = np.full(out_value.size, -1, dtype=np.int64)
+    if ordered.size:
+        pos = np.minimum(np.searchsorted(ordered, out_value), ordered.size - 1)
+        hit = ordered[pos] == out_value  # NaN never hits
+        out_index[hit] = order[pos[hit]]
+    first_out = np.full(sent_value.size, -1, dtype=np.int64)
+    carried, first = np.unique(out_index, return_index=True)
+    first_out[carried[carried >= 0]] = first[carried >= 0]
+    return out_index, first_out
+
+
+def first_as_new(out_index, n_sent):
+    """For each input (by index in publish order), the position of the first output carrying it or a
+    newer input (the time the receiver holds a command at least that fresh), -1 if none."""
+    newest = np.maximum.accumulate(np.asarray(out_index, dtype=np.int64))  # non-decreasing: searchable
+    pos = np.searchsorted(newest, np.arange(n_sent), side="left")
+    return np.where(pos < newest.size, pos, -1)
+
+
+def _percentiles(lat_us, prefix):
+    if lat_us.size == 0:
+        return {f"{prefix}p50_us": float("nan"), f"{prefix}p99_us": float("nan"), f"{prefix}max_us": float("nan")}
+    return {f"{prefix}p50_us": float(np.percentile(lat_us, 50)), f"{prefix}p99_us": float(np.percentile(lat_us, 99)),
+            f"{prefix}max_us": float(lat_us.max())}
+
+
+def value_latency(sent_value, sent_ns, out_value, out_stamp_ns, out_ns, t0_ns, sent):
+    """Latency statistics of the inputs published at or after ``t0_ns`` (``sent`` of them), matched by value.
+
+    ``p50_us``/``p99_us``/``max_us``, ``hist`` and ``largest_gap_*`` as
+    :func:`polyforce_ros.evaluation.latency.latency_stats` (publish -> arrival of the first output carrying
+    the input); ``matched``/``unmatched`` inputs; ``outputs`` received and ``foreign_outputs``
+    (distinct non-zero output values no input carried); ``fresh_*``: publish -> arrival of the first output
+    carrying that input or a newer one, over every measured input (``never_fresh``: none arrived);
+    ``node_p50_us``: publish -> the output's header stamp (the relay copies the input's stamp: 0);
+    ``lat_us``: the matched latencies (us).
+    """
+    sent_value, out_value = np.asarray(sent_value, dtype=float), np.asarray(out_value, dtype=float)
+    sent_ns, out_ns, out_stamp_ns = (np.asarray(a, dtype=np.int64) for a in (sent_ns, out_ns, out_stamp_ns))
+    out_index, first_out = match_by_value(sent_value, out_value)
+    measured = sent_ns >= t0_ns
+    matched = measured & (first_out >= 0)
+    first = first_out[matched]
+    stats = latency_stats(sent_ns[matched], out_ns[first], t0_ns, sent)
+    stats["matched"], stats["unmatched"] = stats.pop("received"), stats.pop("lost")
+    stats.pop("duplicates")  # one first arrival per input by construction
+    stats["lat_us"] = (out_ns[first] - sent_ns[matched]) / 1e3
+    node_us = (out_stamp_ns[first] - sent_ns[matched]) / 1e3
+    stats["node_p50_us"] = float(np.median(node_us)) if node_us.size else float("nan")
+    fresh = first_as_new(out_index, sent_value.size)[measured]
+    fresh_lat_us = (out_ns[fresh[fresh >= 0]] - sent_ns[measured][fresh >= 0]) / 1e3
+    stats.update(_percentiles(fresh_lat_us, "fresh_"), never_fresh=int(np.sum(fresh < 0)), fresh_lat_us=fresh_lat_us)
+    stats["outputs"] = int(out_value.size)
+    stats["foreign_outputs"] = int(np.unique(out_value[(out_index < 0) & (out_value != 0.0)]).size)
+    return stats
+
+
+# ---------------------------------------------------------------------- processes
+def run_arm(kind, rate_hz, seconds, tmp):
+    """One run: node under test, command sink, then the wrench source; returns :func:`value_latency`'s stats."""
+    out = Path(tmp) / f"{kind}_{time.monotonic_ns()}.npz"
+    sent_path = Path(str(out) + ".sent.npz")
+    procs = []
+    try:
+        node = spawn(node_cmd(kind))
+        procs.append(node)
+        sink = spawn([sys.executable, str(HERE / "live_parts.py"), "command_sink", str(out)])
+        procs.append(sink)
+        ready = Path(str(out) + ".ready")
+        deadline = time.monotonic() + 30.0
+        while not ready.exists() and time.monotonic() < deadline:  # the sink sees the node's command publisher
+            time.sleep(0.05)
+        cpu_start, wall_start = cpu_s(node.pid), time.monotonic()
+        source = spawn([sys.executable, str(HERE / "live_parts.py"), "wrench_source", str(rate_hz), str(seconds),
+                        str(out) + ".flowing", str(sent_path), repr(SEQ_STEP_N)])
+        procs.append(source)
+        started = json.loads(source.communicate(timeout=seconds + 90)[0].strip().splitlines()[-1])
+        node_cpu = (cpu_s(node.pid) - cpu_start) / (time.monotonic() - wall_start)
+        time.sleep(0.5)
+        stop(sink, signal.SIGINT)
+        stop(node, signal.SIGINT)
+    finally:
+        for proc in reversed(procs):
+            stop(proc, signal.SIGINT)
+    with np.load(sent_path) as s, np.load(out) as o:
+        result = value_latency(s["value_n"], s["sent_ns"], o["value_n"], o["stamp_ns"], o["received_ns"],
+                               started["t0_ns"], started["sent"])
+    result.update(rate_hz=rate_hz, kind=kind, warmup=started["warmup"], node_cpu_fraction=node_cpu)
+    return result
+
+
+def interleaved_pairs(pairs, seconds, rate_hz, tmp):
+    """Relay/bridge pairs of ``seconds`` each; pooled percentiles per kind and the ratios bridge / relay."""
+    report, pooled = {}, {kind: {"lat": [], "fresh": [], "hist": []} for kind in KINDS}
+    counts = {kind: dict.fromkeys(("sent", "matched", "unmatched", "never_fresh", "foreign_outputs"), 0) for kind in KINDS}
+    warmups = []
+    for rep in range(pairs):
+        pair = {}
+        for kind in KINDS:
+            r = pair[kind] = run_arm(kind, rate_hz, seconds, tmp)
+            pooled[kind]["lat"].append(r.pop("lat_us"))
+            pooled[kind]["fresh"].append(r.pop("fresh_lat_us"))
+            pooled[kind]["hist"].append(r.pop("hist"))
+            for key in counts[kind]:
+                counts[kind][key] += r[key]
+            warmups.append(r["warmup"])
+            print(f"{rate_hz / 1000:g} kHz {kind:<6} p50 {r['p50_us']:6.0f} us  p99 {r['p99_us']:6.0f} us  "
+                  f"max {r['max_us']:7.0f} us  (to the first command as new: p50 {r['fresh_p50_us']:6.0f}, "
+                  f"p99 {r['fresh_p99_us']:6.0f} us)  publish->node stamp p50 {r['node_p50_us']:5.0f} us  "
+                  f"node CPU {100 * r['node_cpu_fraction']:4.1f} %  sent {r['sent']}, matched {r['matched']}, "
+                  f"unmatched {r['unmatched']}, foreign outputs {r['foreign_outputs']}", flush=True)
+        report[f"pair{rep}"] = pair
+    per_pair = {key: [report[f"pair{rep}"]["bridge"][key] / report[f"pair{rep}"]["relay"][key] for rep in range(pairs)]
+                for key in ("p50_us", "p99_us", "fresh_p99_us")}
+    print("bridge / relay per pair: " + "; ".join(
+        f"{label} {', '.join(f'{r:.2f}' for r in per_pair[key])}"
+        for label, key in (("p50", "p50_us"), ("p99", "p99_us"), ("p99 to the first command as new", "fresh_p99_us"))),
+        flush=True)
+    summary = {}
+    for kind in KINDS:
+        lat, fresh = np.concatenate(pooled[kind]["lat"]), np.concatenate(pooled[kind]["fresh"])
+        summary[kind] = dict(_percentiles(lat, ""), **_percentiles(fresh, "fresh_"), **counts[kind])
+    bridge, relay = summary["bridge"], summary["relay"]
+    # p99 ratio from 1 us histograms as bench_live (latencies over 100 ms count as 100 ms), bootstrap over pairs
+    ratio, low, high = pooled_p99_ratio(pooled["bridge"]["hist"], pooled["relay"]["hist"])
+    stalled = {kind: [rep for rep in range(pairs) if report[f"pair{rep}"][kind]["max_us"] > 100_000] for kind in KINDS}
+    summary.update(ratio_p50=bridge["p50_us"] / relay["p50_us"], ratio_p99=ratio, ratio_p99_interval=[low, high],
+                   pairs_with_a_stall=stalled, added_p50_us=bridge["p50_us"] - relay["p50_us"],
+                   added_fresh_p50_us=bridge["fresh_p50_us"] - relay["fresh_p50_us"],
+                   ratio_fresh_p99=bridge["fresh_p99_us"] / relay["fresh_p99_us"],
+                   warmup_samples=[min(warmups), max(warmups)],
+                   ratios_per_pair={key.removesuffix("_us"): values for key, values in per_pair.items()})
+    for kind in KINDS:
+        s = summary[kind]
+        print(f"pooled {kind:<6} ({pairs} x {seconds:g} s): p50 {s['p50_us']:.0f} us, p99 {s['p99_us']:.0f} us, "
+              f"max {s['max_us']:.0f} us; to the first command as new: p50 {s['fresh_p50_us']:.0f} us, "
+              f"p99 {s['fresh_p99_us']:.0f} us, max {s['fresh_max_us']:.0f} us; sent {s['sent']}, matched {s['matched']}, "
+              f"unmatched {s['unmatched']} (never followed by a command as new: {s['never_fresh']}), "
+              f"foreign outputs {s['foreign_outputs']}", flush=True)
+    print(f"bridge / relay: p50 {summary['ratio_p50']:.2f} (+{summary['added_p50_us']:.0f} us), p99 {ratio:.2f} "
+          f"(90 % bootstrap interval over pairs {low:.2f}-{high:.2f}); to the first command as new: "
+          f"+{summary['added_fresh_p50_us']:.0f} us at p50, p99 ratio {summary['ratio_fresh_p99']:.2f}; "
+          f"warm-up before the chain flowed: {min(warmups)}-{max(warmups)} samples", flush=True)
+    if any(stalled.values()):
+        print("pairs with a latency over 100 ms (a stall: the pooled p99 is the stall's, see the ratios per pair): "
+              + ", ".join(f"{kind} {stalled[kind]}" for kind in KINDS if stalled[kind]), flush=True)
+    report["pooled"] = summary
+    return report
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--seconds", type=float, default=30.0, help="measured seconds per arm (relay, bridge), split over the pairs")
+    ap.add_argument("--pairs", type=int, default=5, help="interleaved relay/bridge runs of seconds / pairs each")
+    ap.add_argument("--rate", type=float, default=1000.0, help="wrench rate, Hz (the bridge publishes at 1 kHz)")
+    args = ap.parse_args()
+    if args.pairs < 1 or args.seconds <= 0:
+        ap.error("--pairs must be >= 1 and --seconds > 0")
+    if SEQ_STEP_N * args.rate * (args.seconds / args.pairs + 25.0) >= BRIDGE_PARAMETERS["max_force_n"]:  # 20 s warm-up at most
+        ap.error("runs this long would reach the bridge's saturation: use more --pairs")
+    with tempfile.TemporaryDirectory() as tmp:
+        report = interleaved_pairs(args.pairs, args.seconds / args.pairs, args.rate, tmp)
+    print(json.dumps(report))
+
+
+if __name__ == "__main__":
+    main()

@@ -6,7 +6,7 @@ import pytest
 from polyforce_ros.model_file import SensorModel, load_model, save_model
 from polyforce_ros.physics.chain import (
     ELEMENT_TYPES, ExponentialDriftElement, ModelError, OffsetElement, PlayHysteresisElement, PolynomialDriftElement, PolynomialGainElement,
-    SensorChain, ThermalLagElement, ViscoelasticElement, play_operator,
+    SensorChain, SplineDriftElement, ThermalLagElement, ViscoelasticElement, play_operator,
 )
 from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
 
@@ -22,8 +22,11 @@ def _signals(seed, n=6000, dt=5e-3):
 def _random_play(rng, history=False):
     n = int(rng.integers(1, 8))
     radii = np.sort(rng.uniform(0.01, 1.0, n)) + 1e-3 * np.arange(n)
-    return PlayHysteresisElement(rng.uniform(0.3, 2.0), radii, rng.uniform(0, 1.0, n) * (rng.uniform(size=n) > 0.2),
-                                 history_max=float(rng.uniform(0, 3)) if history else 0.0)
+    linear = rng.uniform(0.3, 2.0)
+    weights = rng.uniform(0, 1.0, n) * (rng.uniform(size=n) > 0.2)
+    if rng.uniform() < 0.5:  # stop type: negative weights, every partial sum with the linear weight above 5 %
+        weights = -weights * 0.95 * linear / max(weights.sum(), 1e-12)
+    return PlayHysteresisElement(linear, radii, weights, history_max=float(rng.uniform(0, 3)) if history else 0.0)
 
 
 def _monotone_gain(rng, x_max=10.0):
@@ -55,7 +58,9 @@ def _elements(seed):
             PolynomialDriftElement(rate_v_per_s=rng.uniform(-1e-3, 1e-3), curvature_v_per_s2=rng.uniform(-1e-6, 1e-6),
                                    cubic_v_per_s3=rng.uniform(-1e-8, 1e-8)),
             _monotone_gain(rng),
-            ExponentialDriftElement(amplitude_v=rng.uniform(-0.1, 0.1), tau_s=rng.uniform(10, 100))]
+            ExponentialDriftElement(amplitude_v=rng.uniform(-0.1, 0.1), tau_s=rng.uniform(10, 100)),
+            SplineDriftElement(knots_s=np.sort(rng.uniform(0.5, 1.0, 4)) * np.arange(1, 5) * 3.0,
+                               values_v=rng.uniform(-0.05, 0.05, 4))]
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -83,6 +88,11 @@ def test_play_hysteresis_is_a_loop_and_history_starts_at_rest():
     assert y[0] == pytest.approx(0.0)
     up, down = y[:201], y[200:][::-1]
     assert np.max(down - up) > 0.2  # unloading above loading: a loop
+    stop = PlayHysteresisElement(1.5, [0.2, 0.5], [-0.3, -0.2])  # negative weights: loading above unloading
+    y = stop.forward(t, x)
+    up, down = y[:201], y[200:][::-1]
+    assert np.max(up - down) > 0.2 and np.all(np.diff(y[:201]) > 0)
+    np.testing.assert_allclose(stop.backward(t, y), x, atol=1e-12)
 
 
 @pytest.mark.parametrize("seed", range(3))
@@ -104,7 +114,7 @@ def test_model_file_round_trip_and_chain_inverse(tmp_path, seed):
 
 @pytest.mark.parametrize("mapping, message", [
     ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": [0.2, 0.1], "weights": [0.1, 0.1]}, "increasing"),
-    ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": [0.1], "weights": [-0.1]}, "weights"),
+    ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": [0.1, 0.2], "weights": [-0.1, -0.95]}, "partial sum"),
     ({"type": "play_hysteresis", "linear_weight": 0.0, "radii": [0.1], "weights": [0.1]}, "linear_weight"),
     ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": [0.1, 0.2], "weights": [0.1]}, "same length"),
     ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": "0.1", "weights": [0.1]}, "list"),

@@ -26,8 +26,8 @@ from polyforce_ros.sim.recording import write_bench_bag
 from polyforce_ros.sim.sensor import BridgeSimulator
 
 FAMILIES = list(EFFECTS["hysteresis"].families)
-#: Known gap (see the README's matrix): a Bouc-Wen loop is not yet fitted well enough to be named.
-KNOWN_GAPS = {"bouc_wen_voltage": "Bouc-Wen hysteresis is answered 'unexplained' (the play-operator fit falls short)"}
+#: Known gaps (see the README's matrix): family -> why the whole pipeline fails for it today (none at present).
+KNOWN_GAPS: dict = {}
 
 
 def _polyforce(*args):

@@ -259,6 +259,7 @@ def _example_chains():
         "exponential_drift": ELEMENT_TYPES["exponential_drift"](amplitude_v=0.02, tau_s=120.0),
         "polynomial_gain": ELEMENT_TYPES["polynomial_gain"](quadratic_per_v=0.05, cubic_per_v2=0.01, quartic_per_v3=0.0),
         "polynomial_drift": ELEMENT_TYPES["polynomial_drift"](rate_v_per_s=1e-4, curvature_v_per_s2=1e-7, cubic_v_per_s3=0.0),
+        "spline_drift": ELEMENT_TYPES["spline_drift"](knots_s=[100.0, 200.0, 300.0], values_v=[0.01, -0.02, 0.005]),
     }
     chains = {}
     for kind in ELEMENT_TYPES:

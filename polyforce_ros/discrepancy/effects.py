@@ -36,7 +36,7 @@ import numpy as np
 
 from ..physics.chain import (
     ExponentialDriftElement, PlayHysteresisElement, PolynomialGainElement, PolynomialDriftElement, PreisachElement, SensorLagElement,
-    ThermalDriftElement, ThermalLagElement, play_operator,
+    SplineDriftElement, ThermalDriftElement, ThermalLagElement, play_operator,
 )
 from ..physics.expconv import exp_convolve
 from ..physics.viscoelastic import Burgers, Burgers2, Maxwell, Zener, Zener2, simulate_deformation_columns
@@ -201,6 +201,25 @@ def _hyst_play_voltage(rng, m, ctx):
     return Truth(after=[_random_play(rng, _span_v(ctx), frac, int(rng.integers(2, 6)))])
 
 
+def _random_stop(rng, span, loop_fraction, n):
+    """A sum of stop operators on top of the input, x + sum w_i stop_{r_i}(x) (stop = x - play), as a
+    Prandtl-Ishlinskii operator: steep after each reversal, saturating; loading above unloading."""
+    radii = np.sort(rng.uniform(0.004, 0.06, n)) * span
+    w = rng.gamma(1.5, 1.0, n)
+    w *= loop_fraction * span / (2.0 * np.sum(w * radii))  # each stop spans +-r: loop width 2 sum w r
+    return PlayHysteresisElement(1.0 + float(np.sum(w)), np.maximum.accumulate(radii + 1e-9 * np.arange(n)), -w)
+
+
+def _hyst_stop_force(rng, m, ctx):
+    frac = np.interp(m, [0, 1], [0.01, 0.06])
+    return Truth(before=[_random_stop(rng, ctx["force_range_n"], frac, int(rng.integers(2, 5)))])
+
+
+def _hyst_stop_voltage(rng, m, ctx):
+    frac = np.interp(m, [0, 1], [0.01, 0.06])
+    return Truth(after=[_random_stop(rng, _span_v(ctx), frac, int(rng.integers(2, 5)))])
+
+
 def _hyst_bouc_wen(rng, m, ctx):
     frac = np.interp(m, [0, 1], [0.01, 0.06])
     span = _span_v(ctx)
@@ -220,6 +239,12 @@ def _lag_second(rng, m, ctx):
     tau = float(np.interp(m, [0, 1], [0.012, 0.15]) * rng.uniform(0.8, 1.2))
     zeta = rng.uniform(0.5, 1.0)
     return Truth(after=[SecondOrderLag(2 * zeta / tau, zeta)])  # effective delay 2 zeta / omega = tau
+
+
+def _lag_two_stage(rng, m, ctx):
+    tau = float(np.interp(m, [0, 1], [0.012, 0.15]) * rng.uniform(0.8, 1.2))
+    share = rng.uniform(0.2, 0.8)  # e.g. an RC anti-alias stage and the sensor's own: delays add up to tau
+    return Truth(after=[SensorLagElement(tau_s=share * tau), SensorLagElement(tau_s=(1 - share) * tau)])
 
 
 def _gain_poly(rng, m, ctx):
@@ -276,6 +301,20 @@ def _drift_walk(rng, m, ctx):
     return Truth(late=[Additive(lambda s, T, a=a, sp=spline: a * sp(s))])
 
 
+def _drift_events(rng, m, ctx):
+    a, d = _drift_size(rng, m), ctx["duration_s"]
+    # two or three humidity events: smooth steps of random sign, time and width
+    k = int(rng.integers(2, 4))
+    centre, width = rng.uniform(0.1, 0.9, k) * d, rng.uniform(0.03, 0.15, k) * d
+    size = rng.uniform(0.4, 1.0, k) * rng.choice([-1, 1], k)
+    size /= np.max(np.abs(np.cumsum(size)))
+
+    def events(s, T, a=a, c=centre, w=width, h=size):
+        return a * np.sum(h * (0.5 + 0.5 * np.tanh((np.asarray(s)[:, None] - c) / w)), axis=1)
+
+    return Truth(late=[Additive(lambda s, T, ev=events: ev(s, T) - ev(np.zeros(1), T)[0])])
+
+
 def _thermal_linear(rng, m, ctx):
     c = float(np.interp(m, [0, 1], [0.0015, 0.01]) * rng.choice([-1, 1]))
     return Truth(late=[ThermalDriftElement(coefficient_v_per_c=c, reference_c=24.0)])
@@ -321,28 +360,40 @@ def _hyst_start(radii, variant):
 
 
 def _hyst_columns(sig, variant, param):
-    # each play relative to its rest state (zero at rest at the start), as PlayHysteresisElement outputs
-    if variant.startswith("force"):
-        radii = PLAY_FRACTIONS * sig.span_f
-        plays = play_operator(sig.f, radii, _hyst_start(radii, variant)) - _hyst_start(radii, variant)
-        cols = simulate_deformation_columns(sig.core_ref, sig.t, plays)
-    else:
-        radii = PLAY_FRACTIONS * sig.span_x
-        cols = play_operator(sig.x_ref, radii, _hyst_start(radii, variant)) - _hyst_start(radii, variant)
+    """Columns of a Prandtl-Ishlinskii hysteresis on the path of ``variant``, each zero at rest at the start.
+
+    Play type: play operators p_r, non-negative weights (the curve steepens after a reversal). Stop type
+    (``_stop``, Bouc-Wen-like loops, loading above unloading): stop operators s_r = input - p_r, bounded by
+    +-r, non-negative weights. Fitting stops rather than negative plays keeps every column away from the
+    input itself, so the core's gain and the weights cannot trade large opposite values."""
+    force = variant.startswith("force")
+    stop = "_stop" in variant
+    key = ("hysteresis columns", force, stop, variant.endswith("descending"))
+    if key not in sig.cache:
+        span = sig.span_f if force else sig.span_x
+        radii = PLAY_FRACTIONS * span
+        start = _hyst_start(radii, variant)
+        u = sig.f if force else sig.x_ref
+        cols = play_operator(u, radii, start) - start
+        if stop:
+            cols = u[:, None] - cols
+        sig.cache[key] = simulate_deformation_columns(sig.core_ref, sig.t, cols) if force else cols
+    cols = sig.cache[key]
     return [(f"play{i}", cols[:, i], 0.0, np.inf, "sensor", "play") for i in range(cols.shape[1])]
 
 
 def _hyst_elements(coef, variant, param, sig):
     span = sig.span_f if variant.startswith("force") else sig.span_x
-    w = np.array([max(coef.get(f"play{i}", 0.0), 0.0) for i in range(PLAY_FRACTIONS.size)])
+    w = np.clip([max(coef.get(f"play{i}", 0.0), 0.0) for i in range(PLAY_FRACTIONS.size)], 0.0, 1e6)
     keep = w > 1e-12 * max(w.max(), 1e-300)
     if not keep.any():
         return []
-    # on the force path the plays enter through the core (core(F + sum w p(F))); on the voltage path
-    # the core output x stands for itself (x + sum w p(x)); linear weight 1 either way
+    # on the force path the operator enters through the core (core(F + sum w op(F))); on the voltage path
+    # the core output x stands for itself (x + sum w op(x)); x + sum w (x - p(x)) = (1 + sum w) x - sum w p(x)
+    linear, weights = (1.0 + float(np.sum(w[keep])), -w[keep]) if "_stop" in variant else (1.0, w[keep])
     history = 2.0 * span if variant.endswith("descending") else 0.0
     return [("before" if variant.startswith("force") else "after",
-             PlayHysteresisElement(1.0, PLAY_FRACTIONS[keep] * span, np.minimum(w[keep], 1e6), history_max=history))]
+             PlayHysteresisElement(linear, PLAY_FRACTIONS[keep] * span, weights, history_max=history))]
 
 
 def _lag_apply(sig, variant, param):  # the lag has no columns of its own: it filters the sensor columns
@@ -377,8 +428,23 @@ def _thermal_elements(coef, variant, param, sig):
     return [("late", ThermalDriftElement(coefficient_v_per_c=c, reference_c=ref))]
 
 
+#: Knot intervals over the record of the spline variants of offset_drift (a wandering drift).
+SPLINE_INTERVALS = (4, 6, 8)
+
+
+def _spline_basis(s, intervals):
+    """Natural cubic spline basis on [0, 1] with ``intervals`` equal intervals, zero at 0: one column per knot after 0."""
+    from scipy.interpolate import CubicSpline
+
+    knots = np.linspace(0.0, 1.0, intervals + 1)
+    return CubicSpline(knots, np.eye(intervals + 1)[:, 1:], bc_type="natural")(np.clip(s, 0.0, 1.0))
+
+
 def _drift_columns(sig, variant, param):
     s = (sig.t - sig.t0) / sig.duration_s
+    if variant.startswith("spline"):  # ridge-regularised knot values: smooth, no wiggle where data are thin
+        basis = _spline_basis(s, int(variant[6:]))
+        return [(f"knot{j}", basis[:, j], -np.inf, np.inf, "additive", "spline") for j in range(basis.shape[1])]
     if variant == "settling":  # a linear part and an exponential approach of time constant param (s)
         return [("drift1", s, -np.inf, np.inf, "additive", None),
                 ("drift_exp", -np.expm1(-(sig.t - sig.t0) / param), -np.inf, np.inf, "additive", None)]
@@ -387,6 +453,10 @@ def _drift_columns(sig, variant, param):
 
 def _drift_elements(coef, variant, param, sig):
     d = sig.duration_s
+    if variant.startswith("spline"):
+        m = int(variant[6:])
+        values = [float(np.clip(coef.get(f"knot{j}", 0.0), -1e3, 1e3)) for j in range(m)]
+        return [("late", SplineDriftElement(knots_s=list(np.linspace(0.0, d, m + 1)[1:]), values_v=values))]
     c = [float(np.clip(coef.get(f"drift{p}", 0.0) / d ** p, -1e3, 1e3)) for p in (1, 2, 3)]
     out = [("late", PolynomialDriftElement(rate_v_per_s=c[0], curvature_v_per_s2=c[1], cubic_v_per_s3=c[2]))]
     if variant == "settling":
@@ -395,8 +465,13 @@ def _drift_elements(coef, variant, param, sig):
     return out
 
 
+def lag_stages(variant, tau_s):
+    """Time constants (s) of the first-order stages of a sensor lag of total delay ``tau_s``."""
+    return [tau_s / 2.0, tau_s / 2.0] if variant == "pole_pair" else [tau_s]
+
+
 def _lag_elements(coef, variant, param, sig):
-    return [("lag", SensorLagElement(tau_s=float(param)))]
+    return [("lag", SensorLagElement(tau_s=float(tau))) for tau in lag_stages(variant, param)]
 
 
 _FAM = Family
@@ -418,13 +493,18 @@ EFFECTS = {
         "hysteresis", "path dependence at load reversals (hysteresis)", ("load_reversal",), ("load_direction",),
         ("play_hysteresis",),
         {"preisach_force": _FAM(_hyst_preisach), "play_voltage": _FAM(_hyst_play_voltage),
+         "stop_force": _FAM(_hyst_stop_force), "stop_voltage": _FAM(_hyst_stop_voltage),
          "play_force": _FAM(_hyst_play_force, held_out=True), "bouc_wen_voltage": _FAM(_hyst_bouc_wen, held_out=True)},
-        variants=("force", "voltage", "force_descending", "voltage_descending"), grid=lambda variant, sig: [None],
+        variants=("force", "voltage", "force_descending", "voltage_descending",
+                  "force_stop", "voltage_stop", "force_stop_descending", "voltage_stop_descending"),
+        grid=lambda variant, sig: [None],
         columns=_hyst_columns, to_elements=_hyst_elements),
     "sensor_lag": Effect(
         "sensor_lag", "dynamics faster than the model (sensor_lag)", ("fast_transient",), ("force_rate",), ("sensor_lag",),
-        {"first_order": _FAM(_lag_first), "pole_pair": _FAM(_lag_second, held_out=True)},
-        grid=lambda variant, sig: _log_grid(0.003, 0.4, 10), columns=_lag_apply, to_elements=_lag_elements),
+        {"first_order": _FAM(_lag_first), "two_stage": _FAM(_lag_two_stage), "pole_pair": _FAM(_lag_second, held_out=True)},
+        # one pole, or two equal poles (a critically damped pair) of the same total delay param
+        variants=("", "pole_pair"), grid=lambda variant, sig: _log_grid(0.003, 0.4, 10), columns=_lag_apply,
+        to_elements=_lag_elements),
     "nonlinear_gain": Effect(
         "nonlinear_gain", "gain changing with load (nonlinear_gain)", ("high_load",), ("force_squared",), ("polynomial_gain",),
         {"polynomial": _FAM(_gain_poly), "exp_approach": _FAM(_gain_exp), "tanh": _FAM(_gain_tanh, held_out=True)},
@@ -436,11 +516,11 @@ EFFECTS = {
         variants=("direct", "lag"), grid=lambda variant, sig: [None] if variant == "direct" else _log_grid(3.0, 120.0, 6),
         columns=_thermal_columns, to_elements=_thermal_elements, needs_temperature=True),
     "offset_drift": Effect(
-        "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",), ("polynomial_drift", "exponential_drift"),
-        {"linear": _FAM(_drift_linear), "exp_approach": _FAM(_drift_exp), "power_law": _FAM(_drift_power, held_out=True),
+        "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",), ("polynomial_drift", "exponential_drift", "spline_drift"),
+        {"linear": _FAM(_drift_linear), "exp_approach": _FAM(_drift_exp), "events": _FAM(_drift_events), "power_law": _FAM(_drift_power, held_out=True),
          "random_walk": _FAM(_drift_walk, held_out=True)},
-        variants=("polynomial", "settling"),
-        grid=lambda variant, sig: [None] if variant == "polynomial" else [sig.duration_s * f for f in (0.05, 0.1, 0.2, 0.35, 0.6, 1.0)],
+        variants=("polynomial", "settling", *(f"spline{m}" for m in SPLINE_INTERVALS)),
+        grid=lambda variant, sig: [sig.duration_s * f for f in (0.05, 0.1, 0.2, 0.35, 0.6, 1.0)] if variant == "settling" else [None],
         columns=_drift_columns, to_elements=_drift_elements),
 }
 

@@ -19,10 +19,15 @@ Procedure (:func:`diagnose`):
    its nonlinear parameter on its grid) and scored out of sample. The best is
    accepted when it lowers the out-of-sample error in at least
    ``min_confidence`` of the folds and removes at least ``min_excess_share`` of
-   the current error above the noise floor (a promising candidate has its time
-   constants, the core's included, refitted before it is judged); then the
-   next step runs with it included, an effect that the newer ones make
-   redundant is dropped again, until nothing more is justified.
+   the current error above the noise floor (counted as at least a quarter of
+   the floor's own mean square); among candidates of one step, a smaller one
+   (fewer columns and time constants) is preferred unless the better one
+   passes that same test against it (a promising candidate has its time
+   constants, the core's included, refitted before it is judged; a refit that
+   predicts the left-out blocks worse is not kept). Then the next step runs
+   with it included; an effect that the newer ones make redundant is dropped
+   again, and one that a rival of its own step now describes as well is
+   swapped for it, until nothing more is justified or a set of effects recurs.
 5. **Unexplained residual.** The out-of-sample residual of the final model is
    averaged to ~1 s and tested for whiteness (Ljung-Box); structure whose RMS
    is at least ``unexplained_ratio`` of the noise floor is reported as
@@ -51,7 +56,7 @@ from ..physics.fitting import LOG_BOUNDS, information_criteria, multistart_least
 from ..physics.identification import block_average
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, simulate_deformation
 from ..record import Record  # noqa: F401 - the record type diagnose takes (re-exported)
-from .effects import EFFECTS as REGISTRY, NAMES, PLAY_RIDGE, lag_columns
+from .effects import EFFECTS as REGISTRY, NAMES, PLAY_RIDGE, lag_columns, lag_stages
 
 EFFECTS = NAMES
 BASES = tuple(MODEL_TYPES)  # every core type the fitting stack knows
@@ -184,7 +189,7 @@ def design(sig, st: Structure):
         if eff.core_change:
             continue
         if term.effect == "sensor_lag":
-            lag = term.param
+            lag = lag_stages(term.variant, term.param)
             continue
         cols += _cached(sig, (term.effect, term.variant, term.param), lambda: eff.columns(sig, term.variant, term.param))
     names = [c[0] for c in cols] + ["offset"]
@@ -192,13 +197,14 @@ def design(sig, st: Structure):
     for c in cols:
         x = np.asarray(c[1], dtype=float)
         if lag is not None and c[4] == "sensor":
-            x = lag_columns(sig.t, x, lag)
+            for tau in lag:
+                x = lag_columns(sig.t, x, tau)
         mats.append(x)
     mats.append(np.ones_like(sig.t))
     a = np.column_stack(mats)
     lo = np.array([c[2] for c in cols] + [-np.inf])
     hi = np.array([c[3] for c in cols] + [np.inf])
-    ridge = np.array([c[5] == "play" for c in cols] + [False])
+    ridge = np.array([c[5] is not None for c in cols] + [False])  # ridge groups: play weights, spline knots
     return names, a, lo, hi, ridge
 
 
@@ -262,8 +268,7 @@ class Fitter:
             sse.append(max(float(c @ g @ c - 2 * h @ c + vv), 0.0))
         n = v.size if self.sig.valid is None else int(self.sig.valid.sum())
         fit = Fit(st, names, scale, coef / scale, folds, np.array(sse), float(np.sum(sse) / n), max(fit_sse, 0.0) / n, n)
-        p = int(np.count_nonzero(np.abs(coef) > 0)) + len(st.taus) + sum(t.param is not None for t in st.terms)
-        fit.bic = information_criteria(max(fit_sse, 1e-300), n, p)[1]
+        fit.bic = information_criteria(max(fit_sse, 1e-300), n, _n_params(fit))[1]
         return fit
 
 
@@ -435,12 +440,19 @@ def _polish(fitter: Fitter, st: Structure) -> Structure:
 
 def _refine(fitter: Fitter, st: Structure, rounds=2) -> Fit:
     """Polish the time constants, then make the columns that follow the core (hysteresis, gain) consistent
-    with the refitted core; ``rounds`` times."""
+    with the refitted core; ``rounds`` times. The polish fits in sample: when the result predicts the left-out
+    blocks worse than the structure as given (e.g. a settling time shorter than a block, which no other block
+    can pin down), the structure as given is kept."""
+    sig0, given = fitter.sig, fitter.evaluate(st)
     for _ in range(rounds):
         st = _polish(fitter, st)
         fit = fitter.evaluate(st)
         fitter.sig = _refresh_ref(fitter.sig, core_model(st, fit.coef_map), fitter.sig.span_x)
-    return fitter.evaluate(st)
+    refined = fitter.evaluate(st)
+    if refined.cv_mse > given.cv_mse:
+        fitter.sig = sig0
+        return given
+    return refined
 
 
 def _without(st: Structure, effect):
@@ -500,6 +512,36 @@ def _candidates_for(st: Structure, effect, has_temperature, sig=None):
     return out
 
 
+def _n_params(fit: Fit) -> int:
+    """Free parameters of a fit: non-zero coefficients and nonlinear time constants."""
+    st = fit.structure
+    return int(np.count_nonzero(fit.coef)) + len(st.taus) + sum(t.param is not None for t in st.terms)
+
+
+def _size(fit: Fit) -> int:
+    """Nominal size of a structure: its design columns and nonlinear time constants (whatever values they took).
+
+    A delayed elasticity that takes all of the instantaneous compliance is a sensor lag in disguise; counted
+    by its non-zero coefficients it would look as small as the lag."""
+    st = fit.structure
+    return len(fit.names) + len(st.taus) + sum(t.param is not None for t in st.terms)
+
+
+def _parsimonious(cands, acceptable, justified):
+    """The candidate of one step to judge: the lowest out-of-sample error, unless an acceptable candidate of
+    smaller nominal size (:func:`_size`) is not improved on by it as an added effect would have to improve on
+    the current model (``justified(better, than)``: the acceptance test itself); then the smaller one, which
+    must pass the same comparison against any smaller still."""
+    if not cands:
+        return None
+    best = min(cands, key=lambda c: c.fit.cv_mse)
+    while True:
+        simpler = [c for c in cands if acceptable(c) and _size(c.fit) < _size(best.fit) and not justified(best.fit, c.fit)]
+        if not simpler:
+            return best
+        best = min(simpler, key=lambda c: c.fit.cv_mse)
+
+
 def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_confidence=0.8, min_excess_share=0.3,
              unexplained_ratio=0.5, min_explained=0.6, max_effects=4, effects=None, progress=None) -> Diagnosis:
     """Run the whole workflow on one record (see the module docstring).
@@ -555,39 +597,59 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
         eff = REGISTRY[name]
         if eff.core_change and base not in eff.core_change and name not in skipped:
             skipped[name] = f"does not apply to a {base} base (no core type adds it)"
+    def justified(fit: Fit, than: Fit) -> bool:
+        """The acceptance test: ``fit`` lowers the out-of-sample error of ``than`` in ``min_confidence`` of the
+        blocks and removes ``min_excess_share`` of its error above the floor (at least a quarter of the floor's own)."""
+        excess = max(than.cv_mse - floor_d2, 0.25 * floor_d2)
+        return (float(np.mean(fit.sse_folds < than.sse_folds)) >= min_confidence
+                and (than.cv_mse - fit.cv_mse) / excess >= min_excess_share)
+
+    def acceptable(c: Candidate) -> bool:
+        return c.confidence >= min_confidence and c.excess_share >= min_excess_share
+
+    def addition(to: Fit, name: str) -> Fit | None:
+        """The best fit of ``to``'s structure with ``name`` added (every variant and grid value), None if it does not apply."""
+        structs = _candidates_for(to.structure, name, has_temp, fitter.sig)
+        if not structs:
+            return None
+        fits = [fitter.evaluate(s) for s in structs]
+        excess = max(to.cv_mse - floor_d2, 0.25 * floor_d2)
+        best_of = {}
+        for f in fits:  # the best in sample of each variant
+            v = f.structure.term(name).variant if f.structure.term(name) else ""
+            if v not in best_of or f.fit_mse < best_of[v].fit_mse:
+                best_of[v] = f
+        # promising in sample: the time constants (the core's too) are refitted with the effect in place before
+        # it is judged out of sample (inherited ones let the folds trade the effect against the core)
+        polished = [fitter.evaluate(_polish(fitter, f.structure)) for f in best_of.values()
+                    if (to.fit_mse - f.fit_mse) / excess >= min_excess_share]
+        return min([*polished, *fits], key=lambda f: f.cv_mse)
+
     step = 0
+    accepted_at = {}  # effect -> the step that named it
+    seen = {frozenset()}  # sets of named effects reached: a set met again (add one, drop another) ends the search
     while len(accepted) < max_effects:
         sig = fitter.sig
         step += 1
-        best = None
+        step_candidates = []
         for name in catalogue:
             if name in accepted or name in skipped:
                 continue
-            structs = _candidates_for(current.structure, name, has_temp, sig)
-            if not structs:
-                continue
             say(f"step {step}: {name}")
-            fits = [fitter.evaluate(s) for s in structs]
+            fit = addition(current, name)
+            if fit is None:
+                continue
             excess = max(current.cv_mse - floor_d2, 0.25 * floor_d2)
-            best_of = {}
-            for f in fits:  # the best in sample of each variant
-                v = f.structure.term(name).variant if f.structure.term(name) else ""
-                if v not in best_of or f.fit_mse < best_of[v].fit_mse:
-                    best_of[v] = f
-            # promising in sample: the time constants (the core's too) are refitted with the effect in place before
-            # it is judged out of sample (inherited ones let the folds trade the effect against the core)
-            polished = [fitter.evaluate(_polish(fitter, f.structure)) for f in best_of.values()
-                        if (current.fit_mse - f.fit_mse) / excess >= min_excess_share]
-            fit = min(polished or fits, key=lambda f: f.cv_mse)
             cand = Candidate(name, fit.structure.term(name).variant if fit.structure.term(name) else "", fit,
                              math.sqrt(fit.cv_mse), float(np.mean(fit.sse_folds < current.sse_folds)),
                              float((current.cv_mse - fit.cv_mse) / excess), step)
             candidates.append(cand)
-            if best is None or cand.fit.cv_mse < best.fit.cv_mse:
-                best = cand
+            step_candidates.append(cand)
+        best = _parsimonious(step_candidates, acceptable, justified)
         if best is None or best.confidence < min_confidence or best.excess_share < min_excess_share:
             break
         best.accepted = True
+        accepted_at[best.effect] = step
         accepted.append(best.effect)
         confidences[best.effect] = best.confidence
         variants[best.effect] = best.variant
@@ -600,9 +662,8 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                 continue
             reduced = _polish(fitter, reduced)
             fit = fitter.evaluate(reduced)
-            excess = max(fit.cv_mse - floor_d2, 0.25 * floor_d2)
             confidence = float(np.mean(current.sse_folds < fit.sse_folds))
-            if confidence < min_confidence or (fit.cv_mse - current.cv_mse) / excess < min_excess_share:
+            if not justified(current, fit):
                 say(f"drop {name}")
                 accepted.remove(name)
                 confidences.pop(name)
@@ -613,12 +674,42 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                 current = _refine(fitter, reduced, rounds=1)
             else:
                 confidences[name] = confidence
+        # swap check: an effect named earlier, when a rival of its own step describes the data as well now that
+        # the newer ones are in (greedy selection can name a stand-in first, e.g. a slow delayed elasticity for a
+        # viscous flow plus a drift), gives way to the rival that is smaller or better by the acceptance test
+        for name in list(accepted[:-1]):
+            rivals = [c for c in candidates if c.step == accepted_at[name] and c.effect not in accepted and acceptable(c)]
+            reduced = _without(current.structure, name) if rivals else None
+            if reduced is None:
+                continue
+            reduced_fit = fitter.evaluate(_polish(fitter, reduced))
+            for rival in sorted(rivals, key=lambda c: c.fit.cv_mse):
+                fit = addition(reduced_fit, rival.effect)
+                if fit is None or not ((_size(fit) < _size(current) and not justified(current, fit))
+                                       or justified(fit, current)):
+                    continue
+                say(f"swap {name} for {rival.effect}")
+                accepted[accepted.index(name)] = rival.effect
+                accepted_at[rival.effect] = accepted_at.pop(name)
+                confidences.pop(name)
+                variants.pop(name)
+                confidences[rival.effect] = float(np.mean(fit.sse_folds < reduced_fit.sse_folds))
+                variants[rival.effect] = fit.structure.term(rival.effect).variant if fit.structure.term(rival.effect) else ""
+                for c in candidates:
+                    if c.effect == name and c.accepted:
+                        c.accepted = False
+                rival.accepted = True
+                current = _refine(fitter, fit.structure)
+                break
+        if frozenset(accepted) in seen:
+            break
+        seen.add(frozenset(accepted))
     say("unexplained residual")
     # 5. out-of-sample residual at the record's rate, whiteness of the slow part
     sig_full_base = _refresh_ref(sig_full, base_core, fitter.sig.span_x)
     rmse_before, _, sim_before = _oos_full(sig_full_base, base_fit, fitter, n_folds)
     sig = fitter.sig
-    sig_full = _refresh_ref(sig_full, core_model(current.structure, current.coef_map), sig.span_x)
+    sig_full = _refresh_ref(sig_full, sig.core_ref, sig.span_x)  # the core the columns of the fit were made with
     rmse_after, resid_after, sim_after = _oos_full(sig_full, current, fitter, n_folds)
     slow = block_average(t, resid_after, rate_hz=1.0)[1]
     q, p_value = ljung_box(slow, lags=20)

@@ -29,7 +29,7 @@ from .viscoelastic import (
 __all__ = ["ModelError", "ElementStream", "Element", "PARAMETER_BOUNDS", "MAX_PREISACH_LEVELS", "ViscoelasticElement",
     "OffsetElement", "GainElement", "NonlinearGainElement", "SensorLagElement", "ThermalDriftElement",
     "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "ThermalLagElement",
-    "ExponentialDriftElement", "PolynomialGainElement", "PolynomialDriftElement", "ELEMENT_TYPES", "SensorChain",
+    "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement", "ELEMENT_TYPES", "SensorChain",
     "ChainStream"]
 
 
@@ -123,7 +123,7 @@ PARAMETER_BOUNDS = {
     # Prandtl-Ishlinskii (play-operator) hysteresis, input/output in N or V (either side of the core)
     "linear_weight": (1e-6, 1e6, "", "the inverse divides by it (and by every partial sum of weights)"),
     "radii": (1e-9, 1e6, "", "play half-widths > 0, in the input unit; 1 MN or 1 MV is beyond any sensor"),
-    "weights": (0.0, 1e6, "", "non-negative play weights (a monotone, invertible operator)"),
+    "weights": (-1e6, 1e6, "", "play weights; with linear_weight every partial sum stays > 0 (monotone, invertible)"),
     "history_max": (0.0, 1e6, "", "the input's maximum before the record, in the input unit"),
     # polynomial offset drift: y = x + r t + c2 t**2 + c3 t**3 (t since the first sample)
     # polynomial gain y = x + q x**2 + c x**3 (V in, V out); monotone over the range it was fitted on
@@ -131,6 +131,9 @@ PARAMETER_BOUNDS = {
     "quartic_per_v3": (-1e3, 1e3, "1/V^3", "100 % nonlinearity at 0.1 V already"),
     # exponential-approach drift y = x + amplitude_v (1 - exp(-t / tau_s)) (tau_s has its own entry)
     "amplitude_v": (-1e3, 1e3, "V", "beyond any amplifier output"),
+    # spline drift: knot times (s after the first sample) and the drift there (V)
+    "knots_s": (1e-6, 1e9, "s", "knot times after the first sample, up to 30 years"),
+    "values_v": (-1e3, 1e3, "V", "beyond any amplifier output"),
     "curvature_v_per_s2": (-1e3, 1e3, "V/s^2", "over 24 h at most 7.5e12 V: finite"),
     "cubic_v_per_s3": (-1e3, 1e3, "V/s^3", "over 24 h at most 6.5e17 V: finite"),
 }
@@ -709,15 +712,21 @@ class PlayHysteresisElement:
     radii : list of float > 0, strictly increasing
         Half-widths of the play (backlash) operators, in the input unit (N on the
         force path, V on the voltage path).
-    weights : list of float >= 0
-        Weight of each play operator (same length as ``radii``).
+    weights : list of float
+        Weight of each play operator (same length as ``radii``). Positive weights
+        steepen the curve after a reversal (loading below unloading, the play
+        type); negative weights flatten it (a stop-type or Bouc-Wen-like loop,
+        loading above unloading). Every partial sum ``linear_weight + weights[0]
+        + ... + weights[i]`` (the slope once the input has moved ``2 radii[i]``
+        from a reversal) must be at least 1e-6: the operator is then strictly
+        monotone and invertible.
     history_max : float >= 0, optional
         The input's history before the record: 0 (default) is a virgin sensor
         (every play at zero); a value M means the input came down from M to 0
         before the record (every play of radius r <= M/2 then starts at r).
 
     Every play operator starts at zero before the first sample (an unloaded
-    sensor). With non-negative weights the operator is monotone and its inverse
+    sensor). With positive partial sums the operator is monotone and its inverse
     is again a Prandtl-Ishlinskii operator (Kuhnen 2003): radii
     ``r'_i = sum_{j<=i} a_j (r_i - r_j)`` (a_0 = linear_weight, r_0 = 0) and weights
     ``b_0 = 1/a_0``, ``b_i = -a_i / (A_i A_{i-1})`` with ``A_i = sum_{j<=i} a_j``,
@@ -737,8 +746,10 @@ class PlayHysteresisElement:
             raise ModelError(f"{self.kind}: radii and weights must have the same length ({radii.size} != {weights.size})")
         if np.any(np.diff(radii) <= 0):
             raise ModelError(f"{self.kind}: radii must be strictly increasing")
-        if np.any(weights < 0):
-            raise ModelError(f"{self.kind}: weights must be >= 0")
+        slopes = linear_weight + np.cumsum(weights)
+        if np.any(slopes < 1e-6):
+            raise ModelError(f"{self.kind}: every partial sum linear_weight + weights[0] + ... + weights[i] must be "
+                             f">= 1e-6 (a monotone, invertible operator); the smallest is {slopes.min():.6g}")
         history_max = _number(self.kind, "history_max", float(history_max), positive=False)
         if history_max < 0:
             raise ModelError(f"{self.kind}: history_max must be >= 0")
@@ -972,11 +983,55 @@ class PolynomialDriftElement(_TimeDriftElement):
 
 
 
+class SplineDriftElement(_TimeDriftElement):
+    """Load-independent baseline drift of a wandering shape (a slow random walk, humidity events):
+    y = x + S(t - t_first), S the natural cubic spline through (knots_s[i], values_v[i]), S = 0 at s = 0.
+
+    Parameters (model file keys)
+    ----------------------------
+    knots_s : list of float > 0, strictly increasing
+        Knot times after the first sample, s.
+    values_v : list of float
+        The drift at each knot, V (same length). Between 0 and the first knot the
+        spline starts from 0; after the last knot the drift holds its last value
+        (a fitted drift says nothing beyond its record, and holding is bounded).
+
+    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare).
+    """
+
+    kind = "spline_drift"
+    KEYS = ("knots_s", "values_v")
+
+    def __init__(self, knots_s, values_v):
+        from scipy.interpolate import CubicSpline
+
+        knots = _float_list(self.kind, "knots_s", knots_s, positive=True)
+        values = _float_list(self.kind, "values_v", values_v, positive=False)
+        if knots.size != values.size:
+            raise ModelError(f"{self.kind}: knots_s and values_v must have the same length ({knots.size} != {values.size})")
+        if np.any(np.diff(knots) <= 0):
+            raise ModelError(f"{self.kind}: knots_s must be strictly increasing")
+        self._freeze(knots_s=knots, values_v=values,
+                     _spline=CubicSpline(np.concatenate([[0.0], knots]), np.concatenate([[0.0], values]), bc_type="natural"))
+
+    def _term(self, s):
+        s = np.asarray(s, dtype=float)
+        return self._spline(np.clip(s, 0.0, self.knots_s[-1]))
+
+    def to_dict(self):
+        return {"type": self.kind, "knots_s": [float(v) for v in self.knots_s], "values_v": [float(v) for v in self.values_v]}
+
+    @classmethod
+    def from_dict(cls, d):
+        _check_keys(cls.kind, d, cls.KEYS)
+        return cls(d["knots_s"], d["values_v"])
+
+
 ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
 for _element in (GainElement, NonlinearGainElement, SensorLagElement, ThermalDriftElement, OffsetDriftElement, PreisachElement,
                  PlayHysteresisElement, ThermalLagElement, PolynomialDriftElement, PolynomialGainElement,
-                 ExponentialDriftElement):
+                 ExponentialDriftElement, SplineDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
 
 

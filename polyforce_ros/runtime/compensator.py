@@ -97,6 +97,19 @@ class SampleGate:
         self._skew_ns = 0                          # largest stamp - receive of this history's used samples
         self._run: Optional[list] = None           # [first receive, last stamp, skew] of rejected samples
 
+    @property
+    def config(self) -> CompensatorConfig:
+        """Policy settings (the limits :meth:`admit` needs are kept in the units it compares them in)."""
+        return self._config
+
+    @config.setter
+    def config(self, config: CompensatorConfig):
+        self._config = config
+        # per-sample comparisons at 1 kHz: attribute chains and unit conversions done once, not per sample
+        self._limit_v = config.input_limit_v
+        self._tol_ns = config.stamp_tolerance_s * 1e9
+        self._gap_s = config.gap_warn_s
+
     def restart(self):
         """Forget the stamp history: the next finite sample starts a fresh one."""
         self.last_stamp_ns, self._run = None, None
@@ -108,7 +121,7 @@ class SampleGate:
         if not math.isfinite(voltage_v):
             c["nonfinite"] += 1
             return "nonfinite"
-        if abs(voltage_v) > self.config.input_limit_v:
+        if abs(voltage_v) > self._limit_v:
             c["out_of_range"] += 1
             return "out_of_range"
         receive_ns = stamp_ns if receive_ns is None else receive_ns
@@ -116,7 +129,7 @@ class SampleGate:
         last = self.last_stamp_ns
         if last is None:
             return self._anchor(stamp_ns, skew)
-        tol_ns = self.config.stamp_tolerance_s * 1e9
+        tol_ns = self._tol_ns
         if tol_ns > 0 and skew - self._skew_ns > tol_ns:
             reason = "implausible_stamp"
         elif stamp_ns < last:
@@ -125,9 +138,11 @@ class SampleGate:
             reason = "duplicate"
         else:
             self._run = None
-            if (stamp_ns - last) * 1e-9 > self.config.gap_warn_s:
+            if (stamp_ns - last) * 1e-9 > self._gap_s:  # the arithmetic of mask(): counts agree at the boundary
                 c["gaps"] += 1
-            self.last_stamp_ns, self._skew_ns = stamp_ns, max(self._skew_ns, skew)
+            if skew > self._skew_ns:
+                self._skew_ns = skew
+            self.last_stamp_ns = stamp_ns
             return ACCEPT
         c[reason] += 1
         if self._heals(stamp_ns, skew, receive_ns, tol_ns):
@@ -202,6 +217,16 @@ class Compensator:
         self.set_chain(chain)
 
     # ------------------------------------------------------------------ settings
+    @property
+    def config(self) -> CompensatorConfig:
+        """Policy settings; change them with :meth:`configure`."""
+        return self._config
+
+    @config.setter
+    def config(self, config: CompensatorConfig):
+        self._config = config
+        self._drift_tracking, self._force_limit_n = config.drift_tracking, config.force_limit_n  # read per sample
+
     def set_chain(self, chain: SensorChain):
         """Use another model; the history restarts (it belongs to the old model), a tare is kept."""
         self.chain = chain
@@ -254,9 +279,9 @@ class Compensator:
             self.counts["nonfinite_output"] += 1
             self._restart()
             return None
-        if self.config.drift_tracking:
+        if self._drift_tracking:
             force = self._track_drift(stamp_ns, force)
-        limit = self.config.force_limit_n
+        limit = self._force_limit_n
         if abs(force) > limit:
             self.counts["clamped"] += 1
             force = math.copysign(limit, force)

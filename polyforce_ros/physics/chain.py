@@ -571,15 +571,9 @@ class ThermalDriftElement(_SimpleElement):
         return _FunctionStream(step)
 
 
-class OffsetDriftElement(_SimpleElement):
-    """Load-independent baseline drift: y = x + rate_v_per_s * (t - t_first).
-
-    t_first is the first sample of the record (forward, batch backward) or the
-    first sample after a reset (streaming); a tare therefore restarts it.
-    """
-
-    kind = "offset_drift"
-    PARAMS = (("rate_v_per_s", False),)
+class _TimeDriftElement(_SimpleElement):
+    """Base of the load-independent drifts: y = x + _term(t - t_first), t_first the first sample of the
+    record (forward, batch backward) or after a reset (streaming); subclasses define ``_term(s)`` (V)."""
 
     def forward_state(self):
         return {"t_first": None}
@@ -589,22 +583,35 @@ class OffsetDriftElement(_SimpleElement):
         st = state if state is not None else self.forward_state()
         if st["t_first"] is None and t.size:
             st["t_first"] = float(t[0])
-        return x + self.rate_v_per_s * (t - (st["t_first"] or 0.0))
+        return x + self._term(t - (st["t_first"] or 0.0))
 
     def backward(self, t_s, y, aux=None):
         t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
-        return y - self.rate_v_per_s * (t - t[0]) if t.size else y
+        return y - self._term(t - t[0]) if t.size else y
 
     def streaming(self):
         first = {"t": None}
-        rate = self.rate_v_per_s
 
         def step(t_s, y, aux=None):
             if first["t"] is None:
                 first["t"] = t_s
-            return y - rate * (t_s - first["t"])
+            return y - float(self._term(t_s - first["t"]))
 
         return _FunctionStream(step, lambda: first.update(t=None))
+
+
+class OffsetDriftElement(_TimeDriftElement):
+    """Load-independent baseline drift: y = x + rate_v_per_s * (t - t_first).
+
+    t_first is the first sample of the record (forward, batch backward) or the
+    first sample after a reset (streaming); a tare therefore restarts it.
+    """
+
+    kind = "offset_drift"
+    PARAMS = (("rate_v_per_s", False),)
+
+    def _term(self, s):
+        return self.rate_v_per_s * s
 
 
 class PreisachElement(_Frozen):
@@ -700,6 +707,17 @@ def _float_list(kind, key, values, positive):
     return np.array([_number(kind, key, v.item() if isinstance(v, np.generic) else v, positive) for v in list(values)])
 
 
+def _abscissae_and_values(kind, x_key, x, y_key, y):
+    """Two number lists of one length: ``x`` positive and strictly increasing, ``y`` any finite values."""
+    x = _float_list(kind, x_key, x, positive=True)
+    y = _float_list(kind, y_key, y, positive=False)
+    if x.size != y.size:
+        raise ModelError(f"{kind}: {x_key} and {y_key} must have the same length ({x.size} != {y.size})")
+    if np.any(np.diff(x) <= 0):
+        raise ModelError(f"{kind}: {x_key} must be strictly increasing")
+    return x, y
+
+
 class PlayHysteresisElement:
     """Rate-independent hysteresis as a Prandtl-Ishlinskii operator: a weighted sum of play operators.
 
@@ -740,12 +758,7 @@ class PlayHysteresisElement:
 
     def __init__(self, linear_weight, radii, weights, history_max=0.0):
         linear_weight = _number(self.kind, "linear_weight", float(linear_weight), positive=True)
-        radii = _float_list(self.kind, "radii", radii, positive=True)
-        weights = _float_list(self.kind, "weights", weights, positive=False)
-        if weights.size != radii.size:
-            raise ModelError(f"{self.kind}: radii and weights must have the same length ({radii.size} != {weights.size})")
-        if np.any(np.diff(radii) <= 0):
-            raise ModelError(f"{self.kind}: radii must be strictly increasing")
+        radii, weights = _abscissae_and_values(self.kind, "radii", radii, "weights", weights)
         slopes = linear_weight + np.cumsum(weights)
         if np.any(slopes < 1e-6):
             raise ModelError(f"{self.kind}: every partial sum linear_weight + weights[0] + ... + weights[i] must be "
@@ -888,35 +901,6 @@ class ThermalLagElement(_SimpleElement):
         return _FunctionStream(step, lag.reset)
 
 
-class _TimeDriftElement(_SimpleElement):
-    """Base of the load-independent drifts: y = x + _term(t - t_first), t_first the first sample of the
-    record (forward, batch backward) or after a reset (streaming); subclasses define ``_term(s)`` (V)."""
-
-    def forward_state(self):
-        return {"t_first": None}
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        st = state if state is not None else self.forward_state()
-        if st["t_first"] is None and t.size:
-            st["t_first"] = float(t[0])
-        return x + self._term(t - (st["t_first"] or 0.0))
-
-    def backward(self, t_s, y, aux=None):
-        t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
-        return y - self._term(t - t[0]) if t.size else y
-
-    def streaming(self):
-        first = {"t": None}
-
-        def step(t_s, y, aux=None):
-            if first["t"] is None:
-                first["t"] = t_s
-            return y - float(self._term(t_s - first["t"]))
-
-        return _FunctionStream(step, lambda: first.update(t=None))
-
-
 class ExponentialDriftElement(_TimeDriftElement):
     """Baseline drift that settles: y = x + amplitude_v * (1 - exp(-(t - t_first) / tau_s)).
 
@@ -1005,12 +989,7 @@ class SplineDriftElement(_TimeDriftElement):
     def __init__(self, knots_s, values_v):
         from scipy.interpolate import CubicSpline
 
-        knots = _float_list(self.kind, "knots_s", knots_s, positive=True)
-        values = _float_list(self.kind, "values_v", values_v, positive=False)
-        if knots.size != values.size:
-            raise ModelError(f"{self.kind}: knots_s and values_v must have the same length ({knots.size} != {values.size})")
-        if np.any(np.diff(knots) <= 0):
-            raise ModelError(f"{self.kind}: knots_s must be strictly increasing")
+        knots, values = _abscissae_and_values(self.kind, "knots_s", knots_s, "values_v", values_v)
         self._freeze(knots_s=knots, values_v=values,
                      _spline=CubicSpline(np.concatenate([[0.0], knots]), np.concatenate([[0.0], values]), bc_type="natural"))
 

@@ -87,7 +87,26 @@ class CompensatorConfig:
         return tuple(f.name for f in fields(cls))
 
 
-class SampleGate:
+class _Configured:
+    """A ``config`` attribute whose per-sample values the subclass keeps at hand (``_keep``) whenever it is set."""
+
+    _config: CompensatorConfig
+
+    @property
+    def config(self) -> CompensatorConfig:
+        """Policy settings."""
+        return self._config
+
+    @config.setter
+    def config(self, config: CompensatorConfig):
+        self._config = config
+        self._keep(config)
+
+    def _keep(self, config: CompensatorConfig):
+        raise NotImplementedError
+
+
+class SampleGate(_Configured):
     """Rules 1-5: which samples are used, and when the history must restart."""
 
     def __init__(self, config: CompensatorConfig = CompensatorConfig()):
@@ -97,14 +116,7 @@ class SampleGate:
         self._skew_ns = 0                          # largest stamp - receive of this history's used samples
         self._run: Optional[list] = None           # [first receive, last stamp, skew] of rejected samples
 
-    @property
-    def config(self) -> CompensatorConfig:
-        """Policy settings (the limits :meth:`admit` needs are kept in the units it compares them in)."""
-        return self._config
-
-    @config.setter
-    def config(self, config: CompensatorConfig):
-        self._config = config
+    def _keep(self, config: CompensatorConfig):
         # per-sample comparisons at 1 kHz: attribute chains and unit conversions done once, not per sample
         self._limit_v = config.input_limit_v
         self._tol_ns = config.stamp_tolerance_s * 1e9
@@ -191,7 +203,7 @@ class SampleGate:
         return out
 
 
-class Compensator:
+class Compensator(_Configured):
     """Raw bridge samples in, force out: the gate, the chain's inverse, tare, drift, clamp, staleness.
 
     Parameters
@@ -217,14 +229,7 @@ class Compensator:
         self.set_chain(chain)
 
     # ------------------------------------------------------------------ settings
-    @property
-    def config(self) -> CompensatorConfig:
-        """Policy settings; change them with :meth:`configure`."""
-        return self._config
-
-    @config.setter
-    def config(self, config: CompensatorConfig):
-        self._config = config
+    def _keep(self, config: CompensatorConfig):
         self._drift_tracking, self._force_limit_n = config.drift_tracking, config.force_limit_n  # read per sample
 
     def set_chain(self, chain: SensorChain):

@@ -232,6 +232,14 @@ def diagnostic_names():
                 node_name = names_given[0]  # super().__init__("name", ...) or Base.__init__(self, "name", ...)
             if getattr(call.func, "id", None) == "Diagnostics":
                 status = call.args[1]
+        for node in ast.walk(tree):  # nodes on nodes/common.py's PolyforceNode: NODE_NAME and diagnostics_name
+            if isinstance(node, ast.Assign) and len(node.targets) == 1 and isinstance(node.targets[0], ast.Name):
+                if node.targets[0].id == "NODE_NAME":
+                    node_name = ast.literal_eval(node.value)
+                elif node.targets[0].id == "diagnostics_name":
+                    status = node.value
+            elif isinstance(node, ast.FunctionDef) and node.name == "diagnostics_name":
+                status = next(n.value for n in ast.walk(node) if isinstance(n, ast.Return))
         if status is None:
             continue
         if isinstance(status, ast.JoinedStr):  # the driver: f"polyforce_ros: driver ({backend})"

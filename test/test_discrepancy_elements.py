@@ -124,3 +124,21 @@ def test_model_file_round_trip_and_chain_inverse(tmp_path, seed):
 def test_bad_element_mappings_are_model_errors(mapping, message):
     with pytest.raises(ModelError, match=message):
         ELEMENT_TYPES[mapping["type"]].from_dict(mapping)
+
+
+def test_parsimony_compares_every_smaller_candidate_with_the_overall_best():
+    from types import SimpleNamespace
+
+    from polyforce_ros.discrepancy import engine
+
+    def cand(name, size, cv):
+        fit = SimpleNamespace(names=["c"] * size, structure=engine.Structure("elastic"), cv_mse=cv)
+        return SimpleNamespace(name=name, fit=fit)
+
+    a, b, c = cand("A", 14, 1.0), cand("B", 5, 2.0), cand("C", 3, 3.0)
+    beats = {("A", "C")}  # A passes the acceptance test against C only; B is as good as A
+    justified = lambda better, than: any(better is x.fit and than is y.fit for x in (a, b, c) for y in (a, b, c)  # noqa: E731
+                                         if (x.name, y.name) in beats)
+    assert engine._parsimonious([a, b, c], lambda _: True, justified) is b  # not C, which A clearly beats
+    assert engine._parsimonious([a, c], lambda _: True, justified) is a
+    assert engine._parsimonious([a, b, c], lambda x: x is not b, justified) is a  # only acceptable ones compete

@@ -390,6 +390,8 @@ def _hyst_elements(coef, variant, param, sig):
         return []
     # on the force path the operator enters through the core (core(F + sum w op(F))); on the voltage path
     # the core output x stands for itself (x + sum w op(x)); x + sum w (x - p(x)) = (1 + sum w) x - sum w p(x)
+    if "_stop" in variant:
+        w = w * min(1.0, (1e6 - 1.0) / max(float(np.sum(w[keep])), 1e-300))  # linear_weight within its bound
     linear, weights = (1.0 + float(np.sum(w[keep])), -w[keep]) if "_stop" in variant else (1.0, w[keep])
     history = 2.0 * span if variant.endswith("descending") else 0.0
     return [("before" if variant.startswith("force") else "after",
@@ -442,7 +444,7 @@ def _spline_basis(s, intervals):
 
 def _drift_columns(sig, variant, param):
     s = (sig.t - sig.t0) / sig.duration_s
-    if variant.startswith("spline"):  # ridge-regularised knot values: smooth, no wiggle where data are thin
+    if variant.startswith("spline"):  # ridge on the knot values: small where the data say little
         basis = _spline_basis(s, int(variant[6:]))
         return [(f"knot{j}", basis[:, j], -np.inf, np.inf, "additive", "spline") for j in range(basis.shape[1])]
     if variant == "settling":  # a linear part and an exponential approach of time constant param (s)

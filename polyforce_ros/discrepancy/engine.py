@@ -344,7 +344,7 @@ class Candidate:
         return {"effect": self.effect, "variant": self.variant, "step": self.step, "rmse": self.rmse_v,
                 "rmse_fit": math.sqrt(self.fit.fit_mse), "criterion": self.fit.bic, "confidence": self.confidence,
                 "excess_share": self.excess_share, "accepted": self.accepted,
-                "n_params": int(np.count_nonzero(self.fit.coef)) + 1}
+                "n_params": _n_params(self.fit)}
 
 
 @dataclass
@@ -438,21 +438,31 @@ def _polish(fitter: Fitter, st: Structure) -> Structure:
     return make(sol.x)
 
 
+def _settle(fitter: Fitter, st: Structure, rounds=2) -> Fit:
+    """Fit ``st`` with the columns that follow the core (hysteresis, gain) made from the core it fits, so that the
+    model scored is the model saved (:func:`build_chain` places them after/before that core); ``rounds`` refreshes."""
+    fit = fitter.evaluate(st)
+    for _ in range(rounds):
+        fitter.sig = _refresh_ref(fitter.sig, core_model(st, fit.coef_map), fitter.sig.span_x)
+        fit = fitter.evaluate(st)
+    return fit
+
+
 def _refine(fitter: Fitter, st: Structure, rounds=2) -> Fit:
     """Polish the time constants, then make the columns that follow the core (hysteresis, gain) consistent
     with the refitted core; ``rounds`` times. The polish fits in sample: when the result predicts the left-out
     blocks worse than the structure as given (e.g. a settling time shorter than a block, which no other block
-    can pin down), the structure as given is kept."""
+    can pin down), the structure as given is kept. Either way the result is settled (:func:`_settle`)."""
     sig0, given = fitter.sig, fitter.evaluate(st)
+    polished = st
     for _ in range(rounds):
-        st = _polish(fitter, st)
-        fit = fitter.evaluate(st)
-        fitter.sig = _refresh_ref(fitter.sig, core_model(st, fit.coef_map), fitter.sig.span_x)
-    refined = fitter.evaluate(st)
-    if refined.cv_mse > given.cv_mse:
+        polished = _polish(fitter, polished)
+        fit = fitter.evaluate(polished)
+        fitter.sig = _refresh_ref(fitter.sig, core_model(polished, fit.coef_map), fitter.sig.span_x)
+    if fitter.evaluate(polished).cv_mse > given.cv_mse:
         fitter.sig = sig0
-        return given
-    return refined
+        return _settle(fitter, st)
+    return _settle(fitter, polished)
 
 
 def _without(st: Structure, effect):
@@ -528,18 +538,17 @@ def _size(fit: Fit) -> int:
 
 
 def _parsimonious(cands, acceptable, justified):
-    """The candidate of one step to judge: the lowest out-of-sample error, unless an acceptable candidate of
-    smaller nominal size (:func:`_size`) is not improved on by it as an added effect would have to improve on
-    the current model (``justified(better, than)``: the acceptance test itself); then the smaller one, which
-    must pass the same comparison against any smaller still."""
+    """The candidate of one step to judge: the lowest out-of-sample error, unless the acceptable candidates of
+    smaller nominal size (:func:`_size`) include some that it does not improve on as an added effect would have to
+    improve on the current model (``justified(better, than)``: the acceptance test itself); then the smallest of
+    those (the lower error among equals). Always compared with the overall best, so the choice is not path-bound."""
     if not cands:
         return None
     best = min(cands, key=lambda c: c.fit.cv_mse)
-    while True:
-        simpler = [c for c in cands if acceptable(c) and _size(c.fit) < _size(best.fit) and not justified(best.fit, c.fit)]
-        if not simpler:
-            return best
-        best = min(simpler, key=lambda c: c.fit.cv_mse)
+    equivalent = [c for c in cands if acceptable(c) and _size(c.fit) < _size(best.fit) and not justified(best.fit, c.fit)]
+    if not equivalent:
+        return best
+    return min(equivalent, key=lambda c: (_size(c.fit), c.fit.cv_mse))
 
 
 def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_confidence=0.8, min_excess_share=0.3,
@@ -619,8 +628,9 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
             v = f.structure.term(name).variant if f.structure.term(name) else ""
             if v not in best_of or f.fit_mse < best_of[v].fit_mse:
                 best_of[v] = f
-        # promising in sample: the time constants (the core's too) are refitted with the effect in place before
-        # it is judged out of sample (inherited ones let the folds trade the effect against the core)
+        # promising in sample: the time constants (the core's too) are refitted with the effect in place (inherited
+        # ones let the folds trade the effect against the core); the grid fits compete too, because a polish fits in
+        # sample and can predict the left-out blocks worse
         polished = [fitter.evaluate(_polish(fitter, f.structure)) for f in best_of.values()
                     if (to.fit_mse - f.fit_mse) / excess >= min_excess_share]
         return min([*polished, *fits], key=lambda f: f.cv_mse)
@@ -685,8 +695,8 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
             reduced_fit = fitter.evaluate(_polish(fitter, reduced))
             for rival in sorted(rivals, key=lambda c: c.fit.cv_mse):
                 fit = addition(reduced_fit, rival.effect)
-                if fit is None or not ((_size(fit) < _size(current) and not justified(current, fit))
-                                       or justified(fit, current)):
+                if fit is None or not justified(fit, reduced_fit) or not (
+                        (_size(fit) < _size(current) and not justified(current, fit)) or justified(fit, current)):
                     continue
                 say(f"swap {name} for {rival.effect}")
                 accepted[accepted.index(name)] = rival.effect

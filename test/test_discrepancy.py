@@ -20,6 +20,7 @@ from conftest import REPO
 from polyforce_ros.discrepancy.effects import EFFECTS, NAMES
 from polyforce_ros.discrepancy.engine import diagnose
 from polyforce_ros.model_file import load_model
+from polyforce_ros.physics.viscoelastic import MODEL_TYPES
 from polyforce_ros.sim.bench import OUT_OF_CATALOGUE, bench_record, default_base, write_bench_bag
 
 DURATION_S, RATE_HZ = 420.0, 100.0
@@ -140,20 +141,23 @@ def test_cli_contract_json_report_and_saved_model(tmp_path):
     data = json.loads(out_json.read_text())
     assert {"base", "missing_effect", "missing_effects", "effects", "rmse_before", "rmse_after", "noise_floor_v",
             "unexplained", "skipped", "evidence", "candidates", "model"} <= set(data)
-    assert sorted(data["missing_effects"]) == ["nonlinear_gain", "offset_drift"]
-    assert data["missing_effect"] == data["missing_effects"][0]
+    # the contract, whatever else the engine names beside the hidden two (exact naming: the tests above, the matrix)
+    named = data["missing_effects"]
+    assert {"nonlinear_gain", "offset_drift"} <= set(named)
+    assert data["missing_effect"] == named[0] and [e["effect"] for e in data["effects"]] == named
     assert all(0.5 <= e["confidence"] <= 1.0 for e in data["effects"])
     assert {"present", "rms_v", "noise_floor_v", "where"} <= set(data["unexplained"])
     assert data["rmse_after"] <= data["rmse_before"] / 3
     assert all({"effect", "rmse", "criterion", "confidence", "step"} <= set(c) for c in data["candidates"])
     text = (report / "report.md").read_text()
-    assert "nonlinear_gain" in text and "offset_drift" in text and "confidence" in text
+    assert all(name in text for name in named) and "confidence" in text
     for fig in ("measured_vs_simulated.png", "residual.png", "localisation.png"):
         assert (report / "figures" / fig).is_file()
     saved = load_model(model)
     kinds = [e.kind for e in saved.chain.elements]
-    assert kinds[:2] == ["burgers", "polynomial_gain"] and kinds[-1] == "offset"
-    assert set(kinds[2:-1]) <= {"polynomial_drift", "exponential_drift"} and "polynomial_drift" in kinds
+    assert kinds[-1] == "offset" and sum(k in MODEL_TYPES for k in kinds) == 1
+    for name in named:  # every named effect is in the saved chain, as one of its registry elements
+        assert set(EFFECTS[name].elements) & set(kinds), (name, kinds)
     assert saved.provenance["missing_effects"] == data["missing_effects"]
     # the saved model compensates the sensor far better than its base would
     from polyforce_ros.record import load_record
@@ -161,7 +165,7 @@ def test_cli_contract_json_report_and_saved_model(tmp_path):
     rec = load_record(bag)
     err_aug = np.sqrt(np.mean((saved.chain.backward(rec.t_s, rec.voltage_v) - rec.force_n) ** 2))
     base = load_model(model).chain
-    base.elements = [e for e in base.elements if e.kind in ("burgers", "offset")]
+    base.elements = [e for e in base.elements if e.kind in (*MODEL_TYPES, "offset")]
     err_base = np.sqrt(np.mean((base.backward(rec.t_s, rec.voltage_v) - rec.force_n) ** 2))
     assert err_aug < err_base / 3
 

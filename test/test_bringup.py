@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
 from rclpy.qos import QoSProfile, ReliabilityPolicy
@@ -86,14 +87,24 @@ def test_bringup_runs_the_pipeline_and_sigint_stops_every_child(tmp_path):
         wrenches, commands = [], []
         sink.create_subscription(WrenchStamped, contract.Rel.WRENCH, wrenches.append, qos)
         sink.create_subscription(WrenchStamped, HAPTIC_COMMAND, commands.append, qos)
+        recorded = {}  # the recorder's message counts per topic, from its diagnostics
+
+        def on_diagnostics(msg):
+            for status in msg.status:
+                if status.name == "polyforce_ros: recorder":
+                    recorded.update({kv.key: int(kv.value) for kv in status.values if kv.value.isdigit()})
+
+        sink.create_subscription(DiagnosticArray, contract.DIAGNOSTICS, on_diagnostics, 10)
         proc = subprocess.Popen([str(BIN / "polyforce"), "bringup", "--with-bridge", "--record", str(bag)],
                                 stdout=log_file, stderr=subprocess.STDOUT)
         pids = {}
         try:
-            # the whole chain must flow first: driver -> compensation -> bridge (DDS discovery takes seconds)
-            flowing = h.spin_until(lambda: len(wrenches) > 500 and len(commands) > 500, 60.0)
+            # the whole chain must flow first: driver -> compensation -> bridge, and the recorder writing
+            # (DDS discovery takes seconds, and each node discovers the others on its own)
+            flowing = h.spin_until(lambda: len(wrenches) > 500 and len(commands) > 500 and sum(recorded.values()) > 500,
+                                   60.0)
             pids = started_pids(log)
-            assert flowing, (len(wrenches), len(commands), proc.poll(), log.read_text()[-3000:])
+            assert flowing, (len(wrenches), len(commands), recorded, proc.poll(), log.read_text()[-3000:])
             assert set(pids) == {"recorder_node", "haptic_bridge_node", "compensation_node", "driver_node"}
             assert all(not gone(pid) for pid in pids.values())
             proc.send_signal(signal.SIGINT)

@@ -191,16 +191,6 @@ def _hyst_preisach(rng, m, ctx):
     return Truth(before=[PreisachElement(hysteretic_identity(0.0, ctx["force_range_n"], frac / 1.0), continuous=True)])
 
 
-def _hyst_play_force(rng, m, ctx):
-    frac = np.interp(m, [0, 1], [0.01, 0.06])
-    return Truth(before=[_random_play(rng, ctx["force_range_n"], frac, int(rng.integers(2, 6)))])
-
-
-def _hyst_play_voltage(rng, m, ctx):
-    frac = np.interp(m, [0, 1], [0.01, 0.06])
-    return Truth(after=[_random_play(rng, _span_v(ctx), frac, int(rng.integers(2, 6)))])
-
-
 def _random_stop(rng, span, loop_fraction, n):
     """A sum of stop operators on top of the input, x + sum w_i stop_{r_i}(x) (stop = x - play), as a
     Prandtl-Ishlinskii operator: steep after each reversal, saturating; loading above unloading."""
@@ -210,14 +200,17 @@ def _random_stop(rng, span, loop_fraction, n):
     return PlayHysteresisElement(1.0 + float(np.sum(w)), np.maximum.accumulate(radii + 1e-9 * np.arange(n)), -w)
 
 
-def _hyst_stop_force(rng, m, ctx):
-    frac = np.interp(m, [0, 1], [0.01, 0.06])
-    return Truth(before=[_random_stop(rng, ctx["force_range_n"], frac, int(rng.integers(2, 5)))])
+def _pi_family(operator, path, n_high):
+    """Family maker: a random Prandtl-Ishlinskii ``operator`` (:func:`_random_play` or :func:`_random_stop`) with
+    2..n_high-1 operators on the force path (before the core) or the voltage path (after it), loop 1-6 % of its span."""
 
+    def make(rng, m, ctx):
+        frac = np.interp(m, [0, 1], [0.01, 0.06])
+        span = ctx["force_range_n"] if path == "force" else _span_v(ctx)
+        element = operator(rng, span, frac, int(rng.integers(2, n_high)))
+        return Truth(before=[element]) if path == "force" else Truth(after=[element])
 
-def _hyst_stop_voltage(rng, m, ctx):
-    frac = np.interp(m, [0, 1], [0.01, 0.06])
-    return Truth(after=[_random_stop(rng, _span_v(ctx), frac, int(rng.integers(2, 5)))])
+    return make
 
 
 def _hyst_bouc_wen(rng, m, ctx):
@@ -494,9 +487,10 @@ EFFECTS = {
     "hysteresis": Effect(
         "hysteresis", "path dependence at load reversals (hysteresis)", ("load_reversal",), ("load_direction",),
         ("play_hysteresis",),
-        {"preisach_force": _FAM(_hyst_preisach), "play_voltage": _FAM(_hyst_play_voltage),
-         "stop_force": _FAM(_hyst_stop_force), "stop_voltage": _FAM(_hyst_stop_voltage),
-         "play_force": _FAM(_hyst_play_force, held_out=True), "bouc_wen_voltage": _FAM(_hyst_bouc_wen, held_out=True)},
+        {"preisach_force": _FAM(_hyst_preisach), "play_voltage": _FAM(_pi_family(_random_play, "voltage", 6)),
+         "stop_force": _FAM(_pi_family(_random_stop, "force", 5)),
+         "stop_voltage": _FAM(_pi_family(_random_stop, "voltage", 5)),
+         "play_force": _FAM(_pi_family(_random_play, "force", 6), held_out=True), "bouc_wen_voltage": _FAM(_hyst_bouc_wen, held_out=True)},
         variants=("force", "voltage", "force_descending", "voltage_descending",
                   "force_stop", "voltage_stop", "force_stop_descending", "voltage_stop_descending"),
         grid=lambda variant, sig: [None],

@@ -32,6 +32,34 @@ def test_contract_stamps_frame_and_values_match_batch_compensation():
     assert not others.any()
 
 
+@pytest.mark.parametrize("frame_param", ["", "tool0"])
+def test_wrench_header_is_the_input_header_and_never_writes_into_a_received_message(frame_param):
+    """Sample path (the input header as it is) and watchdog path (a header of its own) share one message."""
+    from sensor_msgs.msg import JointState
+    from polyforce_ros.nodes.common import ns_to_stamp
+    with ros() as h:
+        node, _ = start(h, stale_timeout_s=5.0, frame_id=frame_param)
+        sent = []
+
+        class Capture:
+            def publish(self, msg):   # publish() serialises at once: keep what was sent then
+                sent.append((stamp_to_ns(msg.header.stamp), msg.header.frame_id, msg.wrench.force.z))
+        node.pub = Capture()
+        inputs = []
+        for i in range(5):
+            msg = JointState(name=["bridge"], position=[0.1])
+            ns_to_stamp(T0_NS + i * 1_000_000, msg.header.stamp)
+            msg.header.frame_id = "sensor_frame"
+            node._on_joint_state(msg)
+            inputs.append(msg)
+        node.publish_zero()
+    frame = frame_param or "sensor_frame"
+    assert [s[:2] for s in sent[:5]] == [(T0_NS + i * 1_000_000, frame) for i in range(5)]
+    assert sent[5][2] == 0.0 and sent[5][0] > T0_NS + 10**12 and sent[5][1] == (frame_param or "")
+    assert [stamp_to_ns(m.header.stamp) for m in inputs] == [T0_NS + i * 1_000_000 for i in range(5)]
+    assert {m.header.frame_id for m in inputs} == {"sensor_frame"}
+
+
 def test_float64_input_is_compensated_with_arrival_stamps():
     with ros() as h:
         node, probe = start(h, stale_timeout_s=5.0)

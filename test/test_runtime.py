@@ -245,6 +245,27 @@ def test_auto_tare_rearms_after_reset_and_can_be_off():
     assert off.tare_offset_v is None and off.auto_tare_status == "off"
 
 
+@pytest.mark.parametrize("how", ["configure", "assign"])
+def test_every_way_of_setting_the_config_reaches_the_sample_rules(how):
+    """``configure(...)`` and assigning ``comp.config`` are one setter: gate limits, tare window, auto-tare."""
+    from dataclasses import replace
+    comp = Compensator(CHAIN)
+    changes = dict(input_limit_v=0.5, tare_window=7, auto_tare=False, force_limit_n=0.2)
+    if how == "configure":
+        comp.configure(**changes)
+    else:
+        comp.config = replace(comp.config, **changes)
+    assert comp.gate.config is comp.config and comp.auto_tare_status == "off"
+    stamps, receive = stream_1khz(20)
+    volts = np.full(20, 0.3)
+    volts[5] = 0.7                     # above the new input limit, below the default 10 V
+    forces = [comp.step(int(s), float(v), int(r)) for s, v, r in zip(stamps, volts, receive)]
+    assert forces[5] is None and comp.counts["out_of_range"] == 1
+    assert max(abs(f) for f in forces if f is not None) == pytest.approx(0.2)   # the new clamp
+    assert comp.counts["clamped"] > 0 and comp._recent_v.maxlen == 7
+    assert comp.tare()[0] and comp.tare_offset_v == pytest.approx(0.3)
+
+
 def test_simulated_source_hands_out_what_is_due_on_its_schedule():
     from polyforce_ros.runtime.sources import MAX_BURST, SimulatedSource
     from polyforce_ros.sim.sensor import BridgeSimulator

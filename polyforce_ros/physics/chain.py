@@ -297,7 +297,7 @@ class ViscoelasticElement(_Frozen):
         return compensate(self.model, t_s, deformation_v)
 
     def streaming(self):
-        return _ViscoelasticStream(self.model)
+        return StreamingCompensator(self.model)
 
     def to_dict(self):
         return {"type": self.kind, **self.model.as_dict()}
@@ -317,17 +317,6 @@ class ViscoelasticElement(_Frozen):
             raise ModelError(f"{kind}: {exc}") from None
         _check_core_numerics(kind, model)
         return cls(model)
-
-
-class _ViscoelasticStream:
-    def __init__(self, model):
-        self._comp = StreamingCompensator(model)
-
-    def reset(self):
-        self._comp.reset()
-
-    def step(self, t_s, value, aux=None):
-        return self._comp.step(t_s, value)
 
 
 class OffsetElement(_Frozen):
@@ -1112,14 +1101,23 @@ class ChainStream:
 
     def __init__(self, streams):
         self.streams = streams
+        # The usual chain, an offset then the viscoelastic core, runs at 1 kHz: its offset is one
+        # subtraction here and its one stateful stream is called directly (the same arithmetic as the loop).
+        rest = list(streams)
+        self._offset_v = rest.pop(0).voltage_v if rest and isinstance(rest[0], _OffsetStream) else 0.0
+        self._only = rest[0] if len(rest) == 1 else None
+        self._rest = rest
 
     def reset(self):
         for s in self.streams:
             s.reset()
 
     def step(self, t_s, voltage_v, aux=None):
-        x = voltage_v
-        for s in self.streams:
+        x = voltage_v - self._offset_v
+        only = self._only
+        if only is not None:
+            return only.step(t_s, x, aux)
+        for s in self._rest:
             x = s.step(t_s, x, aux)
             if x is None:
                 return None

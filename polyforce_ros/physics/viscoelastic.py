@@ -588,26 +588,29 @@ class StreamingCompensator:
         self._ar = [a * r for a, r in zip(rel.a_n_per_v, rel.r_per_s)]
         self._eta = rel.eta_impulse_n_s_per_v
         self._conv = ExpConvState(rel.r_per_s)
-        self._prev: Optional[tuple[float, float]] = None  # (t_s, gamma_v) for the Kelvin-Voigt slope
+        self._t_prev_s: Optional[float] = None  # previous sample, for the Kelvin-Voigt slope
+        self._gamma_prev_v = 0.0
 
     def reset(self):
         """Forget the deformation history (sensor assumed relaxed and unloaded)."""
         self._conv.reset()
-        self._prev = None
+        self._t_prev_s = None
 
     @property
     def last_time_s(self):
-        return self._conv.t_prev_s if self._ar else (self._prev[0] if self._prev else None)
+        return self._conv.t_prev_s if self._ar else self._t_prev_s
 
-    def step(self, t_s: float, deformation_v: float):
-        if self._prev is not None and t_s < self._prev[0]:
+    def step(self, t_s: float, deformation_v: float, aux=None):
+        """Force (N) for one sample, or None for a stamp before the previous one.
+        ``aux`` is not used (the signature of a chain element's stream)."""
+        t_prev = self._t_prev_s
+        if t_prev is not None and t_s < t_prev:
             return None
         y = self._conv.update(t_s, deformation_v)
         force = self._g0 * deformation_v
         for ar, yk in zip(self._ar, y):
             force -= ar * yk
-        if self._eta:
-            if self._prev is not None and t_s > self._prev[0]:
-                force += self._eta * (deformation_v - self._prev[1]) / (t_s - self._prev[0])
-        self._prev = (t_s, deformation_v)
+        if self._eta and t_prev is not None and t_s > t_prev:
+            force += self._eta * (deformation_v - self._gamma_prev_v) / (t_s - t_prev)
+        self._t_prev_s, self._gamma_prev_v = t_s, deformation_v
         return force

@@ -230,7 +230,15 @@ class Compensator(_Configured):
 
     # ------------------------------------------------------------------ settings
     def _keep(self, config: CompensatorConfig):
+        # every way of setting the config (the constructor, configure, an assignment) ends here
         self._drift_tracking, self._force_limit_n = config.drift_tracking, config.force_limit_n  # read per sample
+        if not hasattr(self, "gate"):  # the constructor: nothing built yet
+            return
+        self.gate.config = config
+        if self._recent_v.maxlen != int(config.tare_window):
+            self._recent_v = deque(self._recent_v, maxlen=int(config.tare_window))
+        if not config.auto_tare and self.auto_tare_status != "off":
+            self._auto, self.auto_tare_status = None, "off"
 
     def set_chain(self, chain: SensorChain):
         """Use another model; the history restarts (it belongs to the old model), a tare is kept."""
@@ -249,11 +257,6 @@ class Compensator(_Configured):
     def configure(self, **changes):
         """New policy settings (names of :class:`CompensatorConfig`); take effect at the next sample."""
         self.config = replace(self.config, **changes)
-        self.gate.config = self.config
-        if "tare_window" in changes:
-            self._recent_v = deque(self._recent_v, maxlen=int(self.config.tare_window))
-        if "auto_tare" in changes and not self.config.auto_tare:
-            self._auto, self.auto_tare_status = None, "off"
 
     @property
     def offset_v(self) -> float:

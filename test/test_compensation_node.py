@@ -169,6 +169,32 @@ def test_stale_input_gives_zero_wrench_and_error_then_recovers():
         assert h.spin_until(lambda: any(d.status[0].level != DiagnosticStatus.ERROR for d in probe.diags), 2.0)
 
 
+def test_watchdog_sleeps_until_the_newest_sample_would_go_stale_then_repeats_zeros():
+    """No fixed poll while input flows: one wake-up when the newest sample goes stale, then zeros every 20 ms."""
+    from sensor_msgs.msg import JointState
+    from polyforce_ros.nodes.common import ns_to_stamp
+    with ros() as h:
+        node, _ = start(h, stale_timeout_s=0.5)
+        msg = JointState(name=["bridge"], position=[0.1])
+        ns_to_stamp(time.time_ns(), msg.header.stamp)
+        node._on_joint_state(msg)
+        node._check_stale()
+        planned_ns = node._watchdog.timer_period_ns
+        assert not node._stale and 0.45e9 < planned_ns <= 0.501e9      # the deadline, plus 1 ms
+        node.compensator.last_valid_receive_ns -= 10**9                 # the newest sample is now 1.5 s old
+        published = node.node_counts["published"]
+        node._check_stale()
+        assert node._stale and node.node_counts["stale_events"] == 1
+        assert node.node_counts["published"] == published + 1 and node._watchdog.timer_period_ns == 20_000_000
+        node.compensator.last_valid_receive_ns = time.time_ns()
+        node._check_stale()
+        assert node._watchdog.timer_period_ns > 0.45e9
+        node.set_parameters([Parameter("stale_timeout_s", value=0.05)])  # a shorter timeout re-plans at once
+        assert node._watchdog.timer_period_ns == 1_000_000
+        node._check_stale()
+        assert node._watchdog.timer_period_ns <= 0.051e9
+
+
 def test_shutdown_publishes_zero_wrench():
     with ros() as h:
         node, probe = start(h, stale_timeout_s=30.0)

@@ -708,7 +708,12 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                 for c in candidates:
                     if c.effect == name and c.accepted:
                         c.accepted = False
-                rival.accepted = True
+                # the report shows the fit that was taken (the rival added to the reduced model), not the
+                # rival's own step, whose model still held the effect it replaces
+                excess = max(reduced_fit.cv_mse - floor_d2, 0.25 * floor_d2)
+                candidates.append(Candidate(rival.effect, variants[rival.effect], fit, math.sqrt(fit.cv_mse),
+                                            confidences[rival.effect],
+                                            float((reduced_fit.cv_mse - fit.cv_mse) / excess), step, accepted=True))
                 current = _refine(fitter, fit.structure)
                 break
         if frozenset(accepted) in seen:

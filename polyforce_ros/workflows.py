@@ -20,6 +20,7 @@ from .physics.identification import select_model
 from .physics.viscoelastic import simulate_deformation
 from .record import load_record
 from .runtime import Compensator, CompensatorConfig, SampleGate
+from .runtime.compensator import WARN_COUNTERS
 
 __all__ = ["clean_samples", "TARE_WINDOW_S", "tare_offset_v", "static_and_compensated", "CalibrationResult",
     "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "runtime_warnings"]
@@ -162,7 +163,6 @@ def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorCon
 
 
 def runtime_warnings(counts) -> list:
-    """One line per nonzero drop/fault counter of a :class:`Compensator`."""
-    names = ("nonfinite", "out_of_range", "implausible_stamp", "backwards", "duplicate", "reanchored",
-             "nonfinite_output", "clamped")
-    return [f"{counts[name]} samples {name.replace('_', ' ')}" for name in names if counts.get(name)]
+    """One line per nonzero warning counter of a :class:`Compensator` (the list the node's diagnostics WARN on)."""
+    return [f"{counts[name]} {'stamp gaps over gap_warn_s' if name == 'gaps' else 'samples ' + name.replace('_', ' ')}"
+            for name in WARN_COUNTERS if counts.get(name)]

@@ -299,3 +299,29 @@ def test_serial_source_scales_valid_frames_and_gives_nothing_for_corrupt_ones():
     got += source.feed(encode_frame(2, 2000, -2000) + bytes(bad), arrival_ns=T0 + MS)
     assert [v for _, v in got] == pytest.approx([0.502, 0.498])
     assert got[1][0] - got[0][0] == MS and source.parser.crc_errors == 1
+
+
+def test_offline_tools_list_exactly_the_counters_the_node_warns_on():
+    """One list (WARN_COUNTERS) for the node's WARN and the offline tools' warning lines."""
+    from polyforce_ros.runtime.compensator import COMPENSATOR_COUNTERS, WARN_COUNTERS
+    from polyforce_ros.workflows import runtime_warnings
+
+    for name in WARN_COUNTERS:
+        [line] = runtime_warnings({name: 3})
+        assert line.startswith("3 ")
+    assert runtime_warnings({name: 5 for name in COMPENSATOR_COUNTERS if name not in WARN_COUNTERS}) == []
+    assert {"gaps", "clamped", "backwards", "nonfinite_output"} <= set(WARN_COUNTERS)
+
+
+def test_a_chain_and_its_elements_cannot_be_changed_in_place():
+    from polyforce_ros.physics.chain import PlayHysteresisElement
+
+    play = PlayHysteresisElement(1.0, [0.1, 0.3], [0.2, 0.1])
+    chain = SensorChain([play, *SensorChain.from_model(PAPER_BURGERS, offset_v=0.1).elements])
+    with pytest.raises(AttributeError):
+        chain.elements = ()
+    with pytest.raises(AttributeError):
+        chain.elements.append(OffsetElement(0.0))   # a tuple
+    with pytest.raises(ValueError):
+        play.radii[0] = 5.0                          # read-only arrays
+    assert chain.with_offset(0.2).offset_v == 0.2 and chain.offset_v == 0.1

@@ -33,6 +33,7 @@ from std_srvs.srv import Trigger
 from ..model_file import default_model_path, load_model
 from ..physics.chain import ModelError
 from ..runtime import Compensator, CompensatorConfig
+from ..runtime.compensator import WARN_COUNTERS
 from .. import contract
 from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, ns_to_stamp, run,
                      send_last_zero, stamp_to_ns)
@@ -272,7 +273,7 @@ class _CompensationLogic(PolyforceNode):
             level, message = WARN, self.compensator.auto_tare_status
         elif self._model_error:
             level, message = WARN, f"model file invalid, previous model kept: {self._model_error}"
-        elif any(c[k] for k in _WARN_COUNTERS):
+        elif any(c[k] for k in WARN_COUNTERS):
             level, message = WARN, "running; bad or clamped samples seen (see counters)"
         else:
             level, message = OK, "running"
@@ -327,10 +328,6 @@ class CompensationLifecycleNode(ManagedNode, _CompensationLogic, LifecycleNode):
             send_last_zero(self)
         self._active = False
         LifecycleNode.destroy_node(self)
-
-
-_WARN_COUNTERS = ("clamped", "nonfinite", "out_of_range", "implausible_stamp", "backwards", "duplicate", "gaps",
-                  "reanchored", "nonfinite_output")
 
 
 def _mtime(path):

@@ -73,6 +73,9 @@ class _Frozen:
 
     def _freeze(self, **values):
         for name, value in values.items():
+            if isinstance(value, np.ndarray):  # arrays too: a read-only copy, so no one writes into a model
+                value = value.copy()
+                value.flags.writeable = False
             object.__setattr__(self, name, value)
 
     def __setattr__(self, name, value):
@@ -707,7 +710,7 @@ def _abscissae_and_values(kind, x_key, x, y_key, y):
     return x, y
 
 
-class PlayHysteresisElement:
+class PlayHysteresisElement(_Frozen):
     """Rate-independent hysteresis as a Prandtl-Ishlinskii operator: a weighted sum of play operators.
 
         y = linear_weight * x + sum_i weights[i] * play_{radii[i]}[x]
@@ -755,10 +758,7 @@ class PlayHysteresisElement:
         history_max = _number(self.kind, "history_max", float(history_max), positive=False)
         if history_max < 0:
             raise ModelError(f"{self.kind}: history_max must be >= 0")
-        object.__setattr__(self, "linear_weight", linear_weight)
-        object.__setattr__(self, "radii", radii)
-        object.__setattr__(self, "weights", weights)
-        object.__setattr__(self, "history_max", history_max)
+        self._freeze(linear_weight=linear_weight, radii=radii, weights=weights, history_max=history_max)
 
     def _history(self):
         """Input samples before the record: 0, then up to history_max and back to 0 (none when 0)."""
@@ -775,9 +775,6 @@ class PlayHysteresisElement:
         else:
             inv = np.zeros(r_inv.size)
         return fwd, inv
-
-    def __setattr__(self, name, value):
-        raise AttributeError(f"PlayHysteresisElement is immutable (tried to set {name})")
 
     def inverse_parameters(self):
         """(b_0, radii', weights') of the inverse operator (see the class docstring)."""
@@ -1003,19 +1000,46 @@ for _element in (GainElement, NonlinearGainElement, SensorLagElement, ThermalDri
     ELEMENT_TYPES[_element.kind] = _element
 
 
-class SensorChain:
-    """Ordered elements from force (first) to voltage (last)."""
+@runtime_checkable
+class ForwardElement(Protocol):
+    """An element that can only simulate (the bench generator's truths: Bouc-Wen, a load-dependent core)."""
 
-    def __init__(self, elements: Sequence[Element]):
-        self.elements: list[Element] = list(elements)
-        if not self.elements:
+    kind: str
+
+    def forward_state(self) -> Any: ...
+
+    def forward(self, t_s, x, aux=None, state=None) -> np.ndarray: ...
+
+
+class SensorChain:
+    """Ordered elements from force (first) to voltage (last); an immutable value like its elements.
+
+    ``forward_only=True`` admits elements that can only simulate (:class:`ForwardElement`): such a chain
+    runs :meth:`forward` and nothing else (a simulator's truth, never a model file).
+    """
+
+    def __init__(self, elements: Sequence[Element], *, forward_only: bool = False):
+        items = tuple(elements)
+        object.__setattr__(self, "_elements", items)
+        object.__setattr__(self, "forward_only", bool(forward_only))
+        if not items:
             raise ModelError("a sensor model needs at least one element")
-        odd = [type(e).__name__ for e in self.elements if not isinstance(e, Element)]
+        required = ForwardElement if forward_only else Element
+        odd = [type(e).__name__ for e in items if not isinstance(e, required)]
         if odd:
             raise ModelError(f"not sensor-chain elements: {odd}")
         cores = [e for e in self.elements if isinstance(e, ViscoelasticElement)]
         if len(cores) > 1:
             raise ModelError("a sensor model holds at most one viscoelastic core")
+
+    @property
+    def elements(self) -> tuple:
+        """The elements, force end first (a tuple: a changed chain is a new chain)."""
+        return self._elements
+
+    def __setattr__(self, name, value):
+        raise AttributeError(f"SensorChain is immutable (tried to set {name}); build a new one "
+                             "(SensorChain([...]), with_offset)")
 
     @classmethod
     def from_model(cls, model: ViscoelasticModel, offset_v: float = 0.0):
@@ -1051,7 +1075,7 @@ class SensorChain:
         element = OffsetElement(voltage_v)
         if any(isinstance(e, OffsetElement) for e in self.elements):
             return SensorChain([element if isinstance(e, OffsetElement) else e for e in self.elements])
-        return SensorChain(self.elements + [element])
+        return SensorChain([*self.elements, element])
 
     def forward_states(self):
         """Fresh element states for block-wise forward runs (relaxed, unloaded sensor)."""

@@ -50,7 +50,7 @@ import numpy as np
 
 from ..physics.chain import SensorChain
 
-__all__ = ["CompensatorConfig", "SampleGate", "Compensator", "GATE_COUNTERS", "COMPENSATOR_COUNTERS",
+__all__ = ["CompensatorConfig", "SampleGate", "Compensator", "GATE_COUNTERS", "COMPENSATOR_COUNTERS", "WARN_COUNTERS",
            "ACCEPT", "ACCEPT_FRESH"]
 
 #: :meth:`SampleGate.admit` results that use the sample (FRESH: the history restarts with it).
@@ -59,6 +59,9 @@ _DROPS = ("nonfinite", "out_of_range", "implausible_stamp", "backwards", "duplic
 GATE_COUNTERS = ("samples",) + _DROPS + ("gaps", "reanchored")
 COMPENSATOR_COUNTERS = GATE_COUNTERS + ("nonfinite_output", "clamped", "drift_corrections", "tares", "auto_tares",
                                         "auto_tare_refused")
+#: Counters that mean the stream was not clean: a sample dropped, altered or after an irregularity. The node's
+#: diagnostics WARN on them and the offline tools list them; one list, so both tell the same story.
+WARN_COUNTERS = _DROPS + ("gaps", "reanchored", "nonfinite_output", "clamped")
 #: Most samples an auto-tare window keeps (bounds memory at any rate).
 AUTO_TARE_MAX_SAMPLES = 100_000
 

@@ -260,8 +260,8 @@ def truth_chain(effects, magnitude, base="burgers", seed=0, force_range_n=9.0, d
         (lags if name == "sensor_lag" else after).extend(truth.after)
         late += truth.late
     core_el = core_el or ViscoelasticElement(core)
-    chain = SensorChain.__new__(SensorChain)  # truth chains may hold simulate-only elements
-    chain.elements = [*before, core_el, *after, *lags, *late, OffsetElement(0.05)]
+    # truth chains may hold elements that can only simulate
+    chain = SensorChain([*before, core_el, *after, *lags, *late, OffsetElement(0.05)], forward_only=True)
     return chain, chosen
 
 

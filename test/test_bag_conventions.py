@@ -131,29 +131,42 @@ def test_recorder_executable_records_send_times_too(tmp_path):
     import signal
     import subprocess
     import sys
-    import time
     from pathlib import Path
+
+    from diagnostic_msgs.msg import DiagnosticArray
+    from rclpy.node import Node
+    from ros_harness import ros
+
+    from polyforce_ros import contract
 
     bin_dir = Path(sys.executable).parent
     bag = tmp_path / "rec.mcap"
-    rec = subprocess.Popen([str(bin_dir / "recorder_node"), "--ros-args", "-p", f"bag_path:={bag}"],
-                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=os.environ.copy())
-    drv = subprocess.Popen([str(bin_dir / "driver_node"), "--ros-args", "-p", "wait_for_subscribers:=1"],
-                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=os.environ.copy())
-    try:
-        deadline = time.monotonic() + 60.0
-        while time.monotonic() < deadline and (not bag.exists() or bag.stat().st_size < 1) and rec.poll() is None:
-            time.sleep(0.5)
-        time.sleep(6.0)  # DDS matches the two after seconds; the driver waits for the recorder
-    finally:
-        for proc in (drv, rec):
-            if proc.poll() is None:
-                proc.send_signal(signal.SIGINT)
-                try:
-                    proc.wait(20)
-                except subprocess.TimeoutExpired:
-                    proc.kill()
-                    proc.wait()
+    recorded = {}  # the recorder's message counts per topic, from its diagnostics
+
+    def on_diagnostics(msg):
+        for status in msg.status:
+            if status.name == "polyforce_ros: recorder":
+                recorded.update({kv.key: int(kv.value) for kv in status.values if kv.value.isdigit()})
+
+    with ros() as h:
+        watcher = h.add(Node("recorder_watch", context=h.context))
+        watcher.create_subscription(DiagnosticArray, contract.DIAGNOSTICS, on_diagnostics, 10)
+        rec = subprocess.Popen([str(bin_dir / "recorder_node"), "--ros-args", "-p", f"bag_path:={bag}"],
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=os.environ.copy())
+        drv = subprocess.Popen([str(bin_dir / "driver_node"), "--ros-args", "-p", "wait_for_subscribers:=1"],
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env=os.environ.copy())
+        try:
+            # DDS matches the two after seconds and the driver waits for the recorder: wait until it writes
+            assert h.spin_until(lambda: sum(recorded.values()) > 200 or rec.poll() is not None, 60.0), recorded
+        finally:
+            for proc in (drv, rec):
+                if proc.poll() is None:
+                    proc.send_signal(signal.SIGINT)
+                    try:
+                        proc.wait(20)
+                    except subprocess.TimeoutExpired:
+                        proc.kill()
+                        proc.wait()
     out = rec.stdout.read()
     assert rec.returncode == 0 and "Traceback" not in out, out
     with open(bag, "rb") as fh:

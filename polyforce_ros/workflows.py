@@ -23,7 +23,7 @@ from .runtime import Compensator, CompensatorConfig, SampleGate
 from .runtime.compensator import WARN_COUNTERS
 
 __all__ = ["clean_samples", "TARE_WINDOW_S", "tare_offset_v", "static_and_compensated", "CalibrationResult",
-    "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "runtime_warnings"]
+    "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "latest_before", "runtime_warnings"]
 
 
 def clean_samples(stamp_ns, values, receive_ns=None, config: CompensatorConfig = CompensatorConfig()):
@@ -145,21 +145,40 @@ def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorCon
     written and the warnings (reader: truncation, corrupt chunks; runtime:
     dropped samples).
     """
-    bag = bags.read_bag(in_path, topics=[bags.BRIDGE_VOLTAGE])
+    bag = bags.read_bag(in_path, topics=[bags.BRIDGE_VOLTAGE], optional=[contract.TEMPERATURE])
     raw = bag[bags.BRIDGE_VOLTAGE]
     if bags.WRENCH in bag.types:
         raise bags.BagError(f"{in_path} already holds {bags.WRENCH}")
     volts = raw.fields.get("position", np.zeros(len(raw)))
     compensator = Compensator(model.chain, config)
-    used, force = compensator.run(raw.stamp_ns, volts, raw.log_time_ns)
+    aux = None
+    if contract.TEMPERATURE in bag.types:
+        aux = {"temperature_c": latest_before(bag[contract.TEMPERATURE].log_time_ns,
+                                              bag[contract.TEMPERATURE].fields["temperature"], raw.log_time_ns)}
+    used, force = compensator.run(raw.stamp_ns, volts, raw.log_time_ns, aux)
     if not used.any():
         raise bags.BagError(f"{in_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
     warnings = list(bag.warnings) + runtime_warnings(compensator.counts)
+    if aux is None and any(e.kind in ("thermal_drift", "thermal_lag") for e in model.chain.elements):
+        warnings.append(f"the model follows temperature but {in_path} holds no {contract.TEMPERATURE}: not corrected")
     with bags.BagWriter(out_path, directory=directory) as writer:
         bags.copy_messages(in_path, writer)  # survives truncation and corrupt chunks, like read_bag
         writer.write_series(bags.WRENCH, bags.WRENCH_STAMPED, raw.stamp_ns[used], force[used],
                             log_time_ns=raw.log_time_ns[used], frame_id=contract.FRAME_ID)
     return int(used.sum()), warnings
+
+
+def latest_before(log_time_ns, values, at_ns) -> np.ndarray:
+    """For each time of ``at_ns``, the latest finite value logged at or before it; NaN where there is none yet.
+
+    What compensation_node uses for an auxiliary signal (the last temperature received), over a bag's log times.
+    """
+    log_time_ns, values = np.asarray(log_time_ns, dtype=np.int64), np.asarray(values, dtype=float)
+    keep = np.isfinite(values)  # the node ignores a non-finite temperature
+    order = np.argsort(log_time_ns[keep], kind="stable")
+    times, kept = log_time_ns[keep][order], values[keep][order]
+    idx = np.searchsorted(times, np.asarray(at_ns, dtype=np.int64), side="right") - 1
+    return np.where(idx >= 0, kept[np.maximum(idx, 0)] if kept.size else np.nan, np.nan)
 
 
 def runtime_warnings(counts) -> list:

@@ -4,6 +4,7 @@ import pytest
 from mcap.reader import make_reader
 from mcap_ros2.reader import read_ros2_messages
 
+from polyforce_ros import bags
 from polyforce_ros.bags import (
     BRIDGE_VOLTAGE, JOINT_STATE, REFERENCE_FORCE, TEMPERATURE, TEMPERATURE_MSG, WRENCH_STAMPED,
     BagError, BagWriter, make_message, read_bag,
@@ -153,3 +154,51 @@ def test_bulk_reader_agrees_with_the_reference_reader_on_any_interleaving(tmp_pa
             continue
         np.testing.assert_array_equal(bag[topic].log_time_ns, [t for t, _ in expected])
         np.testing.assert_array_equal(bag[topic].fields[field_name], [v for _, v in expected])
+
+
+def test_compensate_uses_the_latest_recorded_temperature_like_the_node(tmp_path):
+    """A thermal model offline: each sample uses the last temperature logged before it (none before the first)."""
+    from polyforce_ros.model_file import SensorModel
+    from polyforce_ros.physics.chain import OffsetElement, SensorChain, ThermalDriftElement, ViscoelasticElement
+    from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+    from polyforce_ros.runtime import Compensator, CompensatorConfig
+    from polyforce_ros.workflows import compensate_bag
+
+    rng = np.random.default_rng(5)
+    chain = SensorChain([ViscoelasticElement(PAPER_BURGERS),
+                         ThermalDriftElement(coefficient_v_per_c=0.01, reference_c=24.0), OffsetElement(0.0)])
+    n = 4000
+    stamps = 1_780_000_000 * 10**9 + np.arange(n, dtype=np.int64) * 10**6
+    t = (stamps - stamps[0]) * 1e-9
+    temp_stamps = stamps[500::50] - 300_000          # temperature from 0.5 s on, at 20 Hz
+    temp_c = 24.0 + 3.0 * np.sin(t[500::50]) + rng.normal(0, 0.01, temp_stamps.size)
+    temp_c[7] = np.nan                               # a non-finite reading is ignored, as by the node
+    volts = 0.1 + 0.02 * np.sin(3 * t)
+    src, out = tmp_path / "in.mcap", tmp_path / "out.mcap"
+    with bags.BagWriter(src) as w:
+        w.write_series(BRIDGE_VOLTAGE, JOINT_STATE, stamps, volts)
+        w.write_series(TEMPERATURE, TEMPERATURE_MSG, temp_stamps, temp_c)
+    config = CompensatorConfig(auto_tare=False)
+    written, warnings = compensate_bag(src, out, SensorModel(chain, {}), config)
+    got = read_bag(out)[bags.WRENCH].fields["force_z"]
+    # the node's rule by hand: step each sample with the last finite temperature received before it
+    expected, latest, k = [], None, 0
+    node_like = Compensator(chain, config)
+    for s, v in zip(stamps, volts):
+        while k < temp_stamps.size and temp_stamps[k] <= s:
+            latest = temp_c[k] if np.isfinite(temp_c[k]) else latest
+            k += 1
+        expected.append(node_like.step(int(s), float(v), int(s), {"temperature_c": latest}))
+    assert written == n and not warnings
+    np.testing.assert_array_equal(got, expected)
+    no_temp = compensate_bag(_without_temperature(src, tmp_path), tmp_path / "o2.mcap", SensorModel(chain, {}), config)[1]
+    assert any("temperature" in w for w in no_temp)
+
+
+def _without_temperature(src, tmp_path):
+    bag = read_bag(src)
+    path = tmp_path / "no_temp.mcap"
+    with bags.BagWriter(path) as w:
+        raw = bag[BRIDGE_VOLTAGE]
+        w.write_series(BRIDGE_VOLTAGE, JOINT_STATE, raw.stamp_ns, raw.fields["position"])
+    return path

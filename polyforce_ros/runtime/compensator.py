@@ -316,8 +316,8 @@ class Compensator(_Configured):
         force = np.zeros(stamp_ns.size)
         sample_aux: dict = {"temperature_c": None}
         for i in range(stamp_ns.size):
-            if temps is not None:
-                sample_aux["temperature_c"] = float(temps[i])
+            if temps is not None:  # NaN: no temperature yet (as a node before the first message)
+                sample_aux["temperature_c"] = float(temps[i]) if math.isfinite(temps[i]) else None
             f = self.step(int(stamp_ns[i]), float(voltage_v[i]), int(receive[i]), sample_aux)
             if f is not None:
                 used[i], force[i] = True, f

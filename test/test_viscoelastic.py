@@ -3,6 +3,7 @@ import numpy as np
 import pytest
 
 from polyforce_ros.physics.viscoelastic import (
+    MODEL_TYPES,
     PAPER_BURGERS,
     BackwardState,
     Burgers,
@@ -219,3 +220,13 @@ def test_absurd_parameters_are_rejected(bad):
         Burgers(bad, 10.0, 4000.0, 80.0)
     with pytest.raises(TypeError):
         Zener("4.8", 10.0, 85.0)
+
+
+@pytest.mark.parametrize("kind", sorted(MODEL_TYPES))
+def test_each_model_type_declares_the_shape_of_its_compliance(kind):
+    """``shape`` (Kelvin units, instantaneous spring, free dashpot), read by fitting and diagnosis, is the model's own."""
+    cls = MODEL_TYPES[kind]
+    rng = np.random.default_rng(len(kind))
+    for _ in range(5):
+        c = cls.from_vector(rng.uniform(1.0, 50.0, len(cls.parameter_names()))).compliance()
+        assert cls.shape == (len(c.tau_s), c.j0_v_per_n > 0, c.fluidity_v_per_n_s > 0)

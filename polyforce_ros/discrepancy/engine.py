@@ -61,9 +61,7 @@ from .effects import EFFECTS as REGISTRY, NAMES, PLAY_RIDGE, lag_columns, lag_st
 EFFECTS = NAMES
 BASES = tuple(MODEL_TYPES)  # every core type the fitting stack knows
 #: Number of retardation times of each core type, and whether it has instantaneous compliance / flow.
-_CORE_SHAPE = {"elastic": (0, True, False), "maxwell": (0, True, True), "kelvin": (1, False, False),
-               "zener": (1, True, False), "burgers": (1, True, True), "zener2": (2, True, False),
-               "burgers2": (2, True, True)}
+_CORE_SHAPE = {kind: cls.shape for kind, cls in MODEL_TYPES.items()}  # declared by the model types
 _TAU_GRID = np.exp(np.linspace(np.log(0.3), np.log(300.0), 16))
 _TAU_BOUNDS = (math.log(1e-3), math.log(1e4))
 

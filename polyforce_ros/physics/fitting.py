@@ -26,7 +26,7 @@ __all__ = ["LOG_BOUNDS", "FLUID_KINDS", "model_type", "check_model_types", "log_
 #: Bounds of log(parameter) for every mechanical parameter (N/V, N s/V): 1e-6 .. 1e12.
 LOG_BOUNDS = (math.log(1e-6), math.log(1e12))
 #: Core types with a free dashpot (creep without bound).
-FLUID_KINDS = frozenset({"maxwell", "burgers", "burgers2"})
+FLUID_KINDS = frozenset(kind for kind, cls in MODEL_TYPES.items() if cls.shape[2])
 
 
 def model_type(name_or_type) -> type[ViscoelasticModel]:

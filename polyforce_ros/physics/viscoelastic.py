@@ -106,6 +106,9 @@ class ViscoelasticModel:
     """Base class: subclasses list their parameters as dataclass fields (all > 0)."""
 
     kind: ClassVar[str] = ""
+    #: (Kelvin units, an instantaneous spring, a free dashpot): what a fit of this type must
+    #: provide (the discrepancy engine's columns, the fluid kinds of identification)
+    shape: ClassVar[tuple[int, bool, bool]] = (0, True, False)
 
     def __post_init__(self):
         for f in fields(self):
@@ -156,6 +159,7 @@ class Elastic(ViscoelasticModel):
     """A pure spring k: the static-gain sensor (no viscoelasticity)."""
 
     kind: ClassVar[str] = "elastic"
+    shape: ClassVar[tuple[int, bool, bool]] = (0, True, False)
     k_n_per_v: float
 
     def compliance(self):
@@ -170,6 +174,7 @@ class Maxwell(ViscoelasticModel):
     """Spring k in series with dashpot eta (fluid)."""
 
     kind: ClassVar[str] = "maxwell"
+    shape: ClassVar[tuple[int, bool, bool]] = (0, True, True)
     k_n_per_v: float
     eta_n_s_per_v: float
 
@@ -187,6 +192,7 @@ class KelvinVoigt(ViscoelasticModel):
     """Spring k in parallel with dashpot eta (no instantaneous elasticity)."""
 
     kind: ClassVar[str] = "kelvin"
+    shape: ClassVar[tuple[int, bool, bool]] = (1, False, False)
     k_n_per_v: float
     eta_n_s_per_v: float
 
@@ -203,6 +209,7 @@ class Zener(ViscoelasticModel):
     """Spring k1 in series with a Kelvin element (k2, eta2): the standard linear solid."""
 
     kind: ClassVar[str] = "zener"
+    shape: ClassVar[tuple[int, bool, bool]] = (1, True, False)
     k1_n_per_v: float
     k2_n_per_v: float
     eta2_n_s_per_v: float
@@ -226,6 +233,7 @@ class Burgers(ViscoelasticModel):
     """Maxwell element (k1, eta1) in series with a Kelvin element (k2, eta2); eq. 2-4."""
 
     kind: ClassVar[str] = "burgers"
+    shape: ClassVar[tuple[int, bool, bool]] = (1, True, True)
     k1_n_per_v: float
     k2_n_per_v: float
     eta1_n_s_per_v: float
@@ -285,6 +293,7 @@ class Zener2(ViscoelasticModel):
     retardation times, i.e. a Zener sensor with a second delayed elasticity."""
 
     kind: ClassVar[str] = "zener2"
+    shape: ClassVar[tuple[int, bool, bool]] = (2, True, False)
     k1_n_per_v: float
     k2_n_per_v: float
     eta2_n_s_per_v: float
@@ -314,6 +323,7 @@ class Burgers2(ViscoelasticModel):
     sensor with a second delayed elasticity."""
 
     kind: ClassVar[str] = "burgers2"
+    shape: ClassVar[tuple[int, bool, bool]] = (2, True, True)
     k1_n_per_v: float
     k2_n_per_v: float
     eta1_n_s_per_v: float

@@ -33,20 +33,9 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # bench/ is a folder of scripts, not a package
 from bench_live import BIN, HERE, cpu_s, spawn, stop  # noqa: E402  (importing it sets the DDS environment)
 
-from polyforce_ros.evaluation.latency import latency_stats, pooled_p99_ratio  # noqa: E402
+from polyforce_ros.evaluation.latency import (  # noqa: E402
+    BRIDGE_PARAMETERS, SEQ_STEP_N, percentiles, pooled_p99_ratio, value_latency)
 
-#: haptic_bridge_node parameters under which its command is the latest input, unchanged.
-BRIDGE_PARAMETERS = {
-    "force_scale": 1.0,
-    "deadband_n": 0.0,
-    "max_force_n": 100.0,          # 24 N after 100 000 messages: never saturated
-    "max_slew_n_per_s": 1.0e6,     # the highest allowed: 1 N per us, messages differ by 2**-12 N
-    "stale_timeout_s": 10.0,       # no stale ramp during the run
-    "device_axis": "z",            # the command on force.z, where the relay copies it
-}
-#: Force of the wrench source's message k: SEQ_STEP_N * (k + 1) N, exact in binary, distinct for every message
-#: (24 N after 100 000 messages), and passed unchanged by a bridge with BRIDGE_PARAMETERS.
-SEQ_STEP_N = 2.0 ** -12
 KINDS = ("relay", "bridge")
 
 
@@ -55,87 +44,6 @@ def node_cmd(kind):
         return [sys.executable, str(HERE / "live_parts.py"), "wrench_relay"]
     return [str(BIN / "haptic_bridge_node"), "--ros-args",
             *[a for name, value in BRIDGE_PARAMETERS.items() for a in ("-p", f"{name}:={value}")]]
-
-
-# ---------------------------------------------------------------------- value matching (pure, unit-tested)
-def match_by_value(sent_value, out_value):
-    """Pair outputs with inputs by exact value.
-
-    Parameters
-    ----------
-    sent_value : array (n_sent,)
-        The inputs' values in publish order, all distinct.
-    out_value : array (n_out,)
-        The outputs' values in arrival order (repeats, zeros and foreign values allowed).
-
-    Returns
-    -------
-    out_index : int array (n_out,)
-        For each output, the index of the input it carries, -1 if none.
-    first_out : int array (n_sent,)
-        For each input, the position of the first output that carries it, -1 if none.
-    """
-    sent_value = np.asarray(sent_value, dtype=float)
-    out_value = np.asarray(out_value, dtype=float)
-    order = np.argsort(sent_value, kind="stable")
-    ordered = sent_value[order]
-    if np.any(ordered[1:] == ordered[:-1]):
-        raise ValueError("sent values must be distinct to be matched by value")
-    out_index = np.full(out_value.size, -1, dtype=np.int64)
-    if ordered.size:
-        pos = np.minimum(np.searchsorted(ordered, out_value), ordered.size - 1)
-        hit = ordered[pos] == out_value  # NaN never hits
-        out_index[hit] = order[pos[hit]]
-    first_out = np.full(sent_value.size, -1, dtype=np.int64)
-    carried, first = np.unique(out_index, return_index=True)
-    first_out[carried[carried >= 0]] = first[carried >= 0]
-    return out_index, first_out
-
-
-def first_as_new(out_index, n_sent):
-    """For each input (by index in publish order), the position of the first output carrying it or a
-    newer input (the time the receiver holds a command at least that fresh), -1 if none."""
-    newest = np.maximum.accumulate(np.asarray(out_index, dtype=np.int64))  # non-decreasing: searchable
-    pos = np.searchsorted(newest, np.arange(n_sent), side="left")
-    return np.where(pos < newest.size, pos, -1)
-
-
-def _percentiles(lat_us, prefix):
-    if lat_us.size == 0:
-        return {f"{prefix}p50_us": float("nan"), f"{prefix}p99_us": float("nan"), f"{prefix}max_us": float("nan")}
-    return {f"{prefix}p50_us": float(np.percentile(lat_us, 50)), f"{prefix}p99_us": float(np.percentile(lat_us, 99)),
-            f"{prefix}max_us": float(lat_us.max())}
-
-
-def value_latency(sent_value, sent_ns, out_value, out_stamp_ns, out_ns, t0_ns, sent):
-    """Latency statistics of the inputs published at or after ``t0_ns`` (``sent`` of them), matched by value.
-
-    ``p50_us``/``p99_us``/``max_us``, ``hist`` and ``largest_gap_*`` as
-    :func:`polyforce_ros.evaluation.latency.latency_stats` (publish -> arrival of the first output carrying
-    the input); ``matched``/``unmatched`` inputs; ``outputs`` received and ``foreign_outputs``
-    (distinct non-zero output values no input carried); ``fresh_*``: publish -> arrival of the first output
-    carrying that input or a newer one, over every measured input (``never_fresh``: none arrived);
-    ``node_p50_us``: publish -> the output's header stamp (the relay copies the input's stamp: 0);
-    ``lat_us``: the matched latencies (us).
-    """
-    sent_value, out_value = np.asarray(sent_value, dtype=float), np.asarray(out_value, dtype=float)
-    sent_ns, out_ns, out_stamp_ns = (np.asarray(a, dtype=np.int64) for a in (sent_ns, out_ns, out_stamp_ns))
-    out_index, first_out = match_by_value(sent_value, out_value)
-    measured = sent_ns >= t0_ns
-    matched = measured & (first_out >= 0)
-    first = first_out[matched]
-    stats = latency_stats(sent_ns[matched], out_ns[first], t0_ns, sent)
-    stats["matched"], stats["unmatched"] = stats.pop("received"), stats.pop("lost")
-    stats.pop("duplicates")  # one first arrival per input by construction
-    stats["lat_us"] = (out_ns[first] - sent_ns[matched]) / 1e3
-    node_us = (out_stamp_ns[first] - sent_ns[matched]) / 1e3
-    stats["node_p50_us"] = float(np.median(node_us)) if node_us.size else float("nan")
-    fresh = first_as_new(out_index, sent_value.size)[measured]
-    fresh_lat_us = (out_ns[fresh[fresh >= 0]] - sent_ns[measured][fresh >= 0]) / 1e3
-    stats.update(_percentiles(fresh_lat_us, "fresh_"), never_fresh=int(np.sum(fresh < 0)), fresh_lat_us=fresh_lat_us)
-    stats["outputs"] = int(out_value.size)
-    stats["foreign_outputs"] = int(np.unique(out_value[(out_index < 0) & (out_value != 0.0)]).size)
-    return stats
 
 
 # ---------------------------------------------------------------------- processes
@@ -202,7 +110,7 @@ def interleaved_pairs(pairs, seconds, rate_hz, tmp):
     summary = {}
     for kind in KINDS:
         lat, fresh = np.concatenate(pooled[kind]["lat"]), np.concatenate(pooled[kind]["fresh"])
-        summary[kind] = dict(_percentiles(lat, ""), **_percentiles(fresh, "fresh_"), **counts[kind])
+        summary[kind] = dict(percentiles(lat, ""), **percentiles(fresh, "fresh_"), **counts[kind])
     bridge, relay = summary["bridge"], summary["relay"]
     # p99 ratio from 1 us histograms as bench_live (latencies over 100 ms count as 100 ms), bootstrap over pairs
     ratio, low, high = pooled_p99_ratio(pooled["bridge"]["hist"], pooled["relay"]["hist"])

@@ -1,14 +1,10 @@
-"""bench/bench_bridge.py's value matching and its bridge parameters, without DDS or timing."""
-import sys
-
+"""The value matching of bench/bench_bridge.py and its bridge parameters, without DDS or timing."""
 import numpy as np
 import pytest
 
-from conftest import REPO
+from polyforce_ros.evaluation import latency as bench_bridge
 from polyforce_ros.haptics import HapticBridge, HapticConfig
 
-sys.path.insert(0, str(REPO / "bench"))
-import bench_bridge  # noqa: E402
 
 MS = 1_000_000  # ns
 

@@ -1018,6 +1018,9 @@ class SensorChain:
     runs :meth:`forward` and nothing else (a simulator's truth, never a model file).
     """
 
+    _elements: tuple
+    forward_only: bool
+
     def __init__(self, elements: Sequence[Element], *, forward_only: bool = False):
         items = tuple(elements)
         object.__setattr__(self, "_elements", items)

@@ -5,6 +5,7 @@ from geometry_msgs.msg import WrenchStamped
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import JointState
 
 from polyforce_ros import bags
 from polyforce_ros.demo import run_live_demo
@@ -74,6 +75,23 @@ def test_lossless_replay_into_the_same_shallow_queue_loses_nothing():
     stamps = {stamp_to_ns(w.header.stamp) for w in got}
     assert set(recorded.stamp_ns[:n].tolist()) <= stamps
     assert status.level == DiagnosticStatus.OK
+
+
+def test_timed_replay_with_nobody_answering_is_not_a_loss():
+    """Into a recorder or a plot (no compensation node): nothing publishes the pace topic, so nothing is tracked."""
+    path = REPO / "bags" / "step_5n.mcap"
+    with ros() as h:
+        sink = h.add(Node("raw_sink", namespace="/polyforce", context=h.context))
+        raw = []
+        sink.create_subscription(JointState, "bridge_voltage", raw.append,
+                                 QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE))
+        replay = h.add(ReplayNode(context=h.context, parameter_overrides=[
+            Parameter("bag_path", value=str(path)), Parameter("start_delay_s", value=0.2),
+            Parameter("rate_factor", value=20.0), Parameter("pace_timeout_s", value=0.05)]))
+        assert h.spin_until(lambda: len(raw) >= 500, 30.0)
+        status = replay._publish_diagnostics()
+    assert replay.unanswered == 0 and replay.answered == 0
+    assert status.level == DiagnosticStatus.OK and "not tracked" in status.message
 
 
 def test_answer_tracker_settles_dropped_and_expired_samples():

@@ -157,6 +157,9 @@ class ReplayNode(Node):
         self._answers = AnswerTracker(capacity=max(self._window, int(self.get_parameter("qos_depth").value)))
         if pace_topic:
             self.create_subscription(WrenchStamped, pace_topic, self._on_answer, qos)
+        # timed mode tracks answers only while someone publishes the pace topic: a replay into a
+        # recorder or a plot, with no compensation node, has nothing to answer and loses nothing
+        self._tracking = self._lossless
         self._first_answer = False
         self._handshake_index = None   # timeline index of the first bridge sample, while unanswered
         self._handshake_resends = 0
@@ -205,6 +208,7 @@ class ReplayNode(Node):
             if now < self._t_start or not self._ready():
                 return
             self._started, self._t_start = True, now
+            self._tracking = self._lossless or self._answerer_present()
         self._answers.expire(now, self._pace_timeout_s)
         elapsed = now - self._t_start
         due_log = self._log[0] + int(elapsed * self._rate * 1e9)
@@ -241,16 +245,24 @@ class ReplayNode(Node):
         kind, pub, is_raw = self._kinds[self._stream[i]]
         stamp = int(self._stamp[i])
         pub.publish(bags.make_message(kind, stamp, self._value[i], self._frame, self._joint))
-        if is_raw and self.get_parameter("pace_topic").value:
+        if is_raw and self._tracking:
             self._answers.published(stamp, now)
 
+    def _answerer_present(self) -> bool:
+        pace = self.get_parameter("pace_topic").value
+        return bool(pace) and self.count_publishers(self.resolve_topic_name(pace)) > 0
+
     def _publish_diagnostics(self):
+        if not self._lossless:
+            self._tracking = self._answerer_present()
         values = {"published": self.index, "total": int(self._log.size), "loops": self.loops,
                   "answered": self.answered, "unanswered": self.unanswered, "in_flight": len(self._answers),
                   "behind_schedule_s": round(self.behind_s, 4), "max_behind_schedule_s": round(self.max_behind_s, 4),
                   "handshake_resends": self._handshake_resends, "lossless": self._lossless}
         if self.unanswered:
             level, message = WARN, f"{self.unanswered} samples not answered on the pace topic: subscribers lose messages"
+        elif not self._tracking and self.index and not self.done:
+            level, message = OK, "replaying; answers not tracked (nobody publishes the pace topic)"
         elif not self._lossless and self.behind_s > BEHIND_WARN_S:
             level, message = WARN, f"{self.behind_s:.2f} s behind schedule"
         elif self.done:

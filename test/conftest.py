@@ -16,6 +16,18 @@ os.environ["AMENT_PREFIX_PATH"] = os.pathsep.join(
 
 REPO = Path(__file__).resolve().parents[1]
 
+# POLYFORCE_UNIT_GUARD=1 (test_static runs the unit layer so): rclpy cannot be imported and no process can
+# be started, so a unit test that needs either fails instead of quietly making the layer ROS-bound.
+if os.environ.get("POLYFORCE_UNIT_GUARD"):
+    import subprocess as _subprocess
+
+    sys.modules["rclpy"] = None  # type: ignore[assignment]
+
+    def _no_process(*args, **kwargs):
+        raise RuntimeError("a unit test may not start a process (mark it @pytest.mark.process)")
+
+    _subprocess.Popen.__init__ = _no_process  # type: ignore[method-assign]
+
 
 import shutil  # noqa: E402
 
@@ -23,9 +35,8 @@ import shutil  # noqa: E402
 LAYERS = {
     "unit": ["test_bags.py", "test_bench_bridge.py", "test_bench_stats.py", "test_chain_elements.py", "test_expconv.py", "test_identification.py",
              "test_metrics.py", "test_model_file.py", "test_fitting.py", "test_record.py", "test_preisach.py", "test_properties.py", "test_runtime.py",
-             "test_serial_protocol.py", "test_thinfilm.py", "test_viscoelastic.py", "test_model_fuzz.py",
-             "test_teleop_files.py"],
-    "ros": ["test_compensation_node.py", "test_contract.py", "test_driver_node.py", "test_live_attacks.py",
+             "test_serial_protocol.py", "test_thinfilm.py", "test_viscoelastic.py", "test_model_fuzz.py"],
+    "ros": ["test_teleop_files.py", "test_compensation_node.py", "test_contract.py", "test_driver_node.py", "test_live_attacks.py",
             "test_param_files.py", "test_replay.py", "test_haptic_bridge.py", "test_lifecycle.py"],
     "process": ["test_bad_input.py", "test_calibration.py", "test_cli_demo.py", "test_discrepancy.py", "test_discrepancy_elements.py", "test_discrepancy_pipeline.py", "test_evaluate.py",
                 "test_node_processes.py", "test_package_build.py", "test_ros_free_physics.py", "test_bag_fuzz.py",
@@ -73,7 +84,10 @@ def pytest_collection_modifyitems(config, items):
         if layer is None:
             unknown.add(name)
             continue
-        item.add_marker(getattr(pytest.mark, layer))
+        # a test may name its own layer (a CLI subprocess among unit tests of the same concern)
+        own = [m.name for m in item.iter_markers() if m.name in LAYERS]
+        if not own:
+            item.add_marker(getattr(pytest.mark, layer))
         if name in SLOW:
             item.add_marker(pytest.mark.slow)
     if unknown:

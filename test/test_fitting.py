@@ -43,6 +43,7 @@ def test_unknown_model_types_are_clear_errors():
         fit_creep("nonsense", [0.0], [0.0], [0.0])
 
 
+@pytest.mark.process  # starts the CLI
 def test_calibrate_cli_with_unknown_candidates_exits_2_without_a_traceback(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "polyforce_ros.cli", "calibrate", str(REPO / "bags" / "creep_5n.mcap"),
                            "--output", str(tmp_path / "m.yaml"), "--candidates", "nonsense"],

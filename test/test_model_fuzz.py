@@ -445,6 +445,7 @@ CLI_CASES = {
 }
 
 
+@pytest.mark.process  # starts the CLI
 @pytest.mark.parametrize("case", list(CLI_CASES))
 def test_cli_compensate_refuses_bad_model_with_exit_2(tmp_path, case):
     make, message = CLI_CASES[case]

@@ -1,5 +1,6 @@
 """Habits that keep the code this way: lint, types, __all__ and docstrings of the ROS-free core."""
 import ast
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -46,3 +47,14 @@ def test_core_modules_declare_their_api_and_document_it(path):
     undocumented = sorted(n.name for n in tree.body if isinstance(n, (ast.FunctionDef, ast.ClassDef))
                           and n.name in exported and not ast.get_docstring(n))
     assert not undocumented, f"{path.name}: public names without a docstring: {undocumented}"
+
+
+def test_the_unit_layer_needs_neither_rclpy_nor_a_process():
+    """``pytest -m unit`` with rclpy unimportable and process start-up refused (conftest POLYFORCE_UNIT_GUARD)."""
+    from conftest import LAYERS
+
+    files = [f"test/{name}" for name in LAYERS["unit"]]
+    proc = subprocess.run([sys.executable, "-m", "pytest", "-q", "-x", "-m", "unit", "-p", "no:cacheprovider", *files],
+                          cwd=REPO, capture_output=True, text=True, timeout=900,
+                          env={**os.environ, "POLYFORCE_UNIT_GUARD": "1"})
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-2000:]

@@ -33,3 +33,21 @@ def test_no_module_spells_a_contract_name_of_its_own():
             if isinstance(node, ast.Constant) and isinstance(node.value, str) and node.value in TOPIC_NAMES:
                 offenders.append(f"{path.relative_to(REPO)}:{node.lineno}: {node.value!r}")
     assert not offenders, "\n".join(offenders)
+
+
+def test_config_and_visualisation_files_speak_the_contract():
+    """The YAML defaults and the PlotJuggler/Foxglove layouts name the contract's frame, joint and topics."""
+    import json
+    import re
+
+    import yaml
+
+    driver = yaml.safe_load((REPO / "config" / "driver.yaml").read_text())
+    params = next(iter(driver.values()))["ros__parameters"]
+    assert (params["joint_name"], params["frame_id"]) == (contract.JOINT_NAME, contract.FRAME_ID)
+    topics = {contract.full_name(rel) for rel in contract.TOPICS}
+    named = set(re.findall(r'name="(/[^/"]+/[^/"]+)/', (REPO / "config" / "polyforce.plotjuggler.xml").read_text()))
+    named |= {s.split(".")[0] for s in re.findall(r'"(/[a-z_]+/[a-z_]+)[."]', json.dumps(
+        json.loads((REPO / "config" / "polyforce.foxglove.json").read_text())))}
+    named = {n for n in named if n.startswith(contract.NAMESPACE + "/")}
+    assert named and named <= topics, sorted(named - topics)

@@ -324,4 +324,11 @@ def test_a_chain_and_its_elements_cannot_be_changed_in_place():
         chain.elements.append(OffsetElement(0.0))   # a tuple
     with pytest.raises(ValueError):
         play.radii[0] = 5.0                          # read-only arrays
+    from polyforce_ros.physics.preisach import PreisachModel
+
+    preisach = PreisachModel(0.0, 10.0, np.ones((3, 3)))
+    with pytest.raises(ValueError):
+        preisach.density[0, 0] = 2.0
+    with pytest.raises(AttributeError):
+        preisach.u_max = 20.0
     assert chain.with_offset(0.2).offset_v == 0.2 and chain.offset_v == 0.1

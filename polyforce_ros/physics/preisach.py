@@ -31,10 +31,10 @@ __all__ = ["PreisachModel", "relay_states", "ramp_states", "identify", "Preisach
     "hysteresis_error_percent"]
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class PreisachModel:
     """u_min, u_max: input range (input unit); density: (n, n) lower-triangular
-    weights >= 0 (output unit); offset: eta_0 (output unit)."""
+    weights >= 0 (output unit); offset: eta_0 (output unit). Immutable (the density a read-only copy)."""
 
     u_min: float
     u_max: float
@@ -42,7 +42,9 @@ class PreisachModel:
     offset: float = 0.0
 
     def __post_init__(self):
-        self.density = np.tril(np.asarray(self.density, dtype=float))
+        density = np.tril(np.asarray(self.density, dtype=float))
+        density.flags.writeable = False
+        object.__setattr__(self, "density", density)
         n = self.density.shape[0]
         if self.density.shape != (n, n) or n < 1:
             raise ValueError("density must be a square (n, n) matrix")

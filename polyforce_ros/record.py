@@ -9,9 +9,11 @@ kept are those the compensation runtime would use
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional
+from pathlib import Path
+from typing import Any, Iterable, Optional, cast
 
 import numpy as np
+import numpy.typing as npt
 
 from . import bags
 from .runtime import CompensatorConfig, SampleGate
@@ -48,7 +50,8 @@ class Record:
         return {"temperature_c": self.temperature_c}
 
 
-def resample_onto(t_s, t0_ns, stamp_ns, values, what) -> np.ndarray:
+def resample_onto(t_s: np.ndarray, t0_ns: int, stamp_ns: npt.ArrayLike, values: npt.ArrayLike,
+                  what: str) -> np.ndarray:
     """Samples of another topic, cleaned by the runtime's rules (no input limit) and linearly
     interpolated onto ``t_s`` (seconds since ``t0_ns``)."""
     stamp_ns, values = np.asarray(stamp_ns, dtype=np.int64), np.asarray(values, dtype=float)
@@ -58,8 +61,11 @@ def resample_onto(t_s, t0_ns, stamp_ns, values, what) -> np.ndarray:
     return np.interp(t_s, (stamp_ns[keep] - t0_ns) * 1e-9, values[keep])
 
 
-def record_from_samples(raw_stamp_ns, raw_v, ref_stamp_ns=None, ref_force_n=None, temp_stamp_ns=None, temp_c=None,
-                        raw_receive_ns=None, source="record", warnings=()) -> Record:
+def record_from_samples(raw_stamp_ns: npt.ArrayLike, raw_v: npt.ArrayLike,
+                        ref_stamp_ns: Optional[npt.ArrayLike] = None, ref_force_n: Optional[npt.ArrayLike] = None,
+                        temp_stamp_ns: Optional[npt.ArrayLike] = None, temp_c: Optional[npt.ArrayLike] = None,
+                        raw_receive_ns: Optional[npt.ArrayLike] = None,
+                        source: str = "record", warnings: Iterable[str] = ()) -> Record:
     """A :class:`Record` from the samples of each topic (arrays of stamps and values).
 
     Raw samples pass the runtime's gate (``raw_receive_ns``: their log or arrival
@@ -78,19 +84,21 @@ def record_from_samples(raw_stamp_ns, raw_v, ref_stamp_ns=None, ref_force_n=None
     stamps, volts = raw_stamp_ns[keep], raw_v[keep]
     t0 = int(stamps[0])
     t_s = (stamps - t0) * 1e-9
-    force = None if ref_stamp_ns is None else resample_onto(t_s, t0, ref_stamp_ns, ref_force_n,
+    # a topic's values are given with its stamps
+    force = None if ref_stamp_ns is None else resample_onto(t_s, t0, ref_stamp_ns, cast(npt.ArrayLike, ref_force_n),
                                                             f"{source}: {bags.REFERENCE_FORCE}")
-    temp = None if temp_stamp_ns is None else resample_onto(t_s, t0, temp_stamp_ns, temp_c, f"{source}: {bags.TEMPERATURE}")
+    temp = None if temp_stamp_ns is None else resample_onto(t_s, t0, temp_stamp_ns, cast(npt.ArrayLike, temp_c),
+                                                            f"{source}: {bags.TEMPERATURE}")
     return Record(t_s, force, volts, temp, stamps, tuple(warnings))
 
 
-def record_from_bag(bag, bag_path, need_reference=True) -> Record:
+def record_from_bag(bag: bags.BagData, bag_path: str | Path, need_reference: bool = True) -> Record:
     """The :class:`Record` of a read bag (temperature included when it holds two samples or more)."""
     raw = bag[bags.BRIDGE_VOLTAGE]
     if len(raw) == 0 or "position" not in raw.fields:
         raise bags.BagError(f"{bag_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
     ref = bag[bags.REFERENCE_FORCE] if need_reference else None
-    temp = bag.topics.get(bags.TEMPERATURE)
+    temp: Any = bag.topics.get(bags.TEMPERATURE)  # a TopicData or None; used only when has_temp
     has_temp = temp is not None and len(temp) >= 2
     return record_from_samples(
         raw.stamp_ns, raw.fields["position"],
@@ -100,7 +108,7 @@ def record_from_bag(bag, bag_path, need_reference=True) -> Record:
         raw_receive_ns=raw.log_time_ns, source=str(bag_path), warnings=bag.warnings)
 
 
-def load_record(bag_path, need_reference=True) -> Record:
+def load_record(bag_path: str | Path, need_reference: bool = True) -> Record:
     """:func:`record_from_bag` of the bag at ``bag_path`` (one read)."""
     topics = [bags.BRIDGE_VOLTAGE] + ([bags.REFERENCE_FORCE] if need_reference else [])
     return record_from_bag(bags.read_bag(bag_path, topics=topics, optional=[bags.TEMPERATURE]), bag_path, need_reference)

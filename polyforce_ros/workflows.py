@@ -9,15 +9,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Callable, Iterable, Mapping, Optional, Sequence, cast
 
 import numpy as np
+import numpy.typing as npt
 
 from . import bags, contract
 from .model_file import SensorModel, load_model, now_iso, save_model
 from .physics.chain import ModelError, SensorChain
 from .physics.fitting import information_criteria
 from .physics.identification import select_model
-from .physics.viscoelastic import simulate_deformation
+from .physics.viscoelastic import ViscoelasticModel, simulate_deformation
 from .record import load_record
 from .runtime import Compensator, CompensatorConfig, SampleGate
 from .runtime.compensator import WARN_COUNTERS
@@ -26,7 +28,8 @@ __all__ = ["clean_samples", "TARE_WINDOW_S", "tare_offset_v", "static_and_compen
     "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "latest_before", "runtime_warnings"]
 
 
-def clean_samples(stamp_ns, values, receive_ns=None, config: CompensatorConfig = CompensatorConfig()):
+def clean_samples(stamp_ns: npt.ArrayLike, values: npt.ArrayLike, receive_ns: Optional[npt.ArrayLike] = None,
+                  config: CompensatorConfig = CompensatorConfig()) -> np.ndarray:
     """Mask of the samples the compensation runtime would use (:meth:`SampleGate.mask`).
 
     Dropped: non-finite values, ``|value| > config.input_limit_v``, implausible
@@ -40,13 +43,14 @@ def clean_samples(stamp_ns, values, receive_ns=None, config: CompensatorConfig =
 TARE_WINDOW_S = 0.5
 
 
-def tare_offset_v(t_s, voltage_v, window_s=TARE_WINDOW_S) -> float:
+def tare_offset_v(t_s: npt.ArrayLike, voltage_v: npt.ArrayLike, window_s: float = TARE_WINDOW_S) -> float:
     """Bridge offset estimated as the mean output over the first ``window_s`` (sensor unloaded)."""
     t = np.asarray(t_s)
     return float(np.mean(np.asarray(voltage_v)[t - t[0] <= window_s]))
 
 
-def static_and_compensated(chain, t_s, voltage_v, offset_v):
+def static_and_compensated(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarray,
+                           offset_v: float) -> tuple[np.ndarray, np.ndarray]:
     """Force (N) read by static gain and by the chain's inverse, both with bridge offset ``offset_v``.
 
     The chain itself is not changed. Returns ``(static_n, compensated_n)``.
@@ -71,15 +75,17 @@ class CalibrationResult:
                 "previous_rmse_v": self.previous_rmse_v, "warnings": self.warnings}
 
 
-def rmse_of_model(model, t_s, force_n, voltage_v) -> float:
+def rmse_of_model(model: ViscoelasticModel, t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray) -> float:
     """RMS voltage error (V) of a model on a record, offset fitted by the mean."""
     residual = voltage_v - simulate_deformation(model, t_s, force_n)
     residual = residual - residual.mean()
     return float(np.sqrt(np.mean(residual * residual)))
 
 
-def calibrate_record(t_s, force_n, voltage_v, output, source, candidates=("maxwell", "kelvin", "zener", "burgers"),
-                     min_r2=0.9, progress=None, warnings=()):
+def calibrate_record(t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray, output: str | Path,
+                     source: str | Path, candidates: Sequence[str] = ("maxwell", "kelvin", "zener", "burgers"),
+                     min_r2: float = 0.9, progress: Optional[Callable[[str], Any]] = None,
+                     warnings: Iterable[str] = ()) -> CalibrationResult:
     """Fit and select a model; write it to ``output`` only if it is good and better.
 
     The new model is written (atomically, the old file kept as ``.prev``) when
@@ -128,14 +134,15 @@ def calibrate_record(t_s, force_n, voltage_v, output, source, candidates=("maxwe
     return result
 
 
-def calibrate_bag(bag_path, output, **kwargs) -> CalibrationResult:
+def calibrate_bag(bag_path: str | Path, output: str | Path, **kwargs: Any) -> CalibrationResult:
     """:func:`calibrate_record` of the creep bag at ``bag_path`` (keyword arguments as there)."""
-    rec = load_record(bag_path)
-    return calibrate_record(rec.t_s, rec.force_n, rec.voltage_v, output, source=bag_path, warnings=rec.warnings, **kwargs)
+    rec = load_record(bag_path)  # need_reference: its force_n is set
+    return calibrate_record(rec.t_s, cast(np.ndarray, rec.force_n), rec.voltage_v, output, source=bag_path,
+                            warnings=rec.warnings, **kwargs)
 
 
-def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorConfig = CompensatorConfig(),
-                   directory=False):
+def compensate_bag(in_path: str | Path, out_path: str | Path, model: SensorModel,
+                   config: CompensatorConfig = CompensatorConfig(), directory: bool = False) -> tuple[int, list[str]]:
     """Copy every message of ``in_path`` to ``out_path`` and add ``/polyforce/wrench``.
 
     The raw samples go through the same :class:`Compensator` as in
@@ -168,7 +175,7 @@ def compensate_bag(in_path, out_path, model: SensorModel, config: CompensatorCon
     return int(used.sum()), warnings
 
 
-def latest_before(log_time_ns, values, at_ns) -> np.ndarray:
+def latest_before(log_time_ns: npt.ArrayLike, values: npt.ArrayLike, at_ns: npt.ArrayLike) -> np.ndarray:
     """For each time of ``at_ns``, the latest finite value logged at or before it; NaN where there is none yet.
 
     What compensation_node uses for an auxiliary signal (the last temperature received), over a bag's log times.
@@ -181,7 +188,7 @@ def latest_before(log_time_ns, values, at_ns) -> np.ndarray:
     return np.where(idx >= 0, kept[np.maximum(idx, 0)] if kept.size else np.nan, np.nan)
 
 
-def runtime_warnings(counts) -> list:
+def runtime_warnings(counts: Mapping[str, int]) -> list[str]:
     """One line per nonzero warning counter of a :class:`Compensator` (the list the node's diagnostics WARN on)."""
     return [f"{counts[name]} {'stamp gaps over gap_warn_s' if name == 'gaps' else 'samples ' + name.replace('_', ' ')}"
             for name in WARN_COUNTERS if counts.get(name)]

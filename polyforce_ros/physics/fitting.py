@@ -13,9 +13,10 @@ when it was fitted).
 from __future__ import annotations
 
 import math
-from typing import Callable, Iterable, Sequence
+from typing import Callable, Iterable, Optional, Sequence
 
 import numpy as np
+import numpy.typing as npt
 from scipy import optimize
 
 from .viscoelastic import MODEL_TYPES, ViscoelasticModel
@@ -29,7 +30,7 @@ LOG_BOUNDS = (math.log(1e-6), math.log(1e12))
 FLUID_KINDS = frozenset(kind for kind, cls in MODEL_TYPES.items() if cls.shape[2])
 
 
-def model_type(name_or_type) -> type[ViscoelasticModel]:
+def model_type(name_or_type: str | type[ViscoelasticModel]) -> type[ViscoelasticModel]:
     """The model class of a name in :data:`MODEL_TYPES` (or the class itself); ``ValueError`` if unknown."""
     if isinstance(name_or_type, type) and issubclass(name_or_type, ViscoelasticModel):
         return name_or_type
@@ -55,8 +56,8 @@ def log_bounds(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.full(n, LOG_BOUNDS[0]), np.full(n, LOG_BOUNDS[1])
 
 
-def multistart_least_squares(residual: Callable[[np.ndarray], np.ndarray], starts: Sequence, lower, upper,
-                             max_nfev=None) -> optimize.OptimizeResult:
+def multistart_least_squares(residual: Callable[[np.ndarray], np.ndarray], starts: Sequence, lower: npt.ArrayLike,
+                             upper: npt.ArrayLike, max_nfev: Optional[int] = None) -> optimize.OptimizeResult:
     """:func:`scipy.optimize.least_squares` (trf, Jacobian scaling) from every start; the lowest cost wins.
 
     Starts are clipped just inside the bounds.

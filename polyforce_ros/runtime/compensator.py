@@ -47,6 +47,7 @@ from dataclasses import dataclass, fields, replace
 from typing import Any, Mapping, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from ..physics.chain import SensorChain
 
@@ -101,31 +102,31 @@ class _Configured:
         return self._config
 
     @config.setter
-    def config(self, config: CompensatorConfig):
+    def config(self, config: CompensatorConfig) -> None:
         self._config = config
         self._keep(config)
 
-    def _keep(self, config: CompensatorConfig):
+    def _keep(self, config: CompensatorConfig) -> None:
         raise NotImplementedError
 
 
 class SampleGate(_Configured):
     """Rules 1-5: which samples are used, and when the history must restart."""
 
-    def __init__(self, config: CompensatorConfig = CompensatorConfig()):
+    def __init__(self, config: CompensatorConfig = CompensatorConfig()) -> None:
         self.config = config
         self.counts = dict.fromkeys(GATE_COUNTERS, 0)
         self.last_stamp_ns: Optional[int] = None
         self._skew_ns = 0                          # largest stamp - receive of this history's used samples
         self._run: Optional[list] = None           # [first receive, last stamp, skew] of rejected samples
 
-    def _keep(self, config: CompensatorConfig):
+    def _keep(self, config: CompensatorConfig) -> None:
         # per-sample comparisons at 1 kHz: attribute chains and unit conversions done once, not per sample
         self._limit_v = config.input_limit_v
         self._tol_ns = config.stamp_tolerance_s * 1e9
         self._gap_s = config.gap_warn_s
 
-    def restart(self):
+    def restart(self) -> None:
         """Forget the stamp history: the next finite sample starts a fresh one."""
         self.last_stamp_ns, self._run = None, None
 
@@ -165,11 +166,11 @@ class SampleGate(_Configured):
             return self._anchor(stamp_ns, skew)
         return reason
 
-    def _anchor(self, stamp_ns, skew):
+    def _anchor(self, stamp_ns: int, skew: int) -> int:
         self.last_stamp_ns, self._skew_ns, self._run = stamp_ns, skew, None
         return ACCEPT_FRESH
 
-    def _heals(self, stamp_ns, skew, receive_ns, tol_ns) -> bool:
+    def _heals(self, stamp_ns: int, skew: int, receive_ns: int, tol_ns: float) -> bool:
         """Whether this rejected sample completes a run of consistent ones long enough to re-anchor on."""
         run = self._run
         if run is None or stamp_ns <= run[1] or (tol_ns > 0 and abs(skew - run[2]) > tol_ns):
@@ -178,7 +179,8 @@ class SampleGate(_Configured):
         run[1], run[2] = stamp_ns, skew
         return (receive_ns - run[0]) * 1e-9 >= self.config.reanchor_after_s
 
-    def mask(self, stamp_ns, voltage_v, receive_ns=None) -> np.ndarray:
+    def mask(self, stamp_ns: npt.ArrayLike, voltage_v: npt.ArrayLike,
+             receive_ns: Optional[npt.ArrayLike] = None) -> np.ndarray:
         """Samples :meth:`admit` would use, for whole arrays (fresh gate state).
 
         When vectorised checks show that every sample passes (the usual clean
@@ -217,7 +219,9 @@ class Compensator(_Configured):
         Policy settings.
     """
 
-    def __init__(self, chain: SensorChain, config: CompensatorConfig = CompensatorConfig()):
+    _rest_since_ns: Optional[int]   # start of the current rest (drift tracking), ns; None = not resting
+
+    def __init__(self, chain: SensorChain, config: CompensatorConfig = CompensatorConfig()) -> None:
         self.config = config
         self.gate = SampleGate(config)
         self.counts = self.gate.counts
@@ -232,7 +236,7 @@ class Compensator(_Configured):
         self.set_chain(chain)
 
     # ------------------------------------------------------------------ settings
-    def _keep(self, config: CompensatorConfig):
+    def _keep(self, config: CompensatorConfig) -> None:
         # every way of setting the config (the constructor, configure, an assignment) ends here
         self._drift_tracking, self._force_limit_n = config.drift_tracking, config.force_limit_n  # read per sample
         if not hasattr(self, "gate"):  # the constructor: nothing built yet
@@ -243,7 +247,7 @@ class Compensator(_Configured):
         if not config.auto_tare and self.auto_tare_status != "off":
             self._auto, self.auto_tare_status = None, "off"
 
-    def set_chain(self, chain: SensorChain):
+    def set_chain(self, chain: SensorChain) -> None:
         """Use another model; the history restarts (it belongs to the old model), a tare is kept."""
         self.chain = chain
         self._stream = chain.streaming()
@@ -252,12 +256,12 @@ class Compensator(_Configured):
         self._update_shift()
         self._restart()
 
-    def _update_shift(self):
+    def _update_shift(self) -> None:
         # what the input is moved by before the chain's inverse (its own offset element stays as it is);
         # kept up to date here rather than derived per sample, which walked the chain twice at 1 kHz
         self._shift_v = self.offset_v - self.chain.offset_v
 
-    def configure(self, **changes):
+    def configure(self, **changes: Any) -> None:
         """New policy settings (names of :class:`CompensatorConfig`); take effect at the next sample."""
         self.config = replace(self.config, **changes)
 
@@ -304,7 +308,8 @@ class Compensator(_Configured):
         return last is None or (now_ns - last) * 1e-9 > self.config.stale_timeout_s
 
     # ------------------------------------------------------------------ batch
-    def run(self, stamp_ns, voltage_v, receive_ns=None, aux=None):
+    def run(self, stamp_ns: npt.ArrayLike, voltage_v: npt.ArrayLike, receive_ns: Optional[npt.ArrayLike] = None,
+            aux: Optional[Mapping[str, Any]] = None) -> tuple[np.ndarray, np.ndarray]:
         """:meth:`step` over arrays. Returns ``(used, force_n)``: a mask of the samples that
         gave a force, and those forces (exactly what :meth:`step` gives, sample by sample)."""
         stamp_ns = np.asarray(stamp_ns, dtype=np.int64)
@@ -335,13 +340,13 @@ class Compensator(_Configured):
         self._restart()
         return True, f"tared: bridge offset {offset:.6f} V from {len(self._recent_v)} samples; history cleared"
 
-    def reset(self):
+    def reset(self) -> None:
         """Forget the deformation and stamp history (sensor assumed relaxed); re-arm the auto-tare."""
         self._restart()
         if self.config.auto_tare:
             self._auto, self.auto_tare_status = [], "pending"
 
-    def _collect_auto_tare(self, stamp_ns: int, voltage_v: float):
+    def _collect_auto_tare(self, stamp_ns: int, voltage_v: float) -> None:
         window = self._auto
         assert window is not None  # called only while armed
         if len(window) < AUTO_TARE_MAX_SAMPLES:
@@ -367,7 +372,7 @@ class Compensator(_Configured):
                                      f"(spread {spread:.4f} V, drift {drift:.4f} V, offset shift {shift:+.4f} V); "
                                      "the model's offset is used")
 
-    def _restart(self):
+    def _restart(self) -> None:
         self._stream.reset()
         self.gate.restart()
         self._epoch_ns = 0

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from typing import Callable, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from ..serial_protocol import DeviceClock, FrameParser
 
@@ -52,7 +53,8 @@ class SimulatedSource:
     loop : start the profile again when it ends (else the source is ``done``).
     """
 
-    def __init__(self, make_simulator: Callable, profile_f, rate_hz: float, temperature_at: Callable, loop=True):
+    def __init__(self, make_simulator: Callable, profile_f: npt.ArrayLike, rate_hz: float, temperature_at: Callable,
+                 loop: bool = True) -> None:
         self._make_simulator = make_simulator
         self.profile_f = np.asarray(profile_f, dtype=float)
         self.period_n = self.profile_f.size
@@ -61,7 +63,7 @@ class SimulatedSource:
         self.loop = bool(loop)
         self.restart()
 
-    def restart(self):
+    def restart(self) -> None:
         """The profile starts again at its first sample (stamped from the next start), the sensor relaxed."""
         self.sim = self._make_simulator()
         self._buf_f, self._buf_v, self._buf_t, self._buf_first = np.zeros(0), np.zeros(0), np.zeros(0), 0
@@ -73,7 +75,7 @@ class SimulatedSource:
     def started(self) -> bool:
         return self.start_ns is not None
 
-    def start(self, now_ns: int):
+    def start(self, now_ns: int) -> None:
         """Sample 0 is stamped ``now_ns``."""
         self.start_ns = int(now_ns)
 
@@ -98,7 +100,7 @@ class SimulatedSource:
         self.published = end
         return block
 
-    def _simulate_until(self, k_end):
+    def _simulate_until(self, k_end: int) -> None:
         """Make sure samples [.., k_end) are simulated (blocks of SIM_BLOCK, state carried)."""
         while self._buf_first + self._buf_v.size < k_end:
             k0 = self._buf_first + self._buf_v.size
@@ -121,12 +123,12 @@ class SerialSource:
     give no sample.
     """
 
-    def __init__(self, volts_per_count: float, volts_offset: float = 0.0):
+    def __init__(self, volts_per_count: float, volts_offset: float = 0.0) -> None:
         self.volts_per_count, self.volts_offset = float(volts_per_count), float(volts_offset)
         self.parser = FrameParser()
         self.clock = DeviceClock()
 
-    def reset(self):
+    def reset(self) -> None:
         """A new connection: resynchronise on the sync word and re-learn the device clock."""
         self.parser.reset()
         self.clock.reset()

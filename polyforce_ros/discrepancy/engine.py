@@ -52,7 +52,7 @@ import numpy as np
 from scipy import linalg, optimize, stats
 
 from ..physics.chain import OffsetElement, SensorChain, ViscoelasticElement
-from ..physics.fitting import LOG_BOUNDS, information_criteria, multistart_least_squares
+from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, information_criteria, multistart_least_squares
 from ..physics.identification import block_average
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, simulate_deformation
 from ..record import Record  # noqa: F401 - the record type diagnose takes (re-exported)
@@ -62,8 +62,7 @@ EFFECTS = NAMES
 BASES = tuple(MODEL_TYPES)  # every core type the fitting stack knows
 #: Number of retardation times of each core type, and whether it has instantaneous compliance / flow.
 _CORE_SHAPE = {kind: cls.shape for kind, cls in MODEL_TYPES.items()}  # declared by the model types
-_TAU_GRID = np.exp(np.linspace(np.log(0.3), np.log(300.0), 16))
-_TAU_BOUNDS = (math.log(1e-3), math.log(1e4))
+_TAU_GRID, _TAU_BOUNDS = TAU_GRID_S, TAU_LOG_BOUNDS  # physics/fitting.py declares them
 
 
 # ----------------------------------------------------------------------------- signals and noise

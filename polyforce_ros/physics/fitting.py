@@ -21,11 +21,15 @@ from scipy import optimize
 
 from .viscoelastic import MODEL_TYPES, ViscoelasticModel
 
-__all__ = ["LOG_BOUNDS", "FLUID_KINDS", "model_type", "check_model_types", "log_bounds", "multistart_least_squares",
+__all__ = ["LOG_BOUNDS", "TAU_LOG_BOUNDS", "TAU_GRID_S", "FLUID_KINDS", "model_type", "check_model_types", "log_bounds", "multistart_least_squares",
            "log_standard_errors", "information_criteria", "starts_from_compliance"]
 
 #: Bounds of log(parameter) for every mechanical parameter (N/V, N s/V): 1e-6 .. 1e12.
 LOG_BOUNDS = (math.log(1e-6), math.log(1e12))
+#: Log bounds of a time constant fitted on its own (retardation, lag, thermal lag), ln(s).
+TAU_LOG_BOUNDS = (math.log(1e-3), math.log(1e4))
+#: Starting retardation times of a search over a record (s): 0.3 s to 300 s, 16 log-spaced.
+TAU_GRID_S = np.exp(np.linspace(np.log(0.3), np.log(300.0), 16))
 #: Core types with a free dashpot (creep without bound).
 FLUID_KINDS = frozenset(kind for kind, cls in MODEL_TYPES.items() if cls.shape[2])
 

@@ -41,9 +41,13 @@ class ModelError(ValueError):
 class ElementStream(Protocol):
     """Per-sample inverse of one element: O(1) state, ``step`` maps its output back to its input."""
 
-    def reset(self) -> None: ...
+    def reset(self) -> None:
+        """Forget the history: the next sample starts from a relaxed, unloaded element."""
+        ...
 
-    def step(self, t_s: float, value: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]: ...
+    def step(self, t_s: float, value: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+        """The element's input for its output ``value`` at ``t_s`` (s); None for a sample it cannot use."""
+        ...
 
 
 @runtime_checkable
@@ -57,15 +61,25 @@ class Element(Protocol):
 
     kind: str
 
-    def forward_state(self) -> Any: ...
+    def forward_state(self) -> Any:
+        """A fresh state for block-wise :meth:`forward` runs (relaxed, unloaded)."""
+        ...
 
-    def forward(self, t_s, x, aux=None, state=None) -> np.ndarray: ...
+    def forward(self, t_s, x, aux=None, state=None) -> np.ndarray:
+        """Output for input ``x`` at times ``t_s`` (s); ``state`` carries the history across blocks."""
+        ...
 
-    def backward(self, t_s, y, aux=None) -> np.ndarray: ...
+    def backward(self, t_s, y, aux=None) -> np.ndarray:
+        """Input that gave output ``y`` at times ``t_s`` (s): the inverse of :meth:`forward` over a record."""
+        ...
 
-    def streaming(self) -> ElementStream: ...
+    def streaming(self) -> ElementStream:
+        """The per-sample inverse (O(1) state), equal to :meth:`backward` sample by sample."""
+        ...
 
-    def to_dict(self) -> dict: ...
+    def to_dict(self) -> dict:
+        """The element as a model-file mapping (``type`` and its parameters with units in their names)."""
+        ...
 
 
 class _Frozen:

@@ -62,8 +62,10 @@ def test_hidden_effect_of_a_random_family_is_named_and_the_error_reaches_the_noi
     assert 1.5e-3 < d.noise_floor_v < 3.5e-3
 
 
-@pytest.mark.parametrize("base, seed", [("burgers", 3101), ("zener", 3102), ("elastic", 3103)])
+@pytest.mark.parametrize("base, seed", [("burgers", 3101), ("zener", 3102), ("elastic", 3103), ("maxwell", 3104),
+                                        ("kelvin", 3105), ("zener2", 3106), ("burgers2", 3107)])
 def test_clean_data_is_none_and_nothing_is_unexplained(base, seed):
+    """Every core type of the fitting stack is a base the diagnosis can run against (BASES = MODEL_TYPES)."""
     rec, _ = bench_record("none", 0.0, base, DURATION_S, RATE_HZ, seed)
     d = diagnose(rec, base=base)
     assert d.missing_effects == [] and d.missing_effect == "none", [c.summary() for c in d.candidates]
@@ -234,3 +236,10 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
         forces = [stream.step(ti, vi, comp._aux) for ti, vi in zip(t[:400], volts[:400])]
     np.testing.assert_allclose(forces, expected, rtol=1e-9, atol=1e-9)
     assert np.sqrt(np.mean((np.array(forces) - force[:400]) ** 2)) < 0.05
+
+
+def test_the_generator_has_a_truth_for_every_base_the_diagnosis_offers():
+    from polyforce_ros.discrepancy.engine import BASES
+    from polyforce_ros.sim.bench import BASE_TRUTH
+
+    assert set(BASE_TRUTH) == set(BASES)

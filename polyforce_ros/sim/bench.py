@@ -22,7 +22,7 @@ import numpy as np
 from ..discrepancy.effects import EFFECTS as REGISTRY, NAMES, Additive, Truth
 from ..physics.chain import OffsetElement, SensorChain, ViscoelasticElement
 from ..physics.preisach import PreisachModel
-from ..physics.viscoelastic import PAPER_BURGERS, Elastic, Maxwell, Zener
+from ..physics.viscoelastic import PAPER_BURGERS, Burgers2, Elastic, KelvinVoigt, Maxwell, Zener, Zener2
 from .sensor import BridgeSimulator
 
 def random_load(duration_s, rate_hz, seed):
@@ -111,8 +111,11 @@ def hysteretic_identity(u_min, u_max, loop_fraction, n_levels=24):
 BASE_TRUTH = {
     "elastic": Elastic(3.24),
     "maxwell": Maxwell(4.8, 4627.94),
+    "kelvin": KelvinVoigt(3.24, 30.0),
     "zener": Zener(4.8, 10.0, 85.12),
     "burgers": PAPER_BURGERS,
+    "zener2": Zener2(4.8, 10.0, 85.12, 20.0, 2000.0),
+    "burgers2": Burgers2(4.8, 10.0, 4627.94, 85.12, 20.0, 2000.0),
 }
 
 

@@ -305,22 +305,39 @@ class ViscoelasticElement(_Frozen):
         self._freeze(model=model, kind=model.kind)
 
     def forward_state(self):
+        """A fresh :class:`~.viscoelastic.ForwardState` of the core (relaxed, unloaded sensor)."""
         return ForwardState(self.model)
 
     def forward(self, t_s, force_n, aux=None, state=None):
+        """Deformation (V) for force ``force_n`` (N) at ``t_s`` (s), by :func:`~.viscoelastic.simulate_deformation`.
+
+        ``aux`` is not used.
+        """
         return simulate_deformation(self.model, t_s, force_n, state=state)
 
     def backward(self, t_s, deformation_v, aux=None):
+        """Force (N) for deformation ``deformation_v`` (V) at ``t_s`` (s), from a relaxed sensor.
+
+        By :func:`~.viscoelastic.compensate`; ``aux`` is not used.
+        """
         return compensate(self.model, t_s, deformation_v)
 
     def streaming(self):
+        """A :class:`~.viscoelastic.StreamingCompensator` of the core: deformation (V) in, force (N) out."""
         return StreamingCompensator(self.model)
 
     def to_dict(self):
+        """``{'type': kind, **parameters}``: the model type and its parameters (N/V, N s/V)."""
         return {"type": self.kind, **self.model.as_dict()}
 
     @classmethod
     def from_dict(cls, d):
+        """The core from a model-file mapping whose ``type`` is a viscoelastic model kind.
+
+        Raises ModelError for an unknown type, missing or unknown keys, parameters that
+        are not positive numbers within PARAMETER_BOUNDS, or parameters too far apart
+        for float64 (relaxation, forward and backward runs checked on test records).
+        """
         kind = d.get("type") if isinstance(d, dict) else None
         if not isinstance(kind, str) or kind not in MODEL_TYPES:
             raise ModelError(f"viscoelastic core: type must be one of {sorted(MODEL_TYPES)}, got {_short(kind)}")
@@ -346,22 +363,28 @@ class OffsetElement(_Frozen):
         self._freeze(voltage_v=float(voltage_v))
 
     def forward_state(self):
+        """None: the offset has no state."""
         return None
 
     def forward(self, t_s, x, aux=None, state=None):
+        """``x + voltage_v`` (V); ``t_s``, ``aux`` and ``state`` are not used."""
         return np.asarray(x, dtype=float) + self.voltage_v
 
     def backward(self, t_s, y, aux=None):
+        """``y - voltage_v`` (V); ``t_s`` and ``aux`` are not used."""
         return np.asarray(y, dtype=float) - self.voltage_v
 
     def streaming(self):
+        """A stateless stream returning ``value - voltage_v`` (V) per sample."""
         return _OffsetStream(self)
 
     def to_dict(self):
+        """``{'type': 'offset', 'voltage_v': ...}`` (V)."""
         return {"type": self.kind, "voltage_v": self.voltage_v}
 
     @classmethod
     def from_dict(cls, d):
+        """The offset from ``{'type': 'offset', 'voltage_v': ...}``; ModelError for other keys or a value out of range."""
         _check_keys(cls.kind, d, ("voltage_v",))
         return cls(_number(cls.kind, "voltage_v", d["voltage_v"], positive=False))
 
@@ -423,12 +446,15 @@ class GainElement(_SimpleElement):
     PARAMS = (("gain", True),)
 
     def forward(self, t_s, x, aux=None, state=None):
+        """``gain * x`` (e.g. N in, V out with gain in V/N); ``t_s``, ``aux`` and ``state`` are not used."""
         return self.gain * np.asarray(x, dtype=float)
 
     def backward(self, t_s, y, aux=None):
+        """``y / gain``; ``t_s`` and ``aux`` are not used."""
         return np.asarray(y, dtype=float) / self.gain
 
     def streaming(self):
+        """A stateless stream returning ``value / gain`` per sample."""
         g = self.gain
         return _FunctionStream(lambda t_s, y, aux=None: y / g)
 
@@ -445,15 +471,21 @@ class NonlinearGainElement(_SimpleElement):
     PARAMS = (("quadratic_per_v", False),)
 
     def forward(self, t_s, x, aux=None, state=None):
+        """``x + quadratic_per_v * x**2`` (V); ``t_s``, ``aux`` and ``state`` are not used."""
         x = np.asarray(x, dtype=float)
         return x + self.quadratic_per_v * x * x
 
     def backward(self, t_s, y, aux=None):
+        """The root nearest ``y``, ``2 y / (1 + sqrt(1 + 4 q y))`` (V).
+
+        Where 1 + 4 q y < 0 (no inverse) the root is taken as 0.
+        """
         y = np.asarray(y, dtype=float)
         disc = np.sqrt(np.clip(1.0 + 4.0 * self.quadratic_per_v * y, 0.0, None))
         return 2.0 * y / (1.0 + disc)
 
     def streaming(self):
+        """A stateless stream applying the same inverse as :meth:`backward` per sample (V)."""
         q = self.quadratic_per_v
         return _FunctionStream(lambda t_s, y, aux=None: 2.0 * y / (1.0 + math.sqrt(max(1.0 + 4.0 * q * y, 0.0))))
 
@@ -479,9 +511,14 @@ class SensorLagElement(_SimpleElement):
     OPTIONAL = {"noise_filter_tau_s": 0.0}
 
     def forward_state(self):
+        """A fresh lag state (output zero, no previous sample) for block-wise :meth:`forward` runs."""
         return {"y": np.zeros(1), "t_prev": None, "x_prev": 0.0}
 
     def forward(self, t_s, x, aux=None, state=None):
+        """Output of the lag tau y' + y = x at ``t_s`` (s), exact for piecewise-linear ``x``.
+
+        ``state`` carries the lag across blocks.
+        """
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         st = state if state is not None else self.forward_state()
         rate = 1.0 / self.tau_s
@@ -496,6 +533,9 @@ class SensorLagElement(_SimpleElement):
         return y
 
     def backward(self, t_s, y, aux=None):
+        """The input ``y + tau dy/dt`` over the record (slope over each previous interval, 0 at the first sample),
+        or its roll-off through ``noise_filter_tau_s`` when that is > 0 (see the class docstring).
+        """
         t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
         tau_f = self.noise_filter_tau_s
         if tau_f > 0.0:
@@ -511,6 +551,7 @@ class SensorLagElement(_SimpleElement):
         return y + self.tau_s * slope
 
     def streaming(self):
+        """The per-sample form of :meth:`backward` (slope over the last interval, or the rolled-off inverse)."""
         tau, tau_f = self.tau_s, self.noise_filter_tau_s
         if tau_f > 0.0:
             lag = ExpConvState([1.0 / tau_f])
@@ -560,14 +601,23 @@ class ThermalDriftElement(_SimpleElement):
         return 0.0 if temp is None else self.coefficient_v_per_c * (temp - self.reference_c)
 
     def forward(self, t_s, x, aux=None, state=None):
+        """``x + coefficient_v_per_c * (T - reference_c)`` (V), T from ``aux['temperature_c']`` (degC).
+
+        Without a temperature ``x`` passes unchanged.
+        """
         x = np.asarray(x, dtype=float)
         return x + self._term(x, aux)
 
     def backward(self, t_s, y, aux=None):
+        """``y - coefficient_v_per_c * (T - reference_c)`` (V), T from ``aux['temperature_c']`` (degC).
+
+        Without a temperature ``y`` passes unchanged.
+        """
         y = np.asarray(y, dtype=float)
         return y - self._term(y, aux)
 
     def streaming(self):
+        """The per-sample form of :meth:`backward`; a sample without ``aux['temperature_c']`` passes unchanged."""
         c, ref = self.coefficient_v_per_c, self.reference_c
 
         def step(t_s, y, aux=None):
@@ -635,25 +685,42 @@ class PreisachElement(_Frozen):
         self._freeze(model=model, continuous=bool(continuous))
 
     def forward_state(self):
+        """``{'stream': ...}``: a fresh operator stream (all relays down) for block-wise :meth:`forward` runs."""
         return {"stream": self.model.stream(self.continuous)}
 
     def forward(self, t_s, x, aux=None, state=None):
+        """Preisach output for each input sample (discrete or continuous per ``continuous``).
+
+        ``t_s`` and ``aux`` are not used.
+        """
         stream = (state or self.forward_state())["stream"]
         return np.array([stream.forward(float(v)) for v in np.asarray(x, dtype=float)])
 
     def backward(self, t_s, y, aux=None):
+        """The inverse (closest-match, or exact when ``continuous``) of each output sample, from all relays down.
+
+        ``t_s`` and ``aux`` are not used.
+        """
         stream = self.model.stream(self.continuous)
         return np.array([stream.inverse(float(v)) for v in np.asarray(y, dtype=float)])
 
     def streaming(self):
+        """A per-sample inverse stream of the operator (its ``reset`` puts all relays down)."""
         stream = self.model.stream(self.continuous)
         return _FunctionStream(lambda t_s, y, aux=None: stream.inverse(y), stream.reset)
 
     def to_dict(self):
+        """``type``, the keys of :meth:`PreisachModel.to_dict` and ``continuous``."""
         return {"type": self.kind, **self.model.to_dict(), "continuous": self.continuous}
 
     @classmethod
     def from_dict(cls, d):
+        """The element from a model-file mapping with the keys ``u_min, u_max, n_levels, offset, density, continuous``.
+
+        Raises ModelError for missing or unknown keys, a density that is not a list of
+        numbers, n_levels outside [1, MAX_PREISACH_LEVELS], a non-boolean continuous, or
+        values out of range or rejected by :class:`~.preisach.PreisachModel`.
+        """
         from .preisach import PreisachModel
 
         _check_keys(cls.kind, d, cls.KEYS)
@@ -800,6 +867,7 @@ class PlayHysteresisElement(_Frozen):
         return 1.0 / a[0], r_inv, b
 
     def forward_state(self):
+        """``{'y': ...}``: the play states after the ``history_max`` history (zeros for a virgin sensor)."""
         return {"y": self.initial_states()[0]}
 
     def _rest_output(self):
@@ -807,6 +875,9 @@ class PlayHysteresisElement(_Frozen):
         return float(self.initial_states()[0] @ self.weights)
 
     def forward(self, t_s, x, aux=None, state=None):
+        """Prandtl-Ishlinskii output ``linear_weight * x + sum_i weights[i] * play_i[x]``, shifted so that
+        y = 0 at x = 0 after the history; ``state`` carries the play states across blocks, ``t_s`` and ``aux`` are not used.
+        """
         x = np.asarray(x, dtype=float)
         st = state if state is not None else self.forward_state()
         plays = play_operator(x, self.radii, st["y"])
@@ -815,12 +886,14 @@ class PlayHysteresisElement(_Frozen):
         return self.linear_weight * x + plays @ self.weights - self._rest_output()
 
     def backward(self, t_s, y, aux=None):
+        """The input for output ``y`` over the record, by the inverse Prandtl-Ishlinskii operator (see the class docstring)."""
         y = np.asarray(y, dtype=float) + self._rest_output()
         b0, r_inv, b = self.inverse_parameters()
         keep = r_inv > 0  # r' > 0 for every i >= 1 (radii > 0, linear_weight > 0)
         return b0 * y + play_operator(y, r_inv[keep], self.initial_states()[1][keep]) @ b[keep]
 
     def streaming(self):
+        """The per-sample form of :meth:`backward`, O(n) per sample; ``reset`` returns to the states after the history."""
         b0, r_inv, b = self.inverse_parameters()
         keep = r_inv > 0
         radii, weights = [float(v) for v in r_inv[keep]], [float(v) for v in b[keep]]
@@ -843,6 +916,7 @@ class PlayHysteresisElement(_Frozen):
         return _FunctionStream(step, reset)
 
     def to_dict(self):
+        """``type``, ``linear_weight``, ``radii`` and ``weights`` as floats, and ``history_max`` when not 0."""
         out = {"type": self.kind, "linear_weight": float(self.linear_weight), "radii": [float(v) for v in self.radii],
                "weights": [float(v) for v in self.weights]}
         if self.history_max:
@@ -851,6 +925,7 @@ class PlayHysteresisElement(_Frozen):
 
     @classmethod
     def from_dict(cls, d):
+        """The element from a model-file mapping (keys as :meth:`to_dict`); ModelError for bad keys or values."""
         _check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
         return cls(d["linear_weight"], d["radii"], d["weights"], d.get("history_max", 0.0))
 
@@ -874,16 +949,25 @@ class ThermalLagElement(_SimpleElement):
         return exp_convolve(t, temp, [1.0 / self.tau_s], y0=[temp[0] * self.tau_s])[:, 0] / self.tau_s
 
     def forward(self, t_s, x, aux=None, state=None):
+        """``x + coefficient_v_per_c * (T_lag - reference_c)`` (V), the lag settled at the call's first temperature (degC).
+
+        ``x`` unchanged without ``aux['temperature_c']``; ``state`` is not used.
+        """
         x = np.asarray(x, dtype=float)
         lagged = self._lagged(t_s, _temperature(aux, x.size))
         return x if lagged is None else x + self.coefficient_v_per_c * (lagged - self.reference_c)
 
     def backward(self, t_s, y, aux=None):
+        """``y - coefficient_v_per_c * (T_lag - reference_c)`` (V), the lag settled at the first temperature.
+
+        Without a temperature ``y`` passes unchanged.
+        """
         y = np.asarray(y, dtype=float)
         lagged = self._lagged(t_s, _temperature(aux, y.size))
         return y if lagged is None else y - self.coefficient_v_per_c * (lagged - self.reference_c)
 
     def streaming(self):
+        """The per-sample form of :meth:`backward`; the lag starts settled at the first temperature after a reset."""
         c, ref, tau = self.coefficient_v_per_c, self.reference_c, self.tau_s
         lag = ExpConvState([1.0 / tau])
 
@@ -934,6 +1018,7 @@ class PolynomialGainElement(_SimpleElement):
         return x + x * x * (q + x * (c + x * d)), 1.0 + x * (2.0 * q + x * (3.0 * c + 4.0 * d * x))
 
     def forward(self, t_s, x, aux=None, state=None):
+        """``x + q x**2 + c x**3 + d x**4`` (V); ``t_s``, ``aux`` and ``state`` are not used."""
         return self._poly(np.asarray(x, dtype=float))[0]
 
     def _invert(self, y):
@@ -946,9 +1031,11 @@ class PolynomialGainElement(_SimpleElement):
         return np.where(np.isfinite(x), x, y)
 
     def backward(self, t_s, y, aux=None):
+        """The input for each ``y`` (V) by 16 Newton steps from ``x = y`` (``y`` itself where they end non-finite)."""
         return self._invert(np.asarray(y, dtype=float))
 
     def streaming(self):
+        """A stateless stream applying the inverse of :meth:`backward` per sample (V)."""
         return _FunctionStream(lambda t_s, y, aux=None: float(self._invert(np.array([y]))[0]))
 
 
@@ -998,10 +1085,12 @@ class SplineDriftElement(_TimeDriftElement):
         return self._spline(np.clip(s, 0.0, self.knots_s[-1]))
 
     def to_dict(self):
+        """``{'type': 'spline_drift', 'knots_s': [...], 'values_v': [...]}`` (s, V)."""
         return {"type": self.kind, "knots_s": [float(v) for v in self.knots_s], "values_v": [float(v) for v in self.values_v]}
 
     @classmethod
     def from_dict(cls, d):
+        """The element from a model-file mapping with ``knots_s`` and ``values_v``; ModelError for bad keys or values."""
         _check_keys(cls.kind, d, cls.KEYS)
         return cls(d["knots_s"], d["values_v"])
 
@@ -1060,6 +1149,7 @@ class SensorChain:
 
     @classmethod
     def from_model(cls, model: ViscoelasticModel, offset_v: float = 0.0):
+        """The usual chain: a viscoelastic core ``model`` followed by an offset of ``offset_v`` (V)."""
         return cls([ViscoelasticElement(model), OffsetElement(offset_v)])
 
     @property
@@ -1107,23 +1197,31 @@ class SensorChain:
         return x
 
     def backward(self, t_s, voltage_v, aux=None):
+        """Force (N) for a voltage record ``voltage_v`` (V) at ``t_s`` (s): each element's :meth:`backward` from the voltage end."""
         x = np.asarray(voltage_v, dtype=float)
         for element in reversed(self.elements):
             x = element.backward(t_s, x, aux)
         return x
 
     def streaming(self):
+        """A :class:`ChainStream`: the elements' per-sample inverses from the voltage end."""
         return ChainStream([e.streaming() for e in reversed(self.elements)])
 
     def static_gain_v_per_n(self) -> float:
+        """The core's static gain in V/N (1.0 without a core); the other elements are not included."""
         core = self.viscoelastic
         return core.static_gain_v_per_n() if core is not None else 1.0
 
     def to_dict(self):
+        """``{'elements': [...]}``: each element's :meth:`to_dict`, force end first."""
         return {"elements": [e.to_dict() for e in self.elements]}
 
     @classmethod
     def from_dict(cls, d):
+        """The chain from ``{'elements': [...]}`` (force end first), each built by its ``type``.
+
+        ModelError if anything is invalid.
+        """
         if not isinstance(d, dict) or not isinstance(d.get("elements"), list):
             raise ModelError("model must be a mapping with a list under 'elements'")
         elements = []
@@ -1150,10 +1248,12 @@ class ChainStream:
         self._rest = rest
 
     def reset(self):
+        """Reset every element's stream (the next sample starts from a relaxed, unloaded sensor)."""
         for s in self.streams:
             s.reset()
 
     def step(self, t_s, voltage_v, aux=None):
+        """Force (N) for one voltage sample (V) at ``t_s`` (s), or None if an element rejects the sample."""
         x = voltage_v - self._offset_v
         only = self._only
         if only is not None:

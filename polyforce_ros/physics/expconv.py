@@ -28,8 +28,10 @@ so ``r = 0`` is the trapezoidal rule, itself exact for linear input.
 from __future__ import annotations
 
 import math
+from typing import Iterable, Optional, cast, overload
 
 import numpy as np
+import numpy.typing as npt
 from scipy import signal
 
 __all__ = ["uniform_step", "uniform_step_after", "step_weights", "step_weights_scalar", "exp_convolve",
@@ -49,7 +51,7 @@ _MAX_CHUNK_LEN = 1 << 16
 _UNIFORM_RTOL = 1e-12
 
 
-def uniform_step(t):
+def uniform_step(t: npt.ArrayLike) -> Optional[float]:
     """The common step (s) of sample times ``t`` if they are uniform up to rounding, else None."""
     t = np.asarray(t, dtype=float)
     if t.size < 2:
@@ -63,7 +65,7 @@ def uniform_step(t):
     return None
 
 
-def uniform_step_after(t_prev_s, t):
+def uniform_step_after(t_prev_s: Optional[float], t: npt.ArrayLike) -> Optional[float]:
     """The common step (s) of a previous sample time ``t_prev_s`` followed by ``t``, else None.
 
     As :func:`uniform_step` of the joined times (``t`` alone when ``t_prev_s`` is None),
@@ -81,12 +83,12 @@ def uniform_step_after(t_prev_s, t):
     return None
 
 
-def _rounding_s(t_first_s, t_last_s):
+def _rounding_s(t_first_s: float, t_last_s: float) -> float:
     """Spacing differences within float64 rounding of the stamps themselves."""
     return 8 * np.finfo(float).eps * max(abs(float(t_first_s)), abs(float(t_last_s)))
 
 
-def _spacing_range(t, chunk=_MAX_CHUNK_LEN):
+def _spacing_range(t: np.ndarray, chunk: int = _MAX_CHUNK_LEN) -> tuple[float, float]:
     """(min, max) of ``np.diff(t)``, computed in cache-sized chunks.
 
     A whole-array diff would write and re-read 8 bytes per sample; on a 10 M
@@ -101,7 +103,17 @@ def _spacing_range(t, chunk=_MAX_CHUNK_LEN):
     return lo, hi
 
 
-def step_weights(z):
+@overload
+def step_weights(z: float) -> tuple[float, float, float]:
+    """Scalar ``z``: three floats."""
+
+
+@overload
+def step_weights(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Array ``z``: three arrays of its shape."""
+
+
+def step_weights(z: npt.ArrayLike) -> tuple[float, float, float] | tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Return ``(E, alpha, beta)`` for decay ``z = r h`` (dimensionless, >= 0).
 
     Works on scalars and arrays. ``E = exp(-z)``; ``alpha``/``beta`` weight the
@@ -140,7 +152,8 @@ def step_weights_scalar(z: float) -> tuple[float, float, float]:
     return e, alpha, beta
 
 
-def exp_convolve(t_s, u, rates_per_s, y0=None, u_prev=None, t_prev_s=None):
+def exp_convolve(t_s: npt.ArrayLike, u: npt.ArrayLike, rates_per_s: npt.ArrayLike, y0: Optional[npt.ArrayLike] = None,
+                 u_prev: Optional[float] = None, t_prev_s: Optional[float] = None) -> np.ndarray:
     """Exponential convolutions of one piecewise-linear signal, vectorised.
 
     Parameters
@@ -173,7 +186,7 @@ def exp_convolve(t_s, u, rates_per_s, y0=None, u_prev=None, t_prev_s=None):
         return out
     y_start = np.zeros(m) if y0 is None else np.asarray(y0, dtype=float).copy()
     if u_prev is not None:
-        t_all = np.concatenate(([t_prev_s], t))
+        t_all = np.concatenate(([cast(float, t_prev_s)], t))
         u_all = np.concatenate(([u_prev], u))
     else:
         t_all, u_all = t, u
@@ -196,7 +209,7 @@ def exp_convolve(t_s, u, rates_per_s, y0=None, u_prev=None, t_prev_s=None):
     return out
 
 
-def _convolve_uniform(h, u_all, r, y_start):
+def _convolve_uniform(h: float, u_all: np.ndarray, r: float, y_start: npt.ArrayLike) -> np.ndarray:
     """Recursion for constant spacing ``h``: one first-order IIR section (lfilter) along axis 0.
 
     ``u_all`` may hold one signal (n,) or many as columns (n, m), with
@@ -209,7 +222,7 @@ def _convolve_uniform(h, u_all, r, y_start):
     return y
 
 
-def _convolve_irregular(h, u_all, r, y_start):
+def _convolve_irregular(h: np.ndarray, u_all: np.ndarray, r: float, y_start: float) -> np.ndarray:
     """Recursion for arbitrary spacings, in chunks of bounded accumulated decay.
 
     Within a chunk the solution is ``y_i = exp(-Z_i) (y_in + sum_j exp(Z_j) d_j)``
@@ -237,7 +250,7 @@ def _convolve_irregular(h, u_all, r, y_start):
     return y
 
 
-def exp_convolve_columns(t_s, u, rate_per_s):
+def exp_convolve_columns(t_s: npt.ArrayLike, u: npt.ArrayLike, rate_per_s: float) -> np.ndarray:
     """:func:`exp_convolve` of every column of ``u`` (n, m) with one rate, from rest; (n, m) out.
 
     One ``lfilter`` call along axis 0 when the spacing is uniform (many
@@ -268,15 +281,15 @@ class ExpConvState:
 
     __slots__ = ("rates_per_s", "y", "t_prev_s", "u_prev", "_h_cached", "_w_cached")
 
-    def __init__(self, rates_per_s):
+    def __init__(self, rates_per_s: npt.ArrayLike) -> None:
         self.rates_per_s = [float(r) for r in np.atleast_1d(rates_per_s)]
         self.y = [0.0] * len(self.rates_per_s)
-        self.t_prev_s = None
+        self.t_prev_s: Optional[float] = None
         self.u_prev = 0.0
-        self._h_cached = None
-        self._w_cached = None
+        self._h_cached: Optional[float] = None
+        self._w_cached: list[tuple[float, float, float]] = []  # filled with _h_cached (read only after it)
 
-    def reset(self, y=None):
+    def reset(self, y: Optional[Iterable[float]] = None) -> None:
         """Forget the history (state ``y`` zero unless given, no previous sample)."""
         self.y = [0.0] * len(self.rates_per_s) if y is None else [float(v) for v in y]
         self.t_prev_s = None

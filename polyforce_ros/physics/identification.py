@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Callable, Iterable, Optional
 
 import numpy as np
+import numpy.typing as npt
 from scipy import ndimage
 
 from . import fitting
@@ -47,7 +49,8 @@ class CreepSegment:
     hold_s: float
 
 
-def find_creep_segments(t_s, force_n, min_hold_s=5.0, hold_tolerance=0.05, min_load_n=None):
+def find_creep_segments(t_s: npt.ArrayLike, force_n: npt.ArrayLike, min_hold_s: float = 5.0,
+                        hold_tolerance: float = 0.05, min_load_n: Optional[float] = None) -> list[CreepSegment]:
     """Find creep tests (step, hold, release, recovery) in a long force record.
 
     A hold is a run of samples where the (median-filtered) force stays within
@@ -86,7 +89,7 @@ def find_creep_segments(t_s, force_n, min_hold_s=5.0, hold_tolerance=0.05, min_l
     # next leaves the baseline (another test of any kind), or to the end.
     pre_n = max(1, int(round(1.0 / dt)))
     off_load = fs - baseline > 0.25 * threshold
-    result = []
+    result: list[CreepSegment] = []
     for i, (start, load, release, run_stop, level, hold_s) in enumerate(segments):
         lo = result[-1].stop if result else 0
         rest = np.flatnonzero(~off_load[run_stop:])
@@ -98,13 +101,14 @@ def find_creep_segments(t_s, force_n, min_hold_s=5.0, hold_tolerance=0.05, min_l
     return result
 
 
-def _runs(mask):
+def _runs(mask: np.ndarray) -> list[slice]:
     """Slices of consecutive True values."""
     edges = np.flatnonzero(np.diff(np.concatenate(([0], mask.astype(np.int8), [0]))))
     return [slice(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2])]
 
 
-def block_average(t_s, *signals, rate_hz=DEFAULT_FIT_RATE_HZ):
+def block_average(t_s: npt.ArrayLike, *signals: npt.ArrayLike,
+                  rate_hz: float = DEFAULT_FIT_RATE_HZ) -> tuple[np.ndarray, ...]:
     """Average consecutive samples in blocks so the record is at most ``rate_hz``.
 
     Returns ``(t_s, *signals)`` decimated (unchanged when already slow enough).
@@ -180,7 +184,8 @@ class Selection:
         return self.fits[0]
 
 
-def _initial_guesses(model_type, t, f, v, segments):
+def _initial_guesses(model_type: type[ViscoelasticModel], t: np.ndarray, f: np.ndarray, v: np.ndarray,
+                     segments: list[CreepSegment]) -> list[np.ndarray]:
     """A few starting points from the first creep segment's shape (compliances in V/N)."""
     seg = segments[0]
     v0 = float(np.median(v[seg.start : max(seg.start + 1, seg.load - 1)]))
@@ -198,7 +203,9 @@ def _initial_guesses(model_type, t, f, v, segments):
     return starts_from_compliance(model_type.kind, j_inst, j_end, slope, (hold_s / 20, hold_s / 6, hold_s / 2), hold_s)
 
 
-def fit_creep(model_type, t_s, force_n, voltage_v, segments=None, fit_rate_hz=DEFAULT_FIT_RATE_HZ):
+def fit_creep(model_type: str | type[ViscoelasticModel], t_s: npt.ArrayLike, force_n: npt.ArrayLike,
+              voltage_v: npt.ArrayLike, segments: Optional[list[CreepSegment]] = None,
+              fit_rate_hz: float = DEFAULT_FIT_RATE_HZ) -> FitResult:
     """Fit one viscoelastic model type to a record with creep segments.
 
     Parameters
@@ -223,7 +230,7 @@ def fit_creep(model_type, t_s, force_n, voltage_v, segments=None, fit_rate_hz=DE
     n = int(use.sum())
     vu = vd[use]
 
-    def residual(log_params):
+    def residual(log_params: np.ndarray) -> np.ndarray:
         model = model_type.from_vector(np.exp(log_params))
         gamma = simulate_deformation(model, td, fd)[use]
         r = vu - gamma
@@ -256,9 +263,9 @@ def fit_creep(model_type, t_s, force_n, voltage_v, segments=None, fit_rate_hz=DE
     )
 
 
-def _rescale_segments(segments, t_full, t_dec):
+def _rescale_segments(segments: Iterable[CreepSegment], t_full: np.ndarray, t_dec: np.ndarray) -> list[CreepSegment]:
     """Map segments from full-rate indices to indices of the decimated record."""
-    def idx(i):
+    def idx(i: int) -> int:
         return int(np.clip(np.searchsorted(t_dec, t_full[min(i, t_full.size - 1)]), 0, t_dec.size - 1))
 
     return [
@@ -267,7 +274,8 @@ def _rescale_segments(segments, t_full, t_dec):
     ]
 
 
-def _prepare(t_s, force_n, voltage_v, segments):
+def _prepare(t_s: npt.ArrayLike, force_n: npt.ArrayLike, voltage_v: npt.ArrayLike,
+             segments: Optional[list[CreepSegment]]) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[CreepSegment]]:
     """Validated float arrays and the creep segments (found when not given)."""
     t, f, v = (np.asarray(a, dtype=float) for a in (t_s, force_n, voltage_v))
     _check_record(t, f, v)
@@ -278,7 +286,7 @@ def _prepare(t_s, force_n, voltage_v, segments):
     return t, f, v, segments
 
 
-def _check_record(t, f, v):
+def _check_record(t: np.ndarray, f: np.ndarray, v: np.ndarray) -> None:
     if not (t.shape == f.shape == v.shape) or t.ndim != 1:
         raise ValueError("time, force and voltage must be 1-D arrays of equal length")
     bad = ~(np.isfinite(t) & np.isfinite(f) & np.isfinite(v))
@@ -288,8 +296,10 @@ def _check_record(t, f, v):
         raise ValueError("record time goes backwards; sort it first")
 
 
-def select_model(t_s, force_n, voltage_v, candidates=("maxwell", "kelvin", "zener", "burgers"), segments=None,
-                 fit_rate_hz=DEFAULT_FIT_RATE_HZ, progress=None):
+def select_model(t_s: npt.ArrayLike, force_n: npt.ArrayLike, voltage_v: npt.ArrayLike,
+                 candidates: Iterable[str] = ("maxwell", "kelvin", "zener", "burgers"),
+                 segments: Optional[list[CreepSegment]] = None, fit_rate_hz: float = DEFAULT_FIT_RATE_HZ,
+                 progress: Optional[Callable[[str], object]] = None) -> Selection:
     """Fit every candidate and rank them by BIC (best first).
 
     progress: optional callable ``progress(name)`` called before each fit.

@@ -1,24 +1,27 @@
 """Error metrics between a reference force and an estimate (both in N, same samples)."""
 from __future__ import annotations
 
+from typing import Optional
+
 import numpy as np
+import numpy.typing as npt
 
 __all__ = ["rmse", "max_abs_error", "r_squared", "error_summary", "hysteresis_percent", "step_response",
     "sine_component", "bandwidth_3db", "resolution_changes"]
 
 
-def rmse(reference, estimate) -> float:
+def rmse(reference: npt.ArrayLike, estimate: npt.ArrayLike) -> float:
     """Root-mean-square error, in the unit of the inputs."""
     d = np.asarray(estimate, dtype=float) - np.asarray(reference, dtype=float)
     return float(np.sqrt(np.mean(d * d)))
 
 
-def max_abs_error(reference, estimate) -> float:
+def max_abs_error(reference: npt.ArrayLike, estimate: npt.ArrayLike) -> float:
     """Largest absolute difference between ``estimate`` and ``reference`` (their unit, e.g. N)."""
     return float(np.max(np.abs(np.asarray(estimate, dtype=float) - np.asarray(reference, dtype=float))))
 
 
-def r_squared(reference, estimate) -> float:
+def r_squared(reference: npt.ArrayLike, estimate: npt.ArrayLike) -> float:
     """Coefficient of determination of ``estimate`` as a prediction of ``reference``.
 
     1 - SS_res / SS_tot with SS_tot about the reference mean (the definition
@@ -30,7 +33,7 @@ def r_squared(reference, estimate) -> float:
     return float(1.0 - (res @ res) / (tot @ tot))
 
 
-def error_summary(reference, estimate) -> dict:
+def error_summary(reference: npt.ArrayLike, estimate: npt.ArrayLike) -> dict:
     """RMSE (N), largest error (N) and R^2 of a force estimate against the reference force."""
     return {
         "rmse_n": rmse(reference, estimate),
@@ -39,7 +42,7 @@ def error_summary(reference, estimate) -> dict:
     }
 
 
-def hysteresis_percent(input_signal, output_signal, grid_points=97) -> float:
+def hysteresis_percent(input_signal: npt.ArrayLike, output_signal: npt.ArrayLike, grid_points: int = 97) -> float:
     """Hysteresis of one loading/unloading cycle, normalised as in seed 000 (Fig. 11).
 
     Input and output are divided by their maxima; the cycle is split at the
@@ -55,14 +58,15 @@ def hysteresis_percent(input_signal, output_signal, grid_points=97) -> float:
         raise ValueError("hysteresis needs a loading and an unloading branch")
     grid = np.linspace(0.02, 0.98, grid_points) * u[peak]
 
-    def branch(us, ys):
+    def branch(us: np.ndarray, ys: np.ndarray) -> np.ndarray:
         order = np.argsort(us, kind="stable")
         return np.interp(grid, us[order], ys[order])
 
     return float(100.0 * np.max(np.abs(branch(u[peak:], y[peak:]) - branch(u[: peak + 1], y[: peak + 1]))))
 
 
-def step_response(t_s, y, t_step_s, final_value, settle_band=0.02):
+def step_response(t_s: npt.ArrayLike, y: npt.ArrayLike, t_step_s: float, final_value: float,
+                  settle_band: float = 0.02) -> dict[str, float]:
     """10-90 % rise time and settling time (s) of a step of size ``final_value`` at ``t_step_s``.
 
     Settling: time after the step from which |y - final| stays within
@@ -85,7 +89,7 @@ def step_response(t_s, y, t_step_s, final_value, settle_band=0.02):
     return {"rise_time_s": rise, "settling_time_s": settle}
 
 
-def sine_component(t_s, y, freq_hz, trend=False):
+def sine_component(t_s: npt.ArrayLike, y: npt.ArrayLike, freq_hz: float, trend: bool = False) -> tuple[float, float]:
     """Amplitude and phase (rad) of the ``freq_hz`` component by least squares.
 
     The regression includes a constant and, with ``trend``, a linear drift
@@ -98,7 +102,7 @@ def sine_component(t_s, y, freq_hz, trend=False):
     return float(np.hypot(coef[0], coef[1])), float(np.arctan2(coef[1], coef[0]))
 
 
-def bandwidth_3db(freqs_hz, magnitude_db, reference_db=None):
+def bandwidth_3db(freqs_hz: npt.ArrayLike, magnitude_db: npt.ArrayLike, reference_db: Optional[float] = None) -> float:
     """Lowest frequency (Hz) where the magnitude falls 3 dB below the reference.
 
     The reference is the magnitude at the lowest frequency unless given. The
@@ -119,7 +123,8 @@ def bandwidth_3db(freqs_hz, magnitude_db, reference_db=None):
     return float(10 ** (x0 + frac * (x1 - x0)))
 
 
-def resolution_changes(t_s, y, start_s, half_period_s, cycles, window_s=40.0, sample_period_s=0.1):
+def resolution_changes(t_s: npt.ArrayLike, y: npt.ArrayLike, start_s: float, half_period_s: float, cycles: int,
+                       window_s: float = 40.0, sample_period_s: float = 0.1) -> np.ndarray:
     """Detected changes of the resolution test (seed 000, Fig. 13-14), as samples.
 
     Each cycle (low half, then high half of a square wave starting at

@@ -55,19 +55,23 @@ class PreisachModel:
 
     @property
     def n_levels(self) -> int:
+        """Number n of input levels (the density is n x n)."""
         return self.density.shape[0]
 
     @property
     def n_hysterons(self) -> int:
+        """Number of relays, n (n + 1) / 2."""
         n = self.n_levels
         return n * (n + 1) // 2
 
     @property
     def edges(self) -> np.ndarray:
+        """The n + 1 level edges e_0 = u_min < ... < e_n = u_max, evenly spaced (input unit)."""
         return np.linspace(self.u_min, self.u_max, self.n_levels + 1)
 
     @property
     def level_step(self) -> float:
+        """Width of one level, (u_max - u_min) / n (input unit)."""
         return (self.u_max - self.u_min) / self.n_levels
 
     def forward(self, u):
@@ -81,12 +85,18 @@ class PreisachModel:
         return ContinuousPreisachStream(self) if continuous else PreisachStream(self)
 
     def to_dict(self):
+        """Plain (JSON-ready) dict: u_min, u_max, n_levels, offset and the n (n + 1) / 2 lower-triangular
+        density values as a flat list in row-major (``np.tril_indices``) order.
+        """
         i, j = np.tril_indices(self.n_levels)
         return {"u_min": float(self.u_min), "u_max": float(self.u_max), "n_levels": self.n_levels,
                 "offset": float(self.offset), "density": [float(v) for v in self.density[i, j]]}
 
     @classmethod
     def from_dict(cls, d):
+        """The model from a :meth:`to_dict` dict; ValueError if ``density`` does not hold
+        n (n + 1) / 2 values for ``n_levels``.
+        """
         n = int(d["n_levels"])
         values = np.asarray(d["density"], dtype=float)
         if values.size != n * (n + 1) // 2:
@@ -201,6 +211,7 @@ class PreisachStream:
             self._candidates()
 
     def forward(self, u: float) -> float:
+        """Move the input to ``u`` (input unit), switching relays as needed; returns the discrete output (output unit)."""
         n = self.model.n_levels
         pos = (u - self.model.u_min) / self._step
         self._move_up(min(max(int(np.floor(pos)), 0), n))  # relays with e_{i+1} <= u switch up
@@ -209,6 +220,12 @@ class PreisachStream:
         return self.y
 
     def inverse(self, y_target: float) -> float:
+        """CMA inverse: the input (input unit) that gives the output closest to ``y_target``.
+
+        Searches the edges reachable from the current state in the direction of
+        ``y_target`` and moves the state there. Returns the previous input when
+        ``y_target`` equals the current output or the nearest candidate switches no relay.
+        """
         if y_target == self.y:
             return self.u
         if y_target > self.y:
@@ -254,6 +271,7 @@ class ContinuousPreisachStream:
         self.reset()
 
     def reset(self):
+        """All ramps at -1 (relays down), input at u_min, output offset - sum(density)."""
         self.r = np.where(self._tril, -1.0, 0.0)
         self.u = self.model.u_min
         self.y = self.model.offset - float(self._w.sum())
@@ -262,6 +280,7 @@ class ContinuousPreisachStream:
         return -1.0 + 2.0 * np.clip((u - self._e[:-1]) / self._h, 0.0, 1.0)
 
     def forward(self, u: float) -> float:
+        """Move the input to ``u`` (input unit), updating the ramps; returns the continuous output (output unit)."""
         f = self._ramps(u)
         self.r = np.minimum(np.maximum(self.r, f[:, None]), f[None, :]) * self._tril
         self.u = u
@@ -269,6 +288,12 @@ class ContinuousPreisachStream:
         return self.y
 
     def inverse(self, y_target: float) -> float:
+        """Exact inverse: the input (input unit) whose output, from the current state, equals ``y_target``.
+
+        The state is moved there (as :meth:`forward`). A target beyond reach is clamped
+        to u_max (rising) or u_min (falling); if ``y_target`` equals the current output
+        the current input is returned and nothing changes.
+        """
         n = self.model.n_levels
         if y_target > self.y:
             deficit = (self._w * (1.0 - self.r)).sum(axis=1)  # what each row adds when fully up

@@ -23,8 +23,10 @@ g p is a combination of p and p^2 and k1 is lost too).
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import Iterable, Optional
 
 import numpy as np
+import numpy.typing as npt
 from scipy import optimize, signal
 
 from .chain import SensorLagElement
@@ -54,25 +56,26 @@ class PatchSensor:
     a_eff_m2: float = 9.0e-4
     braid_m: float = 0.1277
 
-    def geometry(self, length_m):
+    def geometry(self, length_m: npt.ArrayLike) -> np.ndarray:
         """g = 3 (L / b)^2 - 1 (eq. 8)."""
         return 3.0 * (np.asarray(length_m) / self.braid_m) ** 2 - 1.0
 
-    def patch_force(self, t_s, pressure_pa, length_m):
+    def patch_force(self, t_s: npt.ArrayLike, pressure_pa: npt.ArrayLike, length_m: npt.ArrayLike) -> np.ndarray:
         """Eq. 9: patch force in N; p' by finite differences of the sampled pressure."""
         p = np.asarray(pressure_pa, dtype=float)
         dp = np.gradient(p, np.asarray(t_s, dtype=float)) if p.size > 1 else np.zeros_like(p)
         g = self.geometry(length_m)
         return self.a_eff_m2 * (self.c0_pa + (self.k0 + self.k1 * g) * p + self.c2_per_pa * p * p + self.c3_s * dp)
 
-    def voltage(self, t_s, force_n):
+    def voltage(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike) -> np.ndarray:
         """Eq. 11: tau V' + V = kappa F + b, started at rest (V = b + kappa F(0))."""
         f = np.asarray(force_n, dtype=float)
         lag = SensorLagElement(tau_s=self.tau_s)
         drive = self.kappa_v_per_n * f
         return self.b_v + drive[0] + lag.forward(t_s, drive - drive[0])
 
-    def force_from_voltage(self, t_s, voltage_v, cutoff_hz=None):
+    def force_from_voltage(self, t_s: npt.ArrayLike, voltage_v: npt.ArrayLike,
+                           cutoff_hz: Optional[float] = None) -> np.ndarray:
         """Inverse of eq. 11: F = (V + tau V' - b) / kappa, optionally low-passed (causal, 2nd order).
 
         The inverse differentiates, so it amplifies noise by about tau / h; a
@@ -91,7 +94,8 @@ class PatchSensor:
         return 1.0 / (2 * np.pi * self.tau_s)
 
 
-def inversion_bode(sensor: PatchSensor, freqs_hz, cutoff_hz=50.0, mean_n=200.0, amplitude_n=100.0, rate_hz=1e4):
+def inversion_bode(sensor: PatchSensor, freqs_hz: Iterable[float], cutoff_hz: float = 50.0, mean_n: float = 200.0,
+                   amplitude_n: float = 100.0, rate_hz: float = 1e4) -> tuple[np.ndarray, np.ndarray]:
     """Magnitudes (dB re. the applied force) of the raw reading (V - b) / kappa and of the inverse.
 
     A sine of ``amplitude_n`` around ``mean_n`` per frequency, judged on the
@@ -115,7 +119,8 @@ def inversion_bode(sensor: PatchSensor, freqs_hz, cutoff_hz=50.0, mean_n=200.0, 
 _FITTED = ("c2_per_pa", "c3_s", "k0", "k1", "tau_s", "b_v")
 
 
-def identify_patch_sensor(t_s, pressure_pa, length_m, voltage_v, fixed: PatchSensor):
+def identify_patch_sensor(t_s: npt.ArrayLike, pressure_pa: npt.ArrayLike, length_m: npt.ArrayLike,
+                          voltage_v: npt.ArrayLike, fixed: PatchSensor) -> tuple[PatchSensor, float, float]:
     """Joint nonlinear least squares of eq. 12 (seed 002 Sect. 4.1).
 
     ``fixed`` supplies kappa, A_eff, c0 and the braid length (held, see the
@@ -126,11 +131,11 @@ def identify_patch_sensor(t_s, pressure_pa, length_m, voltage_v, fixed: PatchSen
     x0 = np.array([getattr(fixed, k) for k in _FITTED])
     scale = np.where(x0 != 0, np.abs(x0), 1.0)
 
-    def model(x):
+    def model(x: np.ndarray) -> tuple[PatchSensor, np.ndarray]:
         sensor = replace(fixed, **dict(zip(_FITTED, x * scale)))
         return sensor, sensor.voltage(t, sensor.patch_force(t, pressure_pa, length_m))
 
-    def residual(x):
+    def residual(x: np.ndarray) -> np.ndarray:
         if x[_FITTED.index("tau_s")] <= 0:
             return np.full(v.size, 1e3)
         return model(x)[1] - v
@@ -172,7 +177,7 @@ class PneumaticMuscle:
     knee_amplitude_m: float = 0.006
     knee_period_s: float = 13.0
 
-    def valves(self, t_s):
+    def valves(self, t_s: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Inlet and outlet commands (bool arrays) of the cyclic schedule: rest, fill, hold, exhaust."""
         period = self.t_rest_s + self.t_in_s + self.t_hold_s + self.t_out_s
         phase = np.mod(np.asarray(t_s, dtype=float), period) - self.t_rest_s
@@ -180,7 +185,7 @@ class PneumaticMuscle:
         outlet = (phase >= self.t_in_s + self.t_hold_s) | (phase < 0)
         return inlet, outlet
 
-    def simulate(self, t_s):
+    def simulate(self, t_s: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Chamber pressure (Pa, clamped gauge reading) and muscle length (m) over ``t_s``."""
         t = np.asarray(t_s, dtype=float)
         inlet, outlet = self.valves(t)
@@ -201,7 +206,7 @@ class PneumaticMuscle:
         return gauge_kpa * 1e3, length
 
 
-def linear_summary(pressure_pa, force_n):
+def linear_summary(pressure_pa: npt.ArrayLike, force_n: np.ndarray) -> dict[str, float]:
     """Least-squares line F = slope * p[kPa] + intercept and its R^2 (the paper's eq. 13 form)."""
     p_kpa = np.asarray(pressure_pa) / 1e3
     slope, intercept = np.polyfit(p_kpa, force_n, 1)

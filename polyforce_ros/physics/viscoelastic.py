@@ -120,23 +120,29 @@ class ViscoelasticModel:
 
     @classmethod
     def parameter_names(cls) -> tuple[str, ...]:
+        """The names of the model's parameters (its dataclass fields, units in their names), in field order."""
         return tuple(f.name for f in fields(cls))
 
     def as_dict(self) -> dict[str, float]:
+        """The model's parameters as ``{name: value}`` floats (units in their names)."""
         return {name: float(getattr(self, name)) for name in self.parameter_names()}
 
     def as_vector(self) -> np.ndarray:
+        """The model's parameters in the order of parameter_names() (units in their names)."""
         return np.array([getattr(self, n) for n in self.parameter_names()], dtype=float)
 
     @classmethod
     def from_vector(cls, values):
+        """The model built from parameter values in the order of parameter_names() (inverse of as_vector)."""
         return cls(*(float(v) for v in values))
 
     # Subclasses implement these two.
     def compliance(self) -> CreepCompliance:  # pragma: no cover - abstract
+        """The creep compliance J(t) as a Prony series in V/N; implemented by each subclass."""
         raise NotImplementedError
 
     def relaxation(self) -> RelaxationModulus:  # pragma: no cover - abstract
+        """The relaxation modulus G(t) as exponentials in N/V; implemented by each subclass."""
         raise NotImplementedError
 
     def creep_compliance(self, t_s):
@@ -163,9 +169,11 @@ class Elastic(ViscoelasticModel):
     k_n_per_v: float
 
     def compliance(self):
+        """J(t) = 1/k in V/N, constant."""
         return CreepCompliance(1.0 / self.k_n_per_v)
 
     def relaxation(self):
+        """G(t) = k in N/V, constant."""
         return RelaxationModulus(self.k_n_per_v)
 
 
@@ -179,9 +187,11 @@ class Maxwell(ViscoelasticModel):
     eta_n_s_per_v: float
 
     def compliance(self):
+        """J(t) = 1/k + t/eta in V/N (unbounded creep)."""
         return CreepCompliance(1.0 / self.k_n_per_v, fluidity_v_per_n_s=1.0 / self.eta_n_s_per_v)
 
     def relaxation(self):
+        """G(t) = k exp(-(k/eta) t) in N/V, relaxing to 0."""
         # eta/k F' + F = eta gamma'  ->  root r = k/eta, G(0) = k, G(inf) = 0.
         a, r = _relaxation_from_ode([self.eta_n_s_per_v / self.k_n_per_v, -1.0], self.k_n_per_v, None)
         return RelaxationModulus(0.0, a, r)
@@ -197,9 +207,11 @@ class KelvinVoigt(ViscoelasticModel):
     eta_n_s_per_v: float
 
     def compliance(self):
+        """J(t) = (1/k) (1 - exp(-t k/eta)) in V/N, no instantaneous compliance."""
         return CreepCompliance(0.0, (1.0 / self.k_n_per_v,), (self.eta_n_s_per_v / self.k_n_per_v,))
 
     def relaxation(self):
+        """G(t) = k + eta delta(t): g_inf = k (N/V) and an impulse term eta (N s/V), no exponentials."""
         # F = k gamma + eta gamma': G(t) = k + eta delta(t), no exponential term.
         return RelaxationModulus(self.k_n_per_v, eta_impulse_n_s_per_v=self.eta_n_s_per_v)
 
@@ -215,11 +227,13 @@ class Zener(ViscoelasticModel):
     eta2_n_s_per_v: float
 
     def compliance(self):
+        """J(t) = 1/k1 + (1/k2) (1 - exp(-t k2/eta2)) in V/N."""
         return CreepCompliance(
             1.0 / self.k1_n_per_v, (1.0 / self.k2_n_per_v,), (self.eta2_n_s_per_v / self.k2_n_per_v,)
         )
 
     def relaxation(self):
+        """G(t) in N/V: one exponential of rate (k1 + k2)/eta2 (1/s) from G(0) = k1 to G(inf) = k1 k2/(k1 + k2)."""
         k1, k2, eta2 = self.k1_n_per_v, self.k2_n_per_v, self.eta2_n_s_per_v
         # (eta2/k1) F' + (1 + k2/k1) F = k2 gamma + eta2 gamma' with gamma fixed:
         # root r = (k1 + k2)/eta2, G(0) = k1, G(inf) = k1 k2/(k1 + k2).
@@ -240,6 +254,7 @@ class Burgers(ViscoelasticModel):
     eta2_n_s_per_v: float
 
     def compliance(self):
+        """J(t) = 1/k1 + t/eta1 + (1/k2) (1 - exp(-t k2/eta2)) in V/N (eq. 4)."""
         return CreepCompliance(
             1.0 / self.k1_n_per_v,
             (1.0 / self.k2_n_per_v,),
@@ -252,6 +267,9 @@ class Burgers(ViscoelasticModel):
         return self.eta2_n_s_per_v / self.k2_n_per_v
 
     def relaxation(self):
+        """G(t) in N/V: two exponentials whose rates (1/s) are the roots of eq. 8, with G(0) = k1,
+        G'(0) = -k1^2 (1/eta1 + 1/eta2) and G(inf) = 0.
+        """
         k1, k2 = self.k1_n_per_v, self.k2_n_per_v
         eta1, eta2 = self.eta1_n_s_per_v, self.eta2_n_s_per_v
         # Eq. 8: (eta2/k1) r^2 - (1 + k2/k1 + eta2/eta1) r + k2/eta1 = 0,
@@ -301,9 +319,14 @@ class Zener2(ViscoelasticModel):
     eta3_n_s_per_v: float
 
     def compliance(self):
+        """J(t) = 1/k1 + sum over the two Kelvin elements of (1/k_i) (1 - exp(-t k_i/eta_i)) in V/N."""
         return _two_kelvin_compliance(self)
 
     def relaxation(self):
+        """G(t) in N/V from the compliance via Laplace (two exponentials, G(inf) = static stiffness).
+
+        Raises ValueError if the rates come out complex or non-negative.
+        """
         return _relaxation_from_compliance(self.compliance())
 
 
@@ -332,9 +355,14 @@ class Burgers2(ViscoelasticModel):
     eta3_n_s_per_v: float
 
     def compliance(self):
+        """J(t) = 1/k1 + t/eta1 + sum over the two Kelvin elements of (1/k_i) (1 - exp(-t k_i/eta_i)) in V/N."""
         return _two_kelvin_compliance(self, 1.0 / self.eta1_n_s_per_v)
 
     def relaxation(self):
+        """G(t) in N/V from the compliance via Laplace (exponentials only, G(inf) = 0: a fluid).
+
+        Raises ValueError if the rates come out complex or non-negative.
+        """
         return _relaxation_from_compliance(self.compliance())
 
 
@@ -608,6 +636,7 @@ class StreamingCompensator:
 
     @property
     def last_time_s(self):
+        """Stamp (s) of the last sample processed by step(), or None before the first one and after reset()."""
         return self._conv.t_prev_s if self._ar else self._t_prev_s
 
     def step(self, t_s: float, deformation_v: float, aux=None):

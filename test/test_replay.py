@@ -88,10 +88,13 @@ def test_timed_replay_with_nobody_answering_is_not_a_loss():
         replay = h.add(ReplayNode(context=h.context, parameter_overrides=[
             Parameter("bag_path", value=str(path)), Parameter("start_delay_s", value=0.2),
             Parameter("rate_factor", value=20.0), Parameter("pace_timeout_s", value=0.05)]))
-        assert h.spin_until(lambda: len(raw) >= 500, 30.0)
+        assert h.spin_until(lambda: replay.done, 60.0)   # the whole replay, however fast the machine
         status = replay._publish_diagnostics()
-    assert replay.unanswered == 0 and replay.answered == 0
-    assert status.level == DiagnosticStatus.OK and "not tracked" in status.message
+        replay.done = False                                 # what it says while replaying
+        running = replay._publish_diagnostics()
+    assert raw and replay.unanswered == 0 and replay.answered == 0 and not replay._tracking
+    assert "not answered" not in status.message and status.message == "finished"
+    assert running.level == DiagnosticStatus.OK and "not tracked" in running.message
 
 
 def test_answer_tracker_settles_dropped_and_expired_samples():

@@ -47,9 +47,10 @@ def test_sim_backend_contract_values_and_rate():
         raw, ref = list(lis.raw), list(lis.ref)
         assert any(d.status[0].level == DiagnosticStatus.OK for d in lis.diags)
     # The rate is in the stamps (exactly 1 kHz, below, and none missing); that the driver keeps real
-    # time is checked with room for a loaded machine's stalls (a receive-rate count over 1.5 s was not).
+    # time is checked with room for a loaded machine's stalls and delivery lag on both ends of the
+    # window (a receive-rate count over 1.5 s was not).
     span_s = (stamp_to_ns(raw[-1].header.stamp) - stamp_to_ns(raw[n_start].header.stamp)) * 1e-9
-    assert wall_s - 0.75 < span_s < wall_s + 0.05
+    assert abs(span_s - wall_s) < 0.75
     assert {tuple(m.name) for m in raw} == {("sarrus_axial",)}
     assert {m.header.frame_id for m in raw} == {"polyforce_sensor"}
     stamps = np.array([stamp_to_ns(m.header.stamp) for m in raw])

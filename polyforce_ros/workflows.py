@@ -166,7 +166,7 @@ def compensate_bag(in_path: str | Path, out_path: str | Path, model: SensorModel
     if not used.any():
         raise bags.BagError(f"{in_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
     warnings = list(bag.warnings) + runtime_warnings(compensator.counts)
-    if aux is None and any(e.kind in ("thermal_drift", "thermal_lag") for e in model.chain.elements):
+    if aux is None and model.chain.needs_temperature:
         warnings.append(f"the model follows temperature but {in_path} holds no {contract.TEMPERATURE}: not corrected")
     with bags.BagWriter(out_path, directory=directory) as writer:
         bags.copy_messages(in_path, writer)  # survives truncation and corrupt chunks, like read_bag

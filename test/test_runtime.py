@@ -332,3 +332,13 @@ def test_a_chain_and_its_elements_cannot_be_changed_in_place():
     with pytest.raises(AttributeError):
         preisach.u_max = 20.0
     assert chain.with_offset(0.2).offset_v == 0.2 and chain.offset_v == 0.1
+
+
+def test_every_element_that_follows_temperature_makes_the_chain_need_it():
+    """One rule (SensorChain.needs_temperature) for the node's WARN and the offline warning: lag included."""
+    from polyforce_ros.physics.chain import ThermalDriftElement, ThermalLagElement
+
+    core = SensorChain.from_model(PAPER_BURGERS, offset_v=0.0).elements
+    assert not SensorChain(core).needs_temperature
+    assert SensorChain([*core, ThermalDriftElement(coefficient_v_per_c=0.01, reference_c=24.0)]).needs_temperature
+    assert SensorChain([*core, ThermalLagElement(coefficient_v_per_c=0.01, reference_c=24.0, tau_s=30.0)]).needs_temperature

@@ -113,7 +113,7 @@ class _CompensationLogic(PolyforceNode):
         model = load_model(path)
         self.model, self._model_path = model, path
         self._model_mtime = _mtime(path)
-        self._needs_temperature = any(e.kind == "thermal_drift" for e in model.chain.elements)
+        self._needs_temperature = model.chain.needs_temperature
         if self.compensator is None:
             config = CompensatorConfig(**{name: self.p[name] for name in CompensatorConfig.names()})
             self.compensator = Compensator(model.chain, config)
@@ -268,7 +268,7 @@ class _CompensationLogic(PolyforceNode):
         if self._stale:
             level, message = ERROR, "no valid input: publishing zero force"
         elif self._needs_temperature and self._aux["temperature_c"] is None:
-            level, message = WARN, "model has a thermal_drift element but no temperature received: not corrected"
+            level, message = WARN, "model follows temperature but no temperature received: not corrected"
         elif self.compensator.counts["auto_tare_refused"] and self.compensator.auto_tare_status.startswith("not"):
             level, message = WARN, self.compensator.auto_tare_status
         elif self._model_error:

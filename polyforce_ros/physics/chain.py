@@ -1169,6 +1169,11 @@ class SensorChain:
         return OffsetElement(0.0)
 
     @property
+    def needs_temperature(self) -> bool:
+        """Whether an element follows temperature (``aux['temperature_c']``, degC): without it, it is not corrected."""
+        return any(isinstance(e, (ThermalDriftElement, ThermalLagElement)) for e in self.elements)
+
+    @property
     def offset_v(self) -> float:
         """Bridge output at zero force, V (0 without an offset element)."""
         return self.offset.voltage_v

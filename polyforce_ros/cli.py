@@ -25,7 +25,7 @@ from .physics.chain import ModelError
 from .physics.metrics import error_summary
 from .sim import profiles
 from .sim.sensor import BridgeSimulator
-from .workflows import static_and_compensated, tare_offset_v
+from .workflows import compensate_record
 
 def _print_row(profile, label, e):
     print(f"{profile:<18} {label:<12} {e['rmse_n']:9.4f} {e['max_abs_n']:11.4f} {e['r2']:7.4f}")
@@ -50,10 +50,10 @@ def cmd_simulate(args) -> int:
         truth.reset()
         t, f = profiles.make_profile(name, rate_hz=args.rate, seed=args.seed)
         v = truth.simulate(t, f)
-        static, compensated = static_and_compensated(model.chain, t, v, tare_offset_v(t, v))
-        _print_row(name, "static gain", error_summary(f, static))
-        _print_row(name, "compensated", error_summary(f, compensated))
-        ok &= bool(np.all(np.isfinite(compensated)))
+        used, static, compensated, _ = compensate_record(model.chain, t, v)
+        _print_row(name, "static gain", error_summary(f[used], static[used]))
+        _print_row(name, "compensated", error_summary(f[used], compensated[used]))
+        ok &= bool(used.all())
     return 0 if ok else 1
 
 

@@ -3,11 +3,12 @@
 * :func:`calibrate_bag`: creep bag -> fitted, selected model -> YAML, never
   replacing a good model by a failed or worse one;
 * :func:`compensate_bag`: copy a bag and add the compensated ``wrench`` topic;
+* :func:`compensate_record`: a record through the runtime, beside static gain;
 * :func:`clean_samples`: the runtime's sample rules as a mask (for records).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Callable, Iterable, Mapping, Optional, Sequence, cast
 
@@ -24,7 +25,7 @@ from .record import load_record
 from .runtime import Compensator, CompensatorConfig, SampleGate
 from .runtime.compensator import WARN_COUNTERS
 
-__all__ = ["clean_samples", "TARE_WINDOW_S", "tare_offset_v", "static_and_compensated", "CalibrationResult",
+__all__ = ["clean_samples", "static_and_compensated", "compensate_record", "CalibrationResult",
     "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "latest_before", "runtime_warnings"]
 
 
@@ -39,25 +40,85 @@ def clean_samples(stamp_ns: npt.ArrayLike, values: npt.ArrayLike, receive_ns: Op
     return SampleGate(config).mask(stamp_ns, values, receive_ns)
 
 
-#: Seconds at the start of a record over which the unloaded bridge output is averaged (tare).
-TARE_WINDOW_S = 0.5
-
-
-def tare_offset_v(t_s: npt.ArrayLike, voltage_v: npt.ArrayLike, window_s: float = TARE_WINDOW_S) -> float:
-    """Bridge offset estimated as the mean output over the first ``window_s`` (sensor unloaded)."""
-    t = np.asarray(t_s)
-    return float(np.mean(np.asarray(voltage_v)[t - t[0] <= window_s]))
-
-
 def static_and_compensated(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarray,
                            offset_v: float) -> tuple[np.ndarray, np.ndarray]:
-    """Force (N) read by static gain and by the chain's inverse, both with bridge offset ``offset_v``.
+    """Force read by static gain and by the chain's inverse, for a known bridge offset (model evaluation).
 
-    The chain itself is not changed. Returns ``(static_n, compensated_n)``.
+    The paper experiments use it: the offset is known there and no sample policy
+    applies. Records and simulated runs go through :func:`compensate_record`.
+
+    Parameters
+    ----------
+    chain : SensorChain
+        Sensor model; not changed.
+    t_s : (n,) ndarray
+        Sample times [s].
+    voltage_v : (n,) ndarray
+        Bridge output [V].
+    offset_v : float
+        Bridge output at zero force [V].
+
+    Returns
+    -------
+    static_n, compensated_n : (n,) ndarray
+        Force [N] by static gain and by the chain's inverse.
     """
     chain = chain.with_offset(offset_v)
     static = (np.asarray(voltage_v) - offset_v) / chain.static_gain_v_per_n()
     return static, chain.backward(t_s, voltage_v)
+
+
+def compensate_record(chain: SensorChain, t_s: npt.ArrayLike, voltage_v: npt.ArrayLike,
+                      temperature_c: Optional[npt.ArrayLike] = None,
+                      config: CompensatorConfig = CompensatorConfig()) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """What the compensation node outputs for a record once zeroed, beside the static-gain reading.
+
+    Two passes through the runtime's :class:`Compensator`, with the record's
+    times as both stamps and receive clock: the first finds the bridge offset by
+    the node's auto-tare rule (the mean of the first ``auto_tare_s`` if the
+    sensor rests there, else the model's offset); the second runs the whole
+    record with that offset and auto-tare off, as a sensor that was zeroed at
+    rest before the record. The static reading uses the same offset, so both
+    methods are zeroed the same way.
+
+    Parameters
+    ----------
+    chain : SensorChain
+        Sensor model; not changed.
+    t_s : (n,) array_like
+        Sample times [s], increasing.
+    voltage_v : (n,) array_like
+        Bridge output [V].
+    temperature_c : (n,) array_like, optional
+        Sensor temperature [degC] per sample (thermal models); NaN = none yet.
+    config : CompensatorConfig
+        The sample policy (the node's defaults unless given).
+
+    Returns
+    -------
+    used : (n,) ndarray of bool
+        Samples that gave a force.
+    static_n, compensated_n : (n,) ndarray
+        Force [N] by static gain and by the compensator; NaN where not used.
+    offset_v : float
+        Bridge output at zero force used [V].
+    """
+    t = np.asarray(t_s, dtype=float)
+    volts = np.asarray(voltage_v, dtype=float)
+    stamp_ns = np.round((t - t[0]) * 1e9).astype(np.int64) if t.size else np.zeros(0, dtype=np.int64)
+    aux = None if temperature_c is None else {"temperature_c": temperature_c}
+    offset_v = chain.offset_v
+    if config.auto_tare:
+        # the decision falls on the first used sample auto_tare_s after the first; a second more covers
+        # dropped or jittered samples at the start without running the whole record twice
+        window = stamp_ns <= round((config.auto_tare_s + 1.0) * 1e9)
+        zeroing = Compensator(chain, config)
+        zeroing.run(stamp_ns[window], volts[window])
+        offset_v = zeroing.offset_v
+    compensator = Compensator(chain.with_offset(offset_v), replace(config, auto_tare=False))
+    used, force = compensator.run(stamp_ns, volts, aux=aux)
+    static = (volts - offset_v) / chain.static_gain_v_per_n()
+    return used, np.where(used, static, np.nan), np.where(used, force, np.nan), offset_v
 
 
 @dataclass

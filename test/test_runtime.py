@@ -342,3 +342,41 @@ def test_every_element_that_follows_temperature_makes_the_chain_need_it():
     assert not SensorChain(core).needs_temperature
     assert SensorChain([*core, ThermalDriftElement(coefficient_v_per_c=0.01, reference_c=24.0)]).needs_temperature
     assert SensorChain([*core, ThermalLagElement(coefficient_v_per_c=0.01, reference_c=24.0, tau_s=30.0)]).needs_temperature
+
+
+def _rest_then_load(offset_v=0.05, n=3000, seed=3):
+    """1 kHz: 0.8 s at rest on ``offset_v``, then a 2 N ramp-and-hold through the paper's Burgers sensor."""
+    t = np.arange(n) * 1e-3
+    force = np.clip((t - 0.8) * 4.0, 0.0, 2.0)
+    volts = SensorChain.from_model(PAPER_BURGERS, offset_v=offset_v).forward(t, force)
+    return t, force, volts + np.random.default_rng(seed).normal(0, 1e-3, n)
+
+
+def test_a_record_is_compensated_by_the_runtime_zeroed_by_its_auto_tare_rule():
+    from polyforce_ros.workflows import compensate_record
+
+    t, force, volts = _rest_then_load()
+    used, static, comp, offset = compensate_record(CHAIN, t, volts)
+    zeroing = Compensator(CHAIN)
+    _feed(zeroing, volts[:1200])
+    assert offset == zeroing.tare_offset_v and offset == pytest.approx(0.05, abs=3e-4)
+    stamps = np.round(t * 1e9).astype(np.int64)
+    node = Compensator(CHAIN.with_offset(offset), CompensatorConfig(auto_tare=False))
+    expected = [node.step(int(s), float(v), int(s)) for s, v in zip(stamps, volts)]
+    assert used.all() and comp.tolist() == expected  # the node's rule, bit for bit
+    assert np.abs(comp - force).max() < 0.05
+    assert static == pytest.approx((volts - offset) / CHAIN.static_gain_v_per_n())
+
+
+def test_a_record_that_starts_loaded_keeps_the_model_offset_and_a_spike_is_dropped():
+    from polyforce_ros.workflows import compensate_record
+
+    t, force, volts = _rest_then_load(offset_v=0.0)
+    loaded = volts + 0.5  # ~2.4 N from the first sample: no rest to zero on
+    used, static, comp, offset = compensate_record(CHAIN, t, loaded)
+    assert offset == CHAIN.offset_v == 0.0 and used.all()
+    volts[1700] = 1e12
+    used, static, comp, offset = compensate_record(CHAIN, t, volts)
+    assert not used[1700] and used.sum() == t.size - 1
+    assert np.isnan(comp[1700]) and np.isnan(static[1700])
+    assert np.isfinite(comp[used]).all() and np.abs(comp[used] - force[used]).max() < 0.05

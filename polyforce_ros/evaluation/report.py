@@ -14,7 +14,7 @@ from .. import bags
 from ..model_file import default_model_path, load_model
 from ..physics.metrics import error_summary
 from ..record import load_record
-from ..workflows import static_and_compensated, tare_offset_v
+from ..workflows import compensate_record
 from . import seed000, seed001, seed002
 from .common import Row, Section, Settings, figure, finite_or_text
 
@@ -26,8 +26,11 @@ def evaluate_bag(path, model_path=None) -> Section:
     model = load_model(model_path or default_model_path())
     rec = load_record(path)
     t, force, volts, warnings = rec.t_s, rec.force_n, rec.voltage_v, list(rec.warnings)
-    # tare on the first half second (sensor unloaded), as a user would
-    static, comp = static_and_compensated(model.chain, t, volts, tare_offset_v(t, volts))
+    # what the node would output (auto-tare at start, gate, clamp), beside static gain zeroed the same way
+    used, static, comp, _ = compensate_record(model.chain, t, volts, rec.temperature_c)
+    if not used.all():
+        warnings.append(f"{int((~used).sum())} samples gave no force (see the compensator's rules)")
+    t, force, static, comp = t[used], force[used], static[used], comp[used]
     es, ec = error_summary(force, static), error_summary(force, comp)
     section = Section(f"Recorded bag {Path(path).name}", notes=[f"model: {model_path or default_model_path()}"] + warnings)
     for key, unit in (("rmse_n", "N"), ("max_abs_n", "N"), ("r2", "")):

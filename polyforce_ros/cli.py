@@ -254,7 +254,8 @@ def build_parser():
                     "'unexplained' when no effect is justified but a structured residual remains), effects (each with "
                     "its variant and confidence = share of time blocks it improves), rmse_before/rmse_after (out of "
                     "sample, V), noise_floor_v (estimated from the data), unexplained {present, rms_v, noise_floor_v, "
-                    "where}, skipped (e.g. thermal_drift without a temperature topic), candidates, evidence, model.\n"
+                    "where}, skipped (e.g. thermal_drift without a temperature topic), candidates, evidence, coefficients "
+                    "(each with a block-jackknife standard_error over the folds), model.\n"
                     f"Effects of the catalogue: {', '.join(EFFECT_NAMES)}.")
     dg.add_argument("bag", help="bench bag: bridge_voltage, reference_force, optional temperature")
     dg.add_argument("--base", required=True, choices=list(MODEL_TYPES), help="the core model to start from")

@@ -151,6 +151,9 @@ def test_cli_contract_json_report_and_saved_model(tmp_path):
     assert {"present", "rms_v", "noise_floor_v", "where"} <= set(data["unexplained"])
     assert data["rmse_after"] <= data["rmse_before"] / 3
     assert all({"effect", "rmse", "criterion", "confidence", "step"} <= set(c) for c in data["candidates"])
+    coefficients = data["coefficients"]  # the final fit's, each with its block-jackknife standard error
+    assert "offset" in coefficients and all(np.isfinite(c["value"]) and 0.0 <= c["standard_error"] < np.inf
+                                            for c in coefficients.values())
     text = (report / "report.md").read_text()
     assert all(name in text for name in named) and "confidence" in text
     for fig in ("measured_vs_simulated.png", "residual.png", "localisation.png"):

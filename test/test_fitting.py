@@ -19,6 +19,29 @@ def test_information_criteria_state_their_sample_count():
         fitting.information_criteria(1.0, 0, 1)
 
 
+def test_block_jackknife_standard_errors_match_least_squares_on_white_noise():
+    """Over many records, the jackknife variance of a line's slope and intercept averages to the textbook one
+    when the blocks are drawn at random; contiguous blocks (as in time) make it conservative, never optimistic."""
+    rng = np.random.default_rng(7)
+    n, k, sigma = 1000, 5, 0.1
+    x = np.linspace(0.0, 1.0, n)
+    a = np.column_stack([x, np.ones(n)])
+    analytic = sigma * np.sqrt(np.diag(np.linalg.inv(a.T @ a)))
+    random_blocks = np.array_split(rng.permutation(n), k)
+    contiguous_blocks = np.array_split(np.arange(n), k)
+    var = {"random": np.zeros(2), "contiguous": np.zeros(2)}
+    for _ in range(400):
+        y = 2.0 * x + 0.5 + rng.normal(0.0, sigma, n)
+        for name, blocks in (("random", random_blocks), ("contiguous", contiguous_blocks)):
+            left_out = [np.linalg.lstsq(np.delete(a, b, 0), np.delete(y, b), rcond=None)[0] for b in blocks]
+            var[name] += fitting.block_jackknife_standard_errors(left_out) ** 2 / 400
+    assert np.sqrt(var["random"]) == pytest.approx(analytic, rel=0.15)
+    assert np.all(np.sqrt(var["contiguous"]) >= analytic * 0.9)
+    assert fitting.block_jackknife_standard_errors([[1.0, 2.0]] * 3).tolist() == [0.0, 0.0]
+    with pytest.raises(ValueError):
+        fitting.block_jackknife_standard_errors([[1.0, 2.0]])
+
+
 @pytest.mark.parametrize("kind", sorted(MODEL_TYPES))
 def test_every_model_type_has_finite_starts_inside_the_bounds(kind):
     starts = fitting.starts_from_compliance(kind, 0.2, 0.35, 1e-4, (1.0, 10.0), hold_s=30.0)

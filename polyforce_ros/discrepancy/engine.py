@@ -52,7 +52,8 @@ import numpy as np
 from scipy import linalg, optimize, stats
 
 from ..physics.chain import OffsetElement, SensorChain, ViscoelasticElement
-from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, information_criteria, multistart_least_squares
+from ..physics.fitting import (LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors,
+                               information_criteria, multistart_least_squares)
 from ..physics.identification import block_average
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, simulate_deformation
 from ..record import Record  # noqa: F401 - the record type diagnose takes (re-exported)
@@ -222,6 +223,13 @@ class Fit:
     def coef_map(self):
         return dict(zip(self.names, self.coef))
 
+    def coefficients(self) -> dict:
+        """Each fitted coefficient (units of its design column) with its standard error by the block
+        jackknife over the cross-validation folds."""
+        errors = block_jackknife_standard_errors(self.coef_folds)
+        return {name: {"value": float(c), "standard_error": float(e)}
+                for name, c, e in zip(self.names, self.coef, errors)}
+
 
 class Fitter:
     """Per-block normal matrices and bounded solves for any structure on one record (fit rate)."""
@@ -363,6 +371,7 @@ class Diagnosis:
     localisation: dict = field(default_factory=dict)
     folds: int = 5
     variants: dict = field(default_factory=dict)
+    coefficients: dict = field(default_factory=dict)  # the final fit's, with block-jackknife standard errors
 
     @property
     def missing_effect(self):
@@ -387,6 +396,7 @@ class Diagnosis:
             "validation": f"time-blocked cross-validation, {self.folds} contiguous blocks; RMSEs out of sample",
             "evidence": self.evidence,
             "candidates": [c.summary() for c in self.candidates],
+            "coefficients": self.coefficients,
             "model": model_to_mapping(SensorModel(self.chain)),
             "localisation": {k: v for k, v in self.localisation.items() if k != "masks"},
         }
@@ -754,7 +764,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                    "ljung_box_p": p_value, "where": where if present else None, "partial_fits": partial,
                    "explained_share": float(explained)}
     diag = Diagnosis(base, accepted, confidences, rmse_before, rmse_after, floor, unexplained, candidates, skipped, [],
-                     chain, base_chain, sim_before, sim_after, loc, n_folds, variants)
+                     chain, base_chain, sim_before, sim_after, loc, n_folds, variants, current.coefficients())
     diag.evidence = describe(loc, diag)
     return diag
 

@@ -22,7 +22,7 @@ from scipy import optimize
 from .viscoelastic import MODEL_TYPES, ViscoelasticModel
 
 __all__ = ["LOG_BOUNDS", "TAU_LOG_BOUNDS", "TAU_GRID_S", "FLUID_KINDS", "model_type", "check_model_types", "log_bounds", "multistart_least_squares",
-           "log_standard_errors", "information_criteria", "starts_from_compliance"]
+           "log_standard_errors", "block_jackknife_standard_errors", "information_criteria", "starts_from_compliance"]
 
 #: Bounds of log(parameter) for every mechanical parameter (N/V, N s/V): 1e-6 .. 1e12.
 LOG_BOUNDS = (math.log(1e-6), math.log(1e12))
@@ -86,6 +86,34 @@ def log_standard_errors(sol: optimize.OptimizeResult, n: int, p: int) -> np.ndar
     sigma2 = 2.0 * float(sol.cost) / max(n - p, 1)
     cov_log = sigma2 * np.linalg.pinv(sol.jac.T @ sol.jac)
     return np.exp(sol.x) * np.sqrt(np.clip(np.diag(cov_log), 0.0, None))
+
+
+def block_jackknife_standard_errors(left_out_estimates: npt.ArrayLike) -> np.ndarray:
+    """Standard errors from the estimates of a blocked cross-validation (the delete-a-block jackknife).
+
+    Each row is the estimate with one contiguous block of the record left out.
+    Unlike :func:`log_standard_errors` it does not assume white residuals: a
+    slow misfit that the blocks share widens it, as it should. With blocks
+    contiguous in time it tends to be conservative (larger than the white-noise
+    standard error).
+
+    Parameters
+    ----------
+    left_out_estimates : (k, p) array_like
+        The ``p`` parameters fitted ``k`` times (k >= 2), each without one block,
+        in the parameters' own units.
+
+    Returns
+    -------
+    (p,) ndarray
+        Standard error of each parameter, same units; ``sqrt((k-1)/k * sum((x_i - mean)^2))``.
+    """
+    estimates = np.atleast_2d(np.asarray(left_out_estimates, dtype=float))
+    k = estimates.shape[0]
+    if k < 2:
+        raise ValueError("a jackknife needs at least two left-out estimates")
+    spread = estimates - estimates.mean(axis=0)
+    return np.sqrt((k - 1) / k * np.sum(spread * spread, axis=0))
 
 
 def information_criteria(rss: float, n: int, p: int) -> tuple[float, float]:

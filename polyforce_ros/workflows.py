@@ -26,7 +26,7 @@ from .runtime import Compensator, CompensatorConfig, SampleGate
 from .runtime.compensator import WARN_COUNTERS
 
 __all__ = ["clean_samples", "static_and_compensated", "compensate_record", "CalibrationResult",
-    "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "latest_before", "runtime_warnings"]
+    "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "runtime_warnings"]
 
 
 def clean_samples(stamp_ns: npt.ArrayLike, values: npt.ArrayLike, receive_ns: Optional[npt.ArrayLike] = None,
@@ -106,7 +106,6 @@ def compensate_record(chain: SensorChain, t_s: npt.ArrayLike, voltage_v: npt.Arr
     t = np.asarray(t_s, dtype=float)
     volts = np.asarray(voltage_v, dtype=float)
     stamp_ns = np.round((t - t[0]) * 1e9).astype(np.int64) if t.size else np.zeros(0, dtype=np.int64)
-    aux = None if temperature_c is None else {"temperature_c": temperature_c}
     offset_v = chain.offset_v
     if config.auto_tare:
         # the decision falls on the first used sample auto_tare_s after the first; a second more covers
@@ -116,7 +115,7 @@ def compensate_record(chain: SensorChain, t_s: npt.ArrayLike, voltage_v: npt.Arr
         zeroing.run(stamp_ns[window], volts[window])
         offset_v = zeroing.offset_v
     compensator = Compensator(chain.with_offset(offset_v), replace(config, auto_tare=False))
-    used, force = compensator.run(stamp_ns, volts, aux=aux)
+    used, force = compensator.run(stamp_ns, volts, temperature_c=temperature_c)
     static = (volts - offset_v) / chain.static_gain_v_per_n()
     return used, np.where(used, static, np.nan), np.where(used, force, np.nan), offset_v
 
@@ -219,34 +218,20 @@ def compensate_bag(in_path: str | Path, out_path: str | Path, model: SensorModel
         raise bags.BagError(f"{in_path} already holds {bags.WRENCH}")
     volts = raw.fields.get("position", np.zeros(len(raw)))
     compensator = Compensator(model.chain, config)
-    aux = None
-    if contract.TEMPERATURE in bag.types:
-        aux = {"temperature_c": latest_before(bag[contract.TEMPERATURE].log_time_ns,
-                                              bag[contract.TEMPERATURE].fields["temperature"], raw.log_time_ns)}
-    used, force = compensator.run(raw.stamp_ns, volts, raw.log_time_ns, aux)
+    temperature_log = None
+    if contract.TEMPERATURE in bag.types:  # taken in order of arrival, as by the node
+        temperature_log = (bag[contract.TEMPERATURE].log_time_ns, bag[contract.TEMPERATURE].fields["temperature"])
+    used, force = compensator.run(raw.stamp_ns, volts, raw.log_time_ns, temperature_log=temperature_log)
     if not used.any():
         raise bags.BagError(f"{in_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
     warnings = list(bag.warnings) + runtime_warnings(compensator.counts)
-    if aux is None and model.chain.needs_temperature:
+    if temperature_log is None and model.chain.needs_temperature:
         warnings.append(f"the model follows temperature but {in_path} holds no {contract.TEMPERATURE}: not corrected")
     with bags.BagWriter(out_path, directory=directory) as writer:
         bags.copy_messages(in_path, writer)  # survives truncation and corrupt chunks, like read_bag
         writer.write_series(bags.WRENCH, bags.WRENCH_STAMPED, raw.stamp_ns[used], force[used],
                             log_time_ns=raw.log_time_ns[used], frame_id=contract.FRAME_ID)
     return int(used.sum()), warnings
-
-
-def latest_before(log_time_ns: npt.ArrayLike, values: npt.ArrayLike, at_ns: npt.ArrayLike) -> np.ndarray:
-    """For each time of ``at_ns``, the latest finite value logged at or before it; NaN where there is none yet.
-
-    What compensation_node uses for an auxiliary signal (the last temperature received), over a bag's log times.
-    """
-    log_time_ns, values = np.asarray(log_time_ns, dtype=np.int64), np.asarray(values, dtype=float)
-    keep = np.isfinite(values)  # the node ignores a non-finite temperature
-    order = np.argsort(log_time_ns[keep], kind="stable")
-    times, kept = log_time_ns[keep][order], values[keep][order]
-    idx = np.searchsorted(times, np.asarray(at_ns, dtype=np.int64), side="right") - 1
-    return np.where(idx >= 0, kept[np.maximum(idx, 0)] if kept.size else np.nan, np.nan)
 
 
 def runtime_warnings(counts: Mapping[str, int]) -> list[str]:

@@ -222,7 +222,7 @@ def test_thermal_drift_model_uses_the_temperature_topic(tmp_path):
         send_all(h, probe, [T0_NS], [0.0], expect=1)
         assert node._publish_diagnostics().level == DiagnosticStatus.WARN  # thermal model, no temperature yet
         temp_pub.publish(Temperature(temperature=30.0))
-        assert h.spin_until(lambda: node._aux["temperature_c"] == 30.0, 5.0)
+        assert h.spin_until(lambda: node.compensator.temperature_c == 30.0, 5.0)
         # Unloaded sensor, 10 degC above reference: the bridge reads 0.1 V that is not force.
         send_all(h, probe, [T0_NS + i * 1_000_000 for i in range(1, 50)], [0.1] * 49, expect=50)
         forces = [w.wrench.force.z for w in probe.sample_wrenches()[1:]]

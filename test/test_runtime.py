@@ -380,3 +380,30 @@ def test_a_record_that_starts_loaded_keeps_the_model_offset_and_a_spike_is_dropp
     assert not used[1700] and used.sum() == t.size - 1
     assert np.isnan(comp[1700]) and np.isnan(static[1700])
     assert np.isfinite(comp[used]).all() and np.abs(comp[used] - force[used]).max() < 0.05
+
+
+def test_the_last_finite_temperature_is_used_and_a_log_is_taken_in_order_of_arrival():
+    from polyforce_ros.physics.chain import ThermalDriftElement, ViscoelasticElement
+
+    chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), ThermalDriftElement(coefficient_v_per_c=0.01, reference_c=20.0),
+                         OffsetElement(0.0)])
+    comp = Compensator(chain, CompensatorConfig(auto_tare=False))
+    assert comp.temperature_c is None
+    assert comp.temperature(30.0) and not comp.temperature(float("nan")) and not comp.temperature(float("inf"))
+    assert comp.temperature_c == 30.0  # ignored readings leave the last finite one
+    assert comp.step(T0, 0.1) == pytest.approx(0.0, abs=1e-9)  # 10 degC over reference: 0.1 V that is not force
+    stamps = T0 + np.arange(1, 200, dtype=np.int64) * MS
+    log_ns = np.array([T0 + 50 * MS, T0 + 50 * MS, T0 + 120 * MS, T0 + 10 * MS])  # unsorted; two at one time
+    log_c = np.array([25.0, np.nan, 20.0, 35.0])
+    by_hand = Compensator(chain, CompensatorConfig(auto_tare=False))
+    by_hand.temperature(30.0)
+    by_hand.step(T0, 0.1)
+    expected = []
+    for s in stamps:
+        for when, c in sorted(zip(log_ns, log_c), key=lambda x: x[0]):
+            if s - MS < when <= s:
+                by_hand.temperature(c)
+        expected.append(by_hand.step(int(s), 0.1))
+    used, force = comp.run(stamps, np.full(stamps.size, 0.1), temperature_log=(log_ns, log_c))
+    assert used.all() and force.tolist() == expected
+    assert comp.temperature_c == 20.0 and abs(force[-1] - 0.0) > 1e-3  # at reference: 0.1 V is force again

@@ -15,7 +15,6 @@ publishes, and reports its counters. On shutdown it publishes a final zero wrenc
 """
 from __future__ import annotations
 
-import math
 import os
 import time
 from contextlib import suppress
@@ -88,7 +87,6 @@ class _CompensationLogic(PolyforceNode):
         self._stale = True
         self._model_error = ""
         self._model_path, self._model_mtime = None, None
-        self._aux = {"temperature_c": None}  # latest auxiliary signals for the chain (thermal elements)
         self._load_model(self.get_parameter("model_file").value)  # raises on a bad file at start-up
         qos = data_qos(self)
         self.pub = create_publisher(WrenchStamped, contract.Rel.WRENCH, qos)
@@ -177,8 +175,7 @@ class _CompensationLogic(PolyforceNode):
         self._process(stamp_to_ns(msg.header.stamp), position[index], msg.header)
 
     def _on_temperature(self, msg: Temperature):
-        if math.isfinite(msg.temperature):
-            self._aux["temperature_c"] = msg.temperature
+        self.compensator.temperature(msg.temperature)  # a non-finite reading is ignored there
 
     def _on_scalar(self, msg: Float64):
         self._process(time.time_ns(), msg.data, None)
@@ -187,7 +184,7 @@ class _CompensationLogic(PolyforceNode):
         if not self._active:  # a managed node that is configured but not active uses no sample
             return
         # The receive clock is the system clock, as the driver's stamps are (ROS time without sim time).
-        force = self.compensator.step(stamp_ns, voltage_v, time.time_ns(), self._aux)
+        force = self.compensator.step(stamp_ns, voltage_v, time.time_ns())
         if force is None:
             return
         self._stale = False
@@ -267,7 +264,7 @@ class _CompensationLogic(PolyforceNode):
         c = self.counts
         if self._stale:
             level, message = ERROR, "no valid input: publishing zero force"
-        elif self._needs_temperature and self._aux["temperature_c"] is None:
+        elif self._needs_temperature and self.compensator.temperature_c is None:
             level, message = WARN, "model follows temperature but no temperature received: not corrected"
         elif self.compensator.counts["auto_tare_refused"] and self.compensator.auto_tare_status.startswith("not"):
             level, message = WARN, self.compensator.auto_tare_status

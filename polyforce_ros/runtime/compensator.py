@@ -27,7 +27,10 @@ Rules, in the order they are applied:
 6. a non-finite force resets the history, is counted and is never output;
 7. the force is clamped to +-``force_limit_n`` (counted);
 8. no valid sample for ``stale_timeout_s`` -> the caller outputs zero (:meth:`stale`);
-9. zero at start: over the first ``auto_tare_s`` of used samples after start or
+9. temperature (thermal elements): the last finite reading received is used
+   (:meth:`Compensator.temperature`); a non-finite reading is ignored; none
+   before the first;
+10. zero at start: over the first ``auto_tare_s`` of used samples after start or
    :meth:`reset`, the bridge output is tested for rest (its spread and its drift
    across the window below ``auto_tare_max_std_v``, and its mean within
    ``auto_tare_max_shift_v`` of the model's offset, which a load would exceed);
@@ -233,6 +236,7 @@ class Compensator(_Configured):
         self.last_valid_receive_ns: Optional[int] = None
         self.auto_tare_status = "pending" if config.auto_tare else "off"
         self._auto: Optional[list] = [] if config.auto_tare else None   # (stamp_ns, V) of the window
+        self._aux: dict[str, Optional[float]] = {"temperature_c": None}  # auxiliary signals for the chain
         self.set_chain(chain)
 
     # ------------------------------------------------------------------ settings
@@ -272,12 +276,37 @@ class Compensator(_Configured):
         return base + self.drift_v
 
     # ------------------------------------------------------------------ per sample
+    def temperature(self, temperature_c: float) -> bool:
+        """Take a sensor temperature reading for the thermal elements, used from the next sample on.
+
+        Parameters
+        ----------
+        temperature_c : float
+            Reading [degC].
+
+        Returns
+        -------
+        bool
+            False when the reading is not finite: it is ignored and the last finite one stays in use.
+        """
+        if not math.isfinite(temperature_c):
+            return False
+        self._aux["temperature_c"] = float(temperature_c)
+        return True
+
+    @property
+    def temperature_c(self) -> Optional[float]:
+        """The temperature in use [degC]; None before the first finite reading."""
+        return self._aux["temperature_c"]
+
     def step(self, stamp_ns: int, voltage_v: float, receive_ns: Optional[int] = None,
              aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
         """Force (N) for one raw sample, or None when the sample is dropped.
 
         ``receive_ns`` is the time the sample arrived on the clock its stamps
         should follow (host time live, the log time in a bag); None = the stamp.
+        ``aux`` overrides the auxiliary signals (default: the readings taken by
+        :meth:`temperature`).
         """
         verdict = self.gate.admit(stamp_ns, voltage_v, receive_ns)
         if verdict == ACCEPT_FRESH:
@@ -289,7 +318,8 @@ class Compensator(_Configured):
         if self._auto is not None:
             self._collect_auto_tare(stamp_ns, voltage_v)
         self.last_valid_receive_ns = stamp_ns if receive_ns is None else receive_ns
-        force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v - self._shift_v, aux)
+        force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v - self._shift_v,
+                                  self._aux if aux is None else aux)
         if force is None or not math.isfinite(force):
             self.counts["nonfinite_output"] += 1
             self._restart()
@@ -309,21 +339,49 @@ class Compensator(_Configured):
 
     # ------------------------------------------------------------------ batch
     def run(self, stamp_ns: npt.ArrayLike, voltage_v: npt.ArrayLike, receive_ns: Optional[npt.ArrayLike] = None,
-            aux: Optional[Mapping[str, Any]] = None) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`step` over arrays. Returns ``(used, force_n)``: a mask of the samples that
-        gave a force, and those forces (exactly what :meth:`step` gives, sample by sample)."""
+            temperature_c: Optional[npt.ArrayLike] = None,
+            temperature_log: Optional[tuple[npt.ArrayLike, npt.ArrayLike]] = None) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`step` over arrays, exactly (sample by sample).
+
+        Parameters
+        ----------
+        stamp_ns, voltage_v : (n,) array_like
+            Header stamps [ns] and bridge output [V] of the raw samples.
+        receive_ns : (n,) array_like, optional
+            Arrival of each sample on the receive clock [ns] (a bag's log times); default the stamps.
+        temperature_c : (n,) array_like, optional
+            A temperature reading [degC] taken before each sample (:meth:`temperature`).
+        temperature_log : ((m,), (m,)) array_like, optional
+            Temperature messages as received: their receive times [ns] and readings [degC]. Before each
+            sample, every message received at or before it is taken, in order, as the node would.
+
+        Returns
+        -------
+        used : (n,) ndarray of bool
+            Samples that gave a force.
+        force_n : (n,) ndarray
+            Their forces [N] (0 where not used).
+        """
         stamp_ns = np.asarray(stamp_ns, dtype=np.int64)
         voltage_v = np.asarray(voltage_v, dtype=float)
         receive = stamp_ns if receive_ns is None else np.asarray(receive_ns, dtype=np.int64)
-        temps = None if not aux or aux.get("temperature_c") is None else np.broadcast_to(
-            np.asarray(aux["temperature_c"], dtype=float), stamp_ns.shape)
+        per_sample = None if temperature_c is None else np.broadcast_to(np.asarray(temperature_c, dtype=float),
+                                                                         stamp_ns.shape)
+        log_ns, log_c = np.zeros(0, dtype=np.int64), np.zeros(0)
+        if temperature_log is not None:
+            log_ns, log_c = np.asarray(temperature_log[0], dtype=np.int64), np.asarray(temperature_log[1], dtype=float)
+            order = np.argsort(log_ns, kind="stable")
+            log_ns, log_c = log_ns[order], log_c[order]
         used = np.zeros(stamp_ns.size, dtype=bool)
         force = np.zeros(stamp_ns.size)
-        sample_aux: dict = {"temperature_c": None}
+        k = 0
         for i in range(stamp_ns.size):
-            if temps is not None:  # NaN: no temperature yet (as a node before the first message)
-                sample_aux["temperature_c"] = float(temps[i]) if math.isfinite(temps[i]) else None
-            f = self.step(int(stamp_ns[i]), float(voltage_v[i]), int(receive[i]), sample_aux)
+            while k < log_ns.size and log_ns[k] <= receive[i]:
+                self.temperature(float(log_c[k]))
+                k += 1
+            if per_sample is not None:
+                self.temperature(float(per_sample[i]))
+            f = self.step(int(stamp_ns[i]), float(voltage_v[i]), int(receive[i]))
             if f is not None:
                 used[i], force[i] = True, f
         return used, force

@@ -173,6 +173,7 @@ class ReplayNode(Node):
         self._started = False
         self._t_start = time.monotonic() + self.get_parameter("start_delay_s").value
         self.create_timer(0.001, self._tick)
+        self.create_timer(1.0, self._refresh_tracking)
         self.create_timer(1.0, self._publish_diagnostics)
         mode = f"lossless, at most {self._window} in flight" if self._lossless else "timed"
         self.get_logger().info(f"replaying {path}: {self._log.size} messages over "
@@ -252,9 +253,12 @@ class ReplayNode(Node):
         pace = self.get_parameter("pace_topic").value
         return bool(pace) and self.count_publishers(self.resolve_topic_name(pace)) > 0
 
-    def _publish_diagnostics(self):
+    def _refresh_tracking(self):
+        """Timed mode: track answers while something publishes the pace topic (it may come and go)."""
         if not self._lossless:
             self._tracking = self._answerer_present()
+
+    def _publish_diagnostics(self):
         values = {"published": self.index, "total": int(self._log.size), "loops": self.loops,
                   "answered": self.answered, "unanswered": self.unanswered, "in_flight": len(self._answers),
                   "behind_schedule_s": round(self.behind_s, 4), "max_behind_schedule_s": round(self.max_behind_s, 4),

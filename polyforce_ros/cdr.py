@@ -253,6 +253,7 @@ class SeriesLayout:
 
     @property
     def size(self) -> int:
+        """Bytes of one encoded message (the encapsulation header included)."""
         return len(self.template)
 
     def encode(self, stamp_ns, values) -> np.ndarray:

@@ -90,6 +90,7 @@ class HapticConfig:
 
     @classmethod
     def names(cls):
+        """Field names: the haptic bridge node declares a parameter of each name."""
         return tuple(f.name for f in fields(cls))
 
 

@@ -64,6 +64,12 @@ class FrameParser:
         self._last_seq = None
 
     def feed(self, data: bytes):
+        """Append received bytes; return the complete frames with a valid CRC, in order.
+
+        Bytes before a sync word and frames with a bad CRC are skipped (counted in
+        ``crc_errors``); sequence gaps are counted in ``lost_frames``. A partial frame
+        stays buffered for the next call.
+        """
         self.buffer += data
         out = []
         buf = self.buffer
@@ -117,6 +123,7 @@ class DeviceClock:
         self.reset()
 
     def reset(self):
+        """Forget the wraps, the offset windows and any re-anchor run: the next frame anchors afresh."""
         self._last_us = None
         self._wraps = 0
         self._window_start = None

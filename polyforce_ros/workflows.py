@@ -131,6 +131,7 @@ class CalibrationResult:
     warnings: list = field(default_factory=list)
 
     def summary(self) -> dict:
+        """JSON-ready outcome: written or not and why, the output path, every fit, the previous RMSE [V], warnings."""
         return {"written": self.written, "reason": self.reason, "output": self.output, "fits": self.fits,
                 "previous_rmse_v": self.previous_rmse_v, "warnings": self.warnings}
 

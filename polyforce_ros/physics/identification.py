@@ -152,13 +152,16 @@ class FitResult:
 
     @property
     def kind(self) -> str:
+        """Model type name (a key of ``MODEL_TYPES``)."""
         return self.model.kind
 
     @property
     def parameters(self) -> dict:
+        """Fitted parameters by name, in their units (N/V, N s/V)."""
         return self.model.as_dict()
 
     def summary(self) -> dict:
+        """JSON-ready fit report: model, parameters and standard errors, offset [V], R^2, RMSE [V], criteria."""
         return {
             "model": self.kind,
             "parameters": self.parameters,
@@ -181,6 +184,7 @@ class Selection:
 
     @property
     def best(self) -> FitResult:
+        """The selected fit (the first: fits are ordered best first)."""
         return self.fits[0]
 
 

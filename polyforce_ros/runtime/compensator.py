@@ -91,6 +91,7 @@ class CompensatorConfig:
 
     @classmethod
     def names(cls) -> tuple[str, ...]:
+        """Field names: the compensation node declares a parameter of each name."""
         return tuple(f.name for f in fields(cls))
 
 

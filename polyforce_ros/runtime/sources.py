@@ -73,6 +73,7 @@ class SimulatedSource:
 
     @property
     def started(self) -> bool:
+        """Whether :meth:`start` has stamped sample 0."""
         return self.start_ns is not None
 
     def start(self, now_ns: int) -> None:

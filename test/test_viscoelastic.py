@@ -7,6 +7,7 @@ from polyforce_ros.physics.viscoelastic import (
     PAPER_BURGERS,
     BackwardState,
     Burgers,
+    Elastic,
     ForwardState,
     KelvinVoigt,
     Maxwell,
@@ -176,6 +177,23 @@ def test_streaming_rejects_backwards_time_without_corrupting_state():
         ref.step(i * 1e-3, 0.3)
     assert comp.step(0.05, 9.0) is None
     assert comp.step(0.1, 0.3) == ref.step(0.1, 0.3)
+
+
+@pytest.mark.parametrize("model", [Elastic(3.0), KelvinVoigt(3.2, 40.0), PAPER_BURGERS], ids=lambda m: m.kind)
+def test_streaming_backwards_time_and_duplicate_stamps_for_models_with_and_without_exponentials(model):
+    """A stamp before the previous one gives None and changes nothing, also for models whose relaxation
+    has no exponential (only the Kelvin-Voigt slope remembers time there); an equal stamp is a
+    zero-length step: no slope term, the history does not move."""
+    comp, ref = StreamingCompensator(model), StreamingCompensator(model)
+    for i in range(10):
+        comp.step(i * 1e-3, 0.1 * i)
+        ref.step(i * 1e-3, 0.1 * i)
+    assert comp.step(0.005, 9.0) is None
+    assert comp.last_time_s == ref.last_time_s == 9 * 1e-3
+    assert comp.step(0.01, 1.5) == ref.step(0.01, 1.5)
+    history = ref.step(0.01, 0.0)  # the history term alone (no slope at a repeated stamp)
+    assert comp.step(0.01, 2.0) == pytest.approx(model.relaxation().g0_n_per_v * 2.0 + history, rel=1e-12, abs=1e-12)
+    assert comp.last_time_s == 0.01
 
 
 def test_gap_in_stamps_is_handled_as_linear_deformation_between_samples():

@@ -12,25 +12,40 @@ elements that need it (thermal terms) read and others ignore.
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping, Optional, Protocol, Sequence, runtime_checkable
+from typing import (TYPE_CHECKING, Any, Callable, Collection, Mapping, NoReturn, Optional, Protocol, Self, Sequence,
+                    TypedDict, Union, cast, runtime_checkable)
 
 import numpy as np
+import numpy.typing as npt
 
 from .expconv import ExpConvState, exp_convolve
 from .viscoelastic import (
     MODEL_TYPES,
+    CreepCompliance,
     ForwardState,
+    RelaxationModulus,
     StreamingCompensator,
     ViscoelasticModel,
     compensate,
     simulate_deformation,
 )
 
+if TYPE_CHECKING:  # for annotations only: at run time scipy.interpolate and the Preisach model load when first used
+    from scipy.interpolate import CubicSpline
+
+    from .preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
+
 __all__ = ["ModelError", "ElementStream", "Element", "PARAMETER_BOUNDS", "MAX_PREISACH_LEVELS", "ViscoelasticElement",
     "OffsetElement", "GainElement", "NonlinearGainElement", "SensorLagElement", "ThermalDriftElement",
     "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "ThermalLagElement",
     "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement", "ELEMENT_TYPES", "SensorChain",
     "ChainStream"]
+
+_FloatArray = npt.NDArray[np.float64]
+# A drift term is evaluated on a whole record (array) and, when streaming, on one sample (float).
+_FloatOrArray = Union[float, _FloatArray]
+# Parameter lists as a model file (list) or a fit (array) gives them; checked by _float_list.
+_Numbers = Union[Sequence[float], _FloatArray]
 
 
 class ModelError(ValueError):
@@ -46,7 +61,22 @@ class ElementStream(Protocol):
         ...
 
     def step(self, t_s: float, value: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
-        """The element's input for its output ``value`` at ``t_s`` (s); None for a sample it cannot use."""
+        """The element's input for its output ``value`` at one sample.
+
+        Parameters
+        ----------
+        t_s : float
+            Sample time [s].
+        value : float
+            The element's output at ``t_s`` [its output unit: N or V].
+        aux : mapping of str to float, optional
+            Auxiliary samples at ``t_s`` (``temperature_c`` [degC]); elements that do not need them ignore them.
+
+        Returns
+        -------
+        float or None
+            The element's input [its input unit: N or V], or None for a sample it cannot use.
+        """
         ...
 
 
@@ -62,41 +92,92 @@ class Element(Protocol):
     kind: str
 
     def forward_state(self) -> Any:
-        """A fresh state for block-wise :meth:`forward` runs (relaxed, unloaded)."""
+        """A fresh state for block-wise :meth:`forward` runs (relaxed, unloaded).
+
+        Returns
+        -------
+        object
+            The element's state (None for a stateless element), to pass to :meth:`forward`.
+        """
         ...
 
-    def forward(self, t_s, x, aux=None, state=None) -> np.ndarray:
-        """Output for input ``x`` at times ``t_s`` (s); ``state`` carries the history across blocks."""
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Any = None) -> _FloatArray:
+        """Output for input ``x`` at times ``t_s``; ``state`` carries the history across blocks.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s].
+        x : (n,) array_like of float
+            Input [the element's input unit: N or V].
+        aux : mapping of str to array_like, optional
+            Auxiliary signals sampled with ``x`` (``temperature_c`` [degC]).
+        state : object, optional
+            A state from :meth:`forward_state`, updated in place; a relaxed, unloaded element when omitted.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [the element's output unit: N or V].
+        """
         ...
 
-    def backward(self, t_s, y, aux=None) -> np.ndarray:
-        """Input that gave output ``y`` at times ``t_s`` (s): the inverse of :meth:`forward` over a record."""
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """Input that gave output ``y`` at times ``t_s``: the inverse of :meth:`forward` over a record.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s].
+        y : (n,) array_like of float
+            Output [the element's output unit: N or V].
+        aux : mapping of str to array_like, optional
+            Auxiliary signals sampled with ``y`` (``temperature_c`` [degC]).
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [the element's input unit: N or V].
+        """
         ...
 
     def streaming(self) -> ElementStream:
-        """The per-sample inverse (O(1) state), equal to :meth:`backward` sample by sample."""
+        """The per-sample inverse (O(1) state), equal to :meth:`backward` sample by sample.
+
+        Returns
+        -------
+        ElementStream
+            A fresh stream (relaxed, unloaded element).
+        """
         ...
 
-    def to_dict(self) -> dict:
-        """The element as a model-file mapping (``type`` and its parameters with units in their names)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping.
+
+        Returns
+        -------
+        dict
+            ``type`` and the element's parameters, with units in their names.
+        """
         ...
 
 
 class _Frozen:
     """Attributes are set once, in ``__init__`` (through ``_freeze``); a changed element is a new element."""
 
-    def _freeze(self, **values):
+    def _freeze(self, **values: Any) -> None:
         for name, value in values.items():
             if isinstance(value, np.ndarray):  # arrays too: a read-only copy, so no one writes into a model
                 value = value.copy()
                 value.flags.writeable = False
             object.__setattr__(self, name, value)
 
-    def __setattr__(self, name, value):
+    def __setattr__(self, name: str, value: Any) -> NoReturn:
         raise AttributeError(f"{type(self).__name__} is immutable (tried to set {name}); build a new element "
                              "(SensorChain.with_offset for the bridge offset)")
 
-    def __delattr__(self, name):
+    def __delattr__(self, name: str) -> NoReturn:
         raise AttributeError(f"{type(self).__name__} is immutable (tried to delete {name})")
 
 
@@ -166,19 +247,19 @@ _SMOKE_STEPS_S = (1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0)
 _MAX_RATE_PER_S = 1e150 / _DAY_S
 
 
-def _short(value, limit=60):
+def _short(value: object, limit: int = 60) -> str:
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-def _range_text(key):
+def _range_text(key: str) -> str:
     low, high, unit, why = PARAMETER_BOUNDS[key]
     unit = f" {unit}" if unit else ""
     off = " (or 0 = off)" if key in _ZERO_MEANS_OFF else ""
     return f"[{low:g}, {high:g}]{unit}{off} ({why})"
 
 
-def _number(kind, key, value, positive):
+def _number(kind: str, key: str, value: Any, positive: bool) -> float:
     """``value`` as a finite float within PARAMETER_BOUNDS[key] (when listed), else ModelError."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ModelError(f"{kind}: {key} must be a number, got {_short(value)}")
@@ -198,7 +279,7 @@ def _number(kind, key, value, positive):
     return value
 
 
-def _check_keys(kind, mapping, expected, optional=()):
+def _check_keys(kind: str, mapping: object, expected: Collection[str], optional: Collection[str] = ()) -> None:
     if not isinstance(mapping, dict):
         raise ModelError(f"{kind}: must be a mapping, got {_short(mapping)}")
     bad = [k for k in mapping if not isinstance(k, str)]
@@ -214,10 +295,10 @@ def _check_keys(kind, mapping, expected, optional=()):
                          + (f", optional {sorted(optional)})" if optional else ")"))
 
 
-def _smoke_records():
+def _smoke_records() -> list[tuple[npt.NDArray[np.floating[Any]], _FloatArray, dict[str, _FloatArray], str]]:
     """Short records (t, force N, temperature degC) that every element must carry to finite output:
     uniform at each step of _SMOKE_STEPS_S, and one irregular record spanning 24 h."""
-    records = []
+    records: list[tuple[npt.NDArray[np.floating[Any]], _FloatArray, str]] = []
     for h in _SMOKE_STEPS_S:
         t = 1000.0 + h * np.arange(40)
         records.append((t, 5.0 + 4.0 * np.sin(np.linspace(0.0, 6.0, t.size)), f"uniform, step {h:g} s"))
@@ -227,7 +308,7 @@ def _smoke_records():
             for t, f, label in records]
 
 
-def _laplace_mismatch(rel, comp, s):
+def _laplace_mismatch(rel: RelaxationModulus, comp: CreepCompliance, s: npt.ArrayLike) -> _FloatArray:
     """|s G(s) * s J(s) - 1| at Laplace variable(s) s > 0: zero for a relaxation that matches its compliance."""
     s = np.asarray(s, dtype=float)
     sg = rel.g_inf_n_per_v + rel.eta_impulse_n_s_per_v * s
@@ -239,7 +320,7 @@ def _laplace_mismatch(rel, comp, s):
     return np.abs(sg * sj - 1.0)
 
 
-def _check_core_numerics(kind, model):
+def _check_core_numerics(kind: str, model: ViscoelasticModel) -> None:
     """Derived quantities of a viscoelastic core, checked once after it is built.
 
     * ``relaxation()`` (roots of the relaxation polynomial, residues) must succeed and give
@@ -301,42 +382,101 @@ class ViscoelasticElement(_Frozen):
     model: ViscoelasticModel
     kind: str
 
-    def __init__(self, model: ViscoelasticModel):
+    def __init__(self, model: ViscoelasticModel) -> None:
         self._freeze(model=model, kind=model.kind)
 
-    def forward_state(self):
-        """A fresh :class:`~.viscoelastic.ForwardState` of the core (relaxed, unloaded sensor)."""
+    def forward_state(self) -> ForwardState:
+        """A fresh forward state of the core (relaxed, unloaded sensor).
+
+        Returns
+        -------
+        ForwardState
+            The :class:`~.viscoelastic.ForwardState` to pass to :meth:`forward`.
+        """
         return ForwardState(self.model)
 
-    def forward(self, t_s, force_n, aux=None, state=None):
-        """Deformation (V) for force ``force_n`` (N) at ``t_s`` (s), by :func:`~.viscoelastic.simulate_deformation`.
+    def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[ForwardState] = None) -> _FloatArray:
+        """Deformation for a force history, by :func:`~.viscoelastic.simulate_deformation`.
 
-        ``aux`` is not used.
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s], non-decreasing.
+        force_n : (n,) array_like of float
+            Applied force [N].
+        aux : mapping, optional
+            Not used.
+        state : ForwardState, optional
+            Carries the core's state across blocks (updated in place); a relaxed, unloaded sensor when omitted.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Deformation as bridge volts above the offset [V].
         """
         return simulate_deformation(self.model, t_s, force_n, state=state)
 
-    def backward(self, t_s, deformation_v, aux=None):
-        """Force (N) for deformation ``deformation_v`` (V) at ``t_s`` (s), from a relaxed sensor.
+    def backward(self, t_s: npt.ArrayLike, deformation_v: npt.ArrayLike,
+                 aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """Force for a deformation record from a relaxed sensor, by :func:`~.viscoelastic.compensate`.
 
-        By :func:`~.viscoelastic.compensate`; ``aux`` is not used.
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s], non-decreasing.
+        deformation_v : (n,) array_like of float
+            Deformation as bridge volts above the offset [V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Force [N].
         """
         return compensate(self.model, t_s, deformation_v)
 
-    def streaming(self):
-        """A :class:`~.viscoelastic.StreamingCompensator` of the core: deformation (V) in, force (N) out."""
+    def streaming(self) -> StreamingCompensator:
+        """The per-sample inverse of the core.
+
+        Returns
+        -------
+        StreamingCompensator
+            A fresh :class:`~.viscoelastic.StreamingCompensator`: deformation [V] in, force [N] out.
+        """
         return StreamingCompensator(self.model)
 
-    def to_dict(self):
-        """``{'type': kind, **parameters}``: the model type and its parameters (N/V, N s/V)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The core as a model-file mapping.
+
+        Returns
+        -------
+        dict
+            ``type`` (the model kind) and the model's parameters by name [N/V, N*s/V].
+        """
         return {"type": self.kind, **self.model.as_dict()}
 
     @classmethod
-    def from_dict(cls, d):
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
         """The core from a model-file mapping whose ``type`` is a viscoelastic model kind.
 
-        Raises ModelError for an unknown type, missing or unknown keys, parameters that
-        are not positive numbers within PARAMETER_BOUNDS, or parameters too far apart
-        for float64 (relaxation, forward and backward runs checked on test records).
+        Parameters
+        ----------
+        d : mapping
+            ``type`` and the model's parameters by name [N/V, N*s/V].
+
+        Returns
+        -------
+        ViscoelasticElement
+            The core.
+
+        Raises
+        ------
+        ModelError
+            For an unknown type, missing or unknown keys, parameters that are not positive
+            numbers within PARAMETER_BOUNDS, or parameters too far apart for float64
+            (relaxation, forward and backward runs checked on test records).
         """
         kind = d.get("type") if isinstance(d, dict) else None
         if not isinstance(kind, str) or kind not in MODEL_TYPES:
@@ -359,44 +499,121 @@ class OffsetElement(_Frozen):
     kind = "offset"
     voltage_v: float
 
-    def __init__(self, voltage_v: float = 0.0):
+    def __init__(self, voltage_v: float = 0.0) -> None:
         self._freeze(voltage_v=float(voltage_v))
 
-    def forward_state(self):
+    def forward_state(self) -> None:
         """None: the offset has no state."""
         return None
 
-    def forward(self, t_s, x, aux=None, state=None):
-        """``x + voltage_v`` (V); ``t_s``, ``aux`` and ``state`` are not used."""
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: object = None) -> _FloatArray:
+        """The input plus the offset, ``x + voltage_v``.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        x : (n,) array_like of float
+            Input [V].
+        aux : mapping, optional
+            Not used.
+        state : object, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [V].
+        """
         return np.asarray(x, dtype=float) + self.voltage_v
 
-    def backward(self, t_s, y, aux=None):
-        """``y - voltage_v`` (V); ``t_s`` and ``aux`` are not used."""
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The output less the offset, ``y - voltage_v``.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        y : (n,) array_like of float
+            Output [V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [V].
+        """
         return np.asarray(y, dtype=float) - self.voltage_v
 
-    def streaming(self):
-        """A stateless stream returning ``value - voltage_v`` (V) per sample."""
+    def streaming(self) -> ElementStream:
+        """The per-sample inverse, ``value - voltage_v``.
+
+        Returns
+        -------
+        ElementStream
+            A stateless stream [V in, V out].
+        """
         return _OffsetStream(self)
 
-    def to_dict(self):
-        """``{'type': 'offset', 'voltage_v': ...}`` (V)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The offset as a model-file mapping.
+
+        Returns
+        -------
+        dict
+            ``{'type': 'offset', 'voltage_v': ...}`` [V].
+        """
         return {"type": self.kind, "voltage_v": self.voltage_v}
 
     @classmethod
-    def from_dict(cls, d):
-        """The offset from ``{'type': 'offset', 'voltage_v': ...}``; ModelError for other keys or a value out of range."""
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The offset from a model-file mapping.
+
+        Parameters
+        ----------
+        d : mapping
+            ``{'type': 'offset', 'voltage_v': ...}`` [V].
+
+        Returns
+        -------
+        OffsetElement
+            The offset.
+
+        Raises
+        ------
+        ModelError
+            For other keys or a value that is not a number within PARAMETER_BOUNDS.
+        """
         _check_keys(cls.kind, d, ("voltage_v",))
         return cls(_number(cls.kind, "voltage_v", d["voltage_v"], positive=False))
 
 
 class _OffsetStream:
-    def __init__(self, element):
+    def __init__(self, element: OffsetElement) -> None:
         self.voltage_v = element.voltage_v
 
-    def reset(self):
-        pass
+    def reset(self) -> None:
+        """Nothing to forget: the offset has no state."""
 
-    def step(self, t_s, value, aux=None):
+    def step(self, t_s: float, value: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+        """The offset element's input for its output ``value``.
+
+        Parameters
+        ----------
+        t_s : float
+            Sample time [s]; not used.
+        value : float
+            Output [V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        float
+            ``value - voltage_v`` [V].
+        """
         return value - self.voltage_v
 
 
@@ -406,10 +623,10 @@ class _SimpleElement(_Frozen):
     optional ones in OPTIONAL as name -> default (numbers >= 0; the default leaves them out of files)."""
 
     kind = ""
-    PARAMS: tuple = ()
-    OPTIONAL: dict = {}
+    PARAMS: tuple[tuple[str, bool], ...] = ()
+    OPTIONAL: dict[str, float] = {}
 
-    def __init__(self, **values):
+    def __init__(self, **values: float) -> None:
         for name, positive in self.PARAMS:
             self._freeze(**{name: _number(self.kind, name, values[name], positive)})
         for name, default in self.OPTIONAL.items():
@@ -418,24 +635,62 @@ class _SimpleElement(_Frozen):
                 raise ModelError(f"{self.kind}: {name} must be >= 0, got {_short(raw)}")
             self._freeze(**{name: _number(self.kind, name, raw, False)})
 
-    def forward_state(self):
+    def forward_state(self) -> object:
+        """A fresh state for block-wise :meth:`forward` runs.
+
+        Returns
+        -------
+        object
+            None here: the element has no state (elements with one return theirs).
+        """
         return None
 
-    def to_dict(self):
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping.
+
+        Returns
+        -------
+        dict
+            ``type``, every parameter of PARAMS, and each of OPTIONAL that differs from its default
+            (units in the names).
+        """
         out = {"type": self.kind, **{name: getattr(self, name) for name, _ in self.PARAMS}}
         out.update({name: getattr(self, name) for name, default in self.OPTIONAL.items() if getattr(self, name) != default})
         return out
 
     @classmethod
-    def from_dict(cls, d):
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping.
+
+        Parameters
+        ----------
+        d : mapping
+            ``type``, every parameter of PARAMS and any of OPTIONAL (units in the names).
+
+        Returns
+        -------
+        element
+            An instance of the class it is called on.
+
+        Raises
+        ------
+        ModelError
+            For missing or unknown keys, or a value that is not a number within PARAMETER_BOUNDS.
+        """
         _check_keys(cls.kind, d, [name for name, _ in cls.PARAMS], cls.OPTIONAL)
         return cls(**{name: d[name] for name in [n for n, _ in cls.PARAMS] + [n for n in cls.OPTIONAL if n in d]})
+
+
+class _StepFunction(Protocol):
+    """The per-sample inverse of a :class:`_FunctionStream`: ``t_s`` (s) and an output sample in, the input out."""
+
+    def __call__(self, t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]: ...
 
 
 class _FunctionStream:
     """Streaming inverse of an element with a per-sample function ``f(t_s, y, aux) -> x``."""
 
-    def __init__(self, step, reset=lambda: None):
+    def __init__(self, step: _StepFunction, reset: Callable[[], None] = lambda: None) -> None:
         self.step, self.reset = step, reset
 
 
@@ -444,17 +699,57 @@ class GainElement(_SimpleElement):
 
     kind = "gain"
     PARAMS = (("gain", True),)
+    gain: float
 
-    def forward(self, t_s, x, aux=None, state=None):
-        """``gain * x`` (e.g. N in, V out with gain in V/N); ``t_s``, ``aux`` and ``state`` are not used."""
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: object = None) -> _FloatArray:
+        """The input times the gain, ``gain * x``.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        x : (n,) array_like of float
+            Input [e.g. N, with the gain in V/N].
+        aux : mapping, optional
+            Not used.
+        state : object, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [e.g. V].
+        """
         return self.gain * np.asarray(x, dtype=float)
 
-    def backward(self, t_s, y, aux=None):
-        """``y / gain``; ``t_s`` and ``aux`` are not used."""
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The output divided by the gain, ``y / gain``.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        y : (n,) array_like of float
+            Output [e.g. V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [e.g. N, with the gain in V/N].
+        """
         return np.asarray(y, dtype=float) / self.gain
 
-    def streaming(self):
-        """A stateless stream returning ``value / gain`` per sample."""
+    def streaming(self) -> ElementStream:
+        """The per-sample inverse, ``value / gain``.
+
+        Returns
+        -------
+        ElementStream
+            A stateless stream [output unit in, input unit out].
+        """
         g = self.gain
         return _FunctionStream(lambda t_s, y, aux=None: y / g)
 
@@ -469,25 +764,75 @@ class NonlinearGainElement(_SimpleElement):
 
     kind = "nonlinear_gain"
     PARAMS = (("quadratic_per_v", False),)
+    quadratic_per_v: float
 
-    def forward(self, t_s, x, aux=None, state=None):
-        """``x + quadratic_per_v * x**2`` (V); ``t_s``, ``aux`` and ``state`` are not used."""
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: object = None) -> _FloatArray:
+        """The bent curve ``x + quadratic_per_v * x**2``.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        x : (n,) array_like of float
+            Input [V].
+        aux : mapping, optional
+            Not used.
+        state : object, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [V].
+        """
         x = np.asarray(x, dtype=float)
         return x + self.quadratic_per_v * x * x
 
-    def backward(self, t_s, y, aux=None):
-        """The root nearest ``y``, ``2 y / (1 + sqrt(1 + 4 q y))`` (V).
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The root nearest ``y``, ``2 y / (1 + sqrt(1 + 4 q y))``.
 
-        Where 1 + 4 q y < 0 (no inverse) the root is taken as 0.
+        Where 1 + 4 q y < 0 (no inverse) the square root is taken as 0, so the input is ``2 y`` there.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        y : (n,) array_like of float
+            Output [V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [V].
         """
         y = np.asarray(y, dtype=float)
         disc = np.sqrt(np.clip(1.0 + 4.0 * self.quadratic_per_v * y, 0.0, None))
         return 2.0 * y / (1.0 + disc)
 
-    def streaming(self):
-        """A stateless stream applying the same inverse as :meth:`backward` per sample (V)."""
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`.
+
+        Returns
+        -------
+        ElementStream
+            A stateless stream [V in, V out].
+        """
         q = self.quadratic_per_v
         return _FunctionStream(lambda t_s, y, aux=None: 2.0 * y / (1.0 + math.sqrt(max(1.0 + 4.0 * q * y, 0.0))))
+
+
+class _LagForwardState(TypedDict):
+    y: _FloatArray  # the lag's integral state, input unit * s
+    t_prev: Optional[float]  # s; None before the first sample
+    x_prev: float  # input unit
+
+
+class _LastSample(TypedDict):
+    t: Optional[float]  # s; None before the first sample
+    y: float  # V
 
 
 class SensorLagElement(_SimpleElement):
@@ -509,15 +854,40 @@ class SensorLagElement(_SimpleElement):
     kind = "sensor_lag"
     PARAMS = (("tau_s", True),)
     OPTIONAL = {"noise_filter_tau_s": 0.0}
+    tau_s: float
+    noise_filter_tau_s: float
 
-    def forward_state(self):
-        """A fresh lag state (output zero, no previous sample) for block-wise :meth:`forward` runs."""
+    def forward_state(self) -> _LagForwardState:
+        """A fresh lag state (output zero, no previous sample) for block-wise :meth:`forward` runs.
+
+        Returns
+        -------
+        dict
+            ``y``: the lag's integral state (1,) [input unit * s]; ``t_prev``: the last sample time [s]
+            (None before the first); ``x_prev``: the last input [input unit].
+        """
         return {"y": np.zeros(1), "t_prev": None, "x_prev": 0.0}
 
-    def forward(self, t_s, x, aux=None, state=None):
-        """Output of the lag tau y' + y = x at ``t_s`` (s), exact for piecewise-linear ``x``.
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_LagForwardState] = None) -> _FloatArray:
+        """Output of the lag tau y' + y = x, exact for piecewise-linear ``x``.
 
-        ``state`` carries the lag across blocks.
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s], non-decreasing.
+        x : (n,) array_like of float
+            Input [any unit, usually V].
+        aux : mapping, optional
+            Not used.
+        state : dict, optional
+            From :meth:`forward_state`, carries the lag across blocks (updated in place); a lag at
+            zero output when omitted.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [the input's unit].
         """
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         st = state if state is not None else self.forward_state()
@@ -532,9 +902,25 @@ class SensorLagElement(_SimpleElement):
             st["t_prev"], st["x_prev"] = float(t[-1]), float(x[-1])
         return y
 
-    def backward(self, t_s, y, aux=None):
-        """The input ``y + tau dy/dt`` over the record (slope over each previous interval, 0 at the first sample),
-        or its roll-off through ``noise_filter_tau_s`` when that is > 0 (see the class docstring).
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The input ``y + tau dy/dt`` over the record, or its roll-off when ``noise_filter_tau_s`` > 0.
+
+        The slope is taken over each previous interval (0 at the first sample and over a
+        zero-length interval); the roll-off is described in the class docstring.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s].
+        y : (n,) array_like of float
+            Output [any unit, usually V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [the output's unit].
         """
         t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
         tau_f = self.noise_filter_tau_s
@@ -550,14 +936,20 @@ class SensorLagElement(_SimpleElement):
             slope[1:] = np.where(dt > 0, np.diff(y) / np.where(dt > 0, dt, 1.0), 0.0)
         return y + self.tau_s * slope
 
-    def streaming(self):
-        """The per-sample form of :meth:`backward` (slope over the last interval, or the rolled-off inverse)."""
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward` (slope over the last interval, or the rolled-off inverse).
+
+        Returns
+        -------
+        ElementStream
+            A fresh stream [output unit in, input unit out]; its ``reset`` forgets the previous sample.
+        """
         tau, tau_f = self.tau_s, self.noise_filter_tau_s
         if tau_f > 0.0:
             lag = ExpConvState([1.0 / tau_f])
             w_direct, w_lag = tau / tau_f, 1.0 - tau / tau_f
 
-            def filtered(t_s, y, aux=None):
+            def filtered(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
                 if lag.t_prev_s is None:
                     lag.reset([y * tau_f])
                 state = lag.update(t_s, y)
@@ -567,19 +959,20 @@ class SensorLagElement(_SimpleElement):
 
             return _FunctionStream(filtered, lag.reset)
 
-        prev = {"t": None, "y": 0.0}
+        prev: _LastSample = {"t": None, "y": 0.0}
 
-        def step(t_s, y, aux=None):
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
             slope = 0.0
             if prev["t"] is not None and t_s > prev["t"]:
                 slope = (y - prev["y"]) / (t_s - prev["t"])
             prev["t"], prev["y"] = t_s, y
             return y + tau * slope
 
-        return _FunctionStream(step, lambda: prev.update(t=None, y=0.0))
+        # a TypedDict's update takes a mapping, not keywords
+        return _FunctionStream(step, lambda: prev.update({"t": None, "y": 0.0}))
 
 
-def _temperature(aux, n):
+def _temperature(aux: Optional[Mapping[str, Any]], n: int) -> Optional[_FloatArray]:
     """Temperature samples (degC) from ``aux``: an array of n, a scalar, or None when absent."""
     if not aux or aux.get("temperature_c") is None:
         return None
@@ -595,63 +988,162 @@ class ThermalDriftElement(_SimpleElement):
 
     kind = "thermal_drift"
     PARAMS = (("coefficient_v_per_c", False), ("reference_c", False))
+    coefficient_v_per_c: float
+    reference_c: float
 
-    def _term(self, y, aux):
+    def _term(self, y: _FloatArray, aux: Optional[Mapping[str, Any]]) -> _FloatOrArray:
         temp = _temperature(aux, np.size(y))
         return 0.0 if temp is None else self.coefficient_v_per_c * (temp - self.reference_c)
 
-    def forward(self, t_s, x, aux=None, state=None):
-        """``x + coefficient_v_per_c * (T - reference_c)`` (V), T from ``aux['temperature_c']`` (degC).
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: object = None) -> _FloatArray:
+        """The input plus the thermal term, ``x + coefficient_v_per_c * (T - reference_c)``.
 
         Without a temperature ``x`` passes unchanged.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        x : (n,) array_like of float
+            Input [V].
+        aux : mapping of str to array_like, optional
+            ``temperature_c``: T, (n,) or a scalar [degC].
+        state : object, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [V].
         """
         x = np.asarray(x, dtype=float)
         return x + self._term(x, aux)
 
-    def backward(self, t_s, y, aux=None):
-        """``y - coefficient_v_per_c * (T - reference_c)`` (V), T from ``aux['temperature_c']`` (degC).
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The output less the thermal term, ``y - coefficient_v_per_c * (T - reference_c)``.
 
         Without a temperature ``y`` passes unchanged.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        y : (n,) array_like of float
+            Output [V].
+        aux : mapping of str to array_like, optional
+            ``temperature_c``: T, (n,) or a scalar [degC].
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [V].
         """
         y = np.asarray(y, dtype=float)
         return y - self._term(y, aux)
 
-    def streaming(self):
-        """The per-sample form of :meth:`backward`; a sample without ``aux['temperature_c']`` passes unchanged."""
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`; a sample without ``aux['temperature_c']`` passes unchanged.
+
+        Returns
+        -------
+        ElementStream
+            A stateless stream [V in, V out].
+        """
         c, ref = self.coefficient_v_per_c, self.reference_c
 
-        def step(t_s, y, aux=None):
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
             temp = None if not aux else aux.get("temperature_c")
             return y if temp is None else y - c * (temp - ref)
 
         return _FunctionStream(step)
 
 
+class _DriftForwardState(TypedDict):
+    t_first: Optional[float]  # s; None before the first sample
+
+
 class _TimeDriftElement(_SimpleElement):
     """Base of the load-independent drifts: y = x + _term(t - t_first), t_first the first sample of the
     record (forward, batch backward) or after a reset (streaming); subclasses define ``_term(s)`` (V)."""
 
-    def forward_state(self):
+    def _term(self, s: _FloatOrArray) -> _FloatOrArray:
+        """The drift [V] at ``s`` [s] after the first sample: a float for a float, an array for an array."""
+        raise NotImplementedError(f"{type(self).__name__} defines no drift term")
+
+    def forward_state(self) -> _DriftForwardState:
+        """A fresh state for block-wise :meth:`forward` runs (no first sample yet).
+
+        Returns
+        -------
+        dict
+            ``t_first``: the time of the first sample [s], None until :meth:`forward` has seen one.
+        """
         return {"t_first": None}
 
-    def forward(self, t_s, x, aux=None, state=None):
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_DriftForwardState] = None) -> _FloatArray:
+        """The input plus the drift at the time since the first sample.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s].
+        x : (n,) array_like of float
+            Input [V].
+        aux : mapping, optional
+            Not used.
+        state : dict, optional
+            From :meth:`forward_state`: keeps the first sample's time across blocks (set in place
+            on the first block); the call's first sample when omitted.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [V].
+        """
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         st = state if state is not None else self.forward_state()
         if st["t_first"] is None and t.size:
             st["t_first"] = float(t[0])
         return x + self._term(t - (st["t_first"] or 0.0))
 
-    def backward(self, t_s, y, aux=None):
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The output less the drift, the time counted from the record's first sample.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s].
+        y : (n,) array_like of float
+            Output [V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [V].
+        """
         t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
         return y - self._term(t - t[0]) if t.size else y
 
-    def streaming(self):
-        first = {"t": None}
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`, the time counted from the first sample after a reset.
 
-        def step(t_s, y, aux=None):
-            if first["t"] is None:
-                first["t"] = t_s
-            return y - float(self._term(t_s - first["t"]))
+        Returns
+        -------
+        ElementStream
+            A fresh stream [V in, V out]; its ``reset`` (a tare) restarts the time.
+        """
+        first: dict[str, Optional[float]] = {"t": None}
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+            # read once into a local: mypy does not narrow first["t"] after assigning it
+            t_first = first["t"]
+            if t_first is None:
+                t_first = first["t"] = t_s
+            return y - float(self._term(t_s - t_first))
 
         return _FunctionStream(step, lambda: first.update(t=None))
 
@@ -665,9 +1157,14 @@ class OffsetDriftElement(_TimeDriftElement):
 
     kind = "offset_drift"
     PARAMS = (("rate_v_per_s", False),)
+    rate_v_per_s: float
 
-    def _term(self, s):
+    def _term(self, s: _FloatOrArray) -> _FloatOrArray:
         return self.rate_v_per_s * s
+
+
+class _PreisachForwardState(TypedDict):
+    stream: Union[PreisachStream, ContinuousPreisachStream]
 
 
 class PreisachElement(_Frozen):
@@ -680,46 +1177,109 @@ class PreisachElement(_Frozen):
 
     kind = "preisach"
     KEYS = ("u_min", "u_max", "n_levels", "offset", "density", "continuous")
+    model: PreisachModel
+    continuous: bool
 
-    def __init__(self, model, continuous=True):
+    def __init__(self, model: PreisachModel, continuous: bool = True) -> None:
         self._freeze(model=model, continuous=bool(continuous))
 
-    def forward_state(self):
-        """``{'stream': ...}``: a fresh operator stream (all relays down) for block-wise :meth:`forward` runs."""
+    def forward_state(self) -> _PreisachForwardState:
+        """A fresh state for block-wise :meth:`forward` runs (all relays down).
+
+        Returns
+        -------
+        dict
+            ``stream``: a fresh operator stream of the model (continuous or discrete per ``continuous``).
+        """
         return {"stream": self.model.stream(self.continuous)}
 
-    def forward(self, t_s, x, aux=None, state=None):
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_PreisachForwardState] = None) -> _FloatArray:
         """Preisach output for each input sample (discrete or continuous per ``continuous``).
 
-        ``t_s`` and ``aux`` are not used.
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        x : (n,) array_like of float
+            Input [the model's input unit: N or V].
+        aux : mapping, optional
+            Not used.
+        state : dict, optional
+            From :meth:`forward_state`: its stream carries the relays across blocks; all relays down
+            when omitted.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [the model's output unit: N or V].
         """
         stream = (state or self.forward_state())["stream"]
         return np.array([stream.forward(float(v)) for v in np.asarray(x, dtype=float)])
 
-    def backward(self, t_s, y, aux=None):
-        """The inverse (closest-match, or exact when ``continuous``) of each output sample, from all relays down.
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The inverse of each output sample, from all relays down (closest-match, or exact when ``continuous``).
 
-        ``t_s`` and ``aux`` are not used.
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        y : (n,) array_like of float
+            Output [the model's output unit: N or V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [the model's input unit: N or V].
         """
         stream = self.model.stream(self.continuous)
         return np.array([stream.inverse(float(v)) for v in np.asarray(y, dtype=float)])
 
-    def streaming(self):
-        """A per-sample inverse stream of the operator (its ``reset`` puts all relays down)."""
+    def streaming(self) -> ElementStream:
+        """The per-sample inverse of the operator.
+
+        Returns
+        -------
+        ElementStream
+            A fresh stream (all relays down) [output unit in, input unit out]; its ``reset`` puts all
+            relays down.
+        """
         stream = self.model.stream(self.continuous)
         return _FunctionStream(lambda t_s, y, aux=None: stream.inverse(y), stream.reset)
 
-    def to_dict(self):
-        """``type``, the keys of :meth:`PreisachModel.to_dict` and ``continuous``."""
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping.
+
+        Returns
+        -------
+        dict
+            ``type``, the keys of :meth:`PreisachModel.to_dict` and ``continuous``.
+        """
         return {"type": self.kind, **self.model.to_dict(), "continuous": self.continuous}
 
     @classmethod
-    def from_dict(cls, d):
-        """The element from a model-file mapping with the keys ``u_min, u_max, n_levels, offset, density, continuous``.
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping.
 
-        Raises ModelError for missing or unknown keys, a density that is not a list of
-        numbers, n_levels outside [1, MAX_PREISACH_LEVELS], a non-boolean continuous, or
-        values out of range or rejected by :class:`~.preisach.PreisachModel`.
+        Parameters
+        ----------
+        d : mapping
+            ``type`` and the keys ``u_min, u_max, n_levels, offset, density, continuous``
+            (input and output in N or V).
+
+        Returns
+        -------
+        PreisachElement
+            The element.
+
+        Raises
+        ------
+        ModelError
+            For missing or unknown keys, a density that is not a list of numbers, n_levels
+            outside [1, MAX_PREISACH_LEVELS], a non-boolean continuous, or values out of range
+            or rejected by :class:`~.preisach.PreisachModel`.
         """
         from .preisach import PreisachModel
 
@@ -743,14 +1303,30 @@ class PreisachElement(_Frozen):
         return cls(model, d["continuous"])
 
 
-def play_operator(x, radii, y0=None, chunk=1 << 15):
-    """Play (backlash) operators of half-widths ``radii`` on the sequence ``x``; (n, m) out.
+def play_operator(x: npt.ArrayLike, radii: npt.ArrayLike, y0: Optional[npt.ArrayLike] = None,
+                  chunk: int = 1 << 15) -> _FloatArray:
+    """Play (backlash) operators of half-widths ``radii`` on the sequence ``x``.
 
-    ``y_k = min(max(y_{k-1}, x_k - r), x_k + r)``, starting from ``y0`` (m,) before
-    the first sample (zeros when omitted). Each step is a clamp, and clamps
-    compose into clamps, so the sequence is a prefix composition, computed
-    with log2(chunk) vectorised doubling passes per chunk (no Python loop
-    over samples).
+    ``y_k = min(max(y_{k-1}, x_k - r), x_k + r)``, starting from ``y0`` before
+    the first sample. Each step is a clamp, and clamps compose into clamps, so
+    the sequence is a prefix composition, computed with log2(chunk) vectorised
+    doubling passes per chunk (no Python loop over samples).
+
+    Parameters
+    ----------
+    x : (n,) array_like of float
+        Input sequence [any unit, e.g. N or V].
+    radii : (m,) array_like of float
+        Half-widths of the plays [the input's unit].
+    y0 : (m,) array_like of float, optional
+        Each play's state before the first sample [the input's unit]; zeros when omitted.
+    chunk : int, optional
+        Samples per vectorised chunk (memory and work per pass).
+
+    Returns
+    -------
+    (n, m) ndarray of float
+        Each play's output at each sample [the input's unit].
     """
     x = np.asarray(x, dtype=float)
     r = np.atleast_1d(np.asarray(radii, dtype=float))
@@ -772,7 +1348,7 @@ def play_operator(x, radii, y0=None, chunk=1 << 15):
     return out
 
 
-def _float_list(kind, key, values, positive):
+def _float_list(kind: str, key: str, values: object, positive: bool) -> _FloatArray:
     if not isinstance(values, (list, tuple, np.ndarray)) or len(values) == 0:
         raise ModelError(f"{kind}: {key} must be a non-empty list of numbers, got {_short(values)}")
     if len(values) > MAX_PREISACH_LEVELS:
@@ -780,7 +1356,7 @@ def _float_list(kind, key, values, positive):
     return np.array([_number(kind, key, v.item() if isinstance(v, np.generic) else v, positive) for v in list(values)])
 
 
-def _abscissae_and_values(kind, x_key, x, y_key, y):
+def _abscissae_and_values(kind: str, x_key: str, x: object, y_key: str, y: object) -> tuple[_FloatArray, _FloatArray]:
     """Two number lists of one length: ``x`` positive and strictly increasing, ``y`` any finite values."""
     x = _float_list(kind, x_key, x, positive=True)
     y = _float_list(kind, y_key, y, positive=False)
@@ -789,6 +1365,10 @@ def _abscissae_and_values(kind, x_key, x, y_key, y):
     if np.any(np.diff(x) <= 0):
         raise ModelError(f"{kind}: {x_key} must be strictly increasing")
     return x, y
+
+
+class _PlayForwardState(TypedDict):
+    y: _FloatArray  # forward play states, input unit
 
 
 class PlayHysteresisElement(_Frozen):
@@ -828,8 +1408,12 @@ class PlayHysteresisElement(_Frozen):
     kind = "play_hysteresis"
     KEYS = ("linear_weight", "radii", "weights")
     OPTIONAL = {"history_max": 0.0}
+    linear_weight: float
+    radii: _FloatArray
+    weights: _FloatArray
+    history_max: float
 
-    def __init__(self, linear_weight, radii, weights, history_max=0.0):
+    def __init__(self, linear_weight: float, radii: _Numbers, weights: _Numbers, history_max: float = 0.0) -> None:
         linear_weight = _number(self.kind, "linear_weight", float(linear_weight), positive=True)
         radii, weights = _abscissae_and_values(self.kind, "radii", radii, "weights", weights)
         slopes = linear_weight + np.cumsum(weights)
@@ -841,12 +1425,20 @@ class PlayHysteresisElement(_Frozen):
             raise ModelError(f"{self.kind}: history_max must be >= 0")
         self._freeze(linear_weight=linear_weight, radii=radii, weights=weights, history_max=history_max)
 
-    def _history(self):
+    def _history(self) -> _FloatArray:
         """Input samples before the record: 0, then up to history_max and back to 0 (none when 0)."""
         return np.array([0.0, self.history_max, 0.0]) if self.history_max > 0 else np.zeros(0)
 
-    def initial_states(self):
-        """(forward play states, inverse play states) after the history (zeros for a virgin sensor)."""
+    def initial_states(self) -> tuple[_FloatArray, _FloatArray]:
+        """The play states after the ``history_max`` history (zeros for a virgin sensor).
+
+        Returns
+        -------
+        forward : (m,) ndarray of float
+            States of the forward plays (half-widths ``radii``) [input unit].
+        inverse : (m,) ndarray of float
+            States of the inverse plays (radii from :meth:`inverse_parameters`) [output unit].
+        """
         h = self._history()
         fwd = play_operator(h, self.radii)[-1] if h.size else np.zeros(self.radii.size)
         b0, r_inv, b = self.inverse_parameters()
@@ -857,8 +1449,18 @@ class PlayHysteresisElement(_Frozen):
             inv = np.zeros(r_inv.size)
         return fwd, inv
 
-    def inverse_parameters(self):
-        """(b_0, radii', weights') of the inverse operator (see the class docstring)."""
+    def inverse_parameters(self) -> tuple[float, _FloatArray, _FloatArray]:
+        """The parameters of the inverse Prandtl-Ishlinskii operator (formulas in the class docstring).
+
+        Returns
+        -------
+        b0 : float
+            Weight of the output itself, ``1 / linear_weight`` [input unit per output unit].
+        radii : (m,) ndarray of float
+            Half-widths ``r'_i`` of the inverse plays [output unit].
+        weights : (m,) ndarray of float
+            Weights ``b_i`` of the inverse plays [input unit per output unit].
+        """
         a = np.concatenate([[self.linear_weight], self.weights])
         r = np.concatenate([[0.0], self.radii])
         cum = np.cumsum(a)
@@ -866,17 +1468,43 @@ class PlayHysteresisElement(_Frozen):
         b = -a[1:] / (cum[1:] * cum[:-1])
         return 1.0 / a[0], r_inv, b
 
-    def forward_state(self):
-        """``{'y': ...}``: the play states after the ``history_max`` history (zeros for a virgin sensor)."""
+    def forward_state(self) -> _PlayForwardState:
+        """A fresh state for block-wise :meth:`forward` runs.
+
+        Returns
+        -------
+        dict
+            ``y``: the forward play states after the ``history_max`` history (zeros for a virgin
+            sensor), (m,) [input unit].
+        """
         return {"y": self.initial_states()[0]}
 
-    def _rest_output(self):
+    def _rest_output(self) -> float:
         """Sum of the weighted play states after the history: subtracted so that y = 0 at x = 0 at the start."""
         return float(self.initial_states()[0] @ self.weights)
 
-    def forward(self, t_s, x, aux=None, state=None):
-        """Prandtl-Ishlinskii output ``linear_weight * x + sum_i weights[i] * play_i[x]``, shifted so that
-        y = 0 at x = 0 after the history; ``state`` carries the play states across blocks, ``t_s`` and ``aux`` are not used.
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_PlayForwardState] = None) -> _FloatArray:
+        """Prandtl-Ishlinskii output ``linear_weight * x + sum_i weights[i] * play_i[x]``.
+
+        Shifted so that y = 0 at x = 0 after the history.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        x : (n,) array_like of float
+            Input [N or V].
+        aux : mapping, optional
+            Not used.
+        state : dict, optional
+            From :meth:`forward_state`: carries the play states across blocks (updated in place);
+            the states after the history when omitted.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [N or V].
         """
         x = np.asarray(x, dtype=float)
         st = state if state is not None else self.forward_state()
@@ -885,15 +1513,39 @@ class PlayHysteresisElement(_Frozen):
             st["y"] = plays[-1].copy()
         return self.linear_weight * x + plays @ self.weights - self._rest_output()
 
-    def backward(self, t_s, y, aux=None):
-        """The input for output ``y`` over the record, by the inverse Prandtl-Ishlinskii operator (see the class docstring)."""
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The input for output ``y`` over the record, by the inverse Prandtl-Ishlinskii operator.
+
+        The inverse starts from the states after the history (see the class docstring).
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        y : (n,) array_like of float
+            Output [N or V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [N or V].
+        """
         y = np.asarray(y, dtype=float) + self._rest_output()
         b0, r_inv, b = self.inverse_parameters()
         keep = r_inv > 0  # r' > 0 for every i >= 1 (radii > 0, linear_weight > 0)
         return b0 * y + play_operator(y, r_inv[keep], self.initial_states()[1][keep]) @ b[keep]
 
-    def streaming(self):
-        """The per-sample form of :meth:`backward`, O(n) per sample; ``reset`` returns to the states after the history."""
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`, O(m) per sample for m plays.
+
+        Returns
+        -------
+        ElementStream
+            A fresh stream [output unit in, input unit out]; its ``reset`` returns to the states after
+            the history.
+        """
         b0, r_inv, b = self.inverse_parameters()
         keep = r_inv > 0
         radii, weights = [float(v) for v in r_inv[keep]], [float(v) for v in b[keep]]
@@ -901,7 +1553,7 @@ class PlayHysteresisElement(_Frozen):
         state = list(start)
         rest = self._rest_output()
 
-        def step(t_s, y, aux=None):
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
             y = y + rest
             total = b0 * y
             for i, (r, w) in enumerate(zip(radii, weights)):
@@ -910,13 +1562,19 @@ class PlayHysteresisElement(_Frozen):
                 total += w * p
             return total
 
-        def reset():
+        def reset() -> None:
             state[:] = start
 
         return _FunctionStream(step, reset)
 
-    def to_dict(self):
-        """``type``, ``linear_weight``, ``radii`` and ``weights`` as floats, and ``history_max`` when not 0."""
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping.
+
+        Returns
+        -------
+        dict
+            ``type``, ``linear_weight``, ``radii`` and ``weights`` as floats, and ``history_max`` when not 0.
+        """
         out = {"type": self.kind, "linear_weight": float(self.linear_weight), "radii": [float(v) for v in self.radii],
                "weights": [float(v) for v in self.weights]}
         if self.history_max:
@@ -924,8 +1582,26 @@ class PlayHysteresisElement(_Frozen):
         return out
 
     @classmethod
-    def from_dict(cls, d):
-        """The element from a model-file mapping (keys as :meth:`to_dict`); ModelError for bad keys or values."""
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping.
+
+        Parameters
+        ----------
+        d : mapping
+            ``type``, ``linear_weight``, ``radii``, ``weights`` and optionally ``history_max`` (as :meth:`to_dict`).
+
+        Returns
+        -------
+        PlayHysteresisElement
+            The element.
+
+        Raises
+        ------
+        ModelError
+            For missing or unknown keys, lists that are empty, too long or of different lengths,
+            values out of range, radii not strictly increasing, or weights that make the operator
+            not monotone.
+        """
         _check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
         return cls(d["linear_weight"], d["radii"], d["weights"], d.get("history_max", 0.0))
 
@@ -941,37 +1617,79 @@ class ThermalLagElement(_SimpleElement):
 
     kind = "thermal_lag"
     PARAMS = (("coefficient_v_per_c", False), ("reference_c", False), ("tau_s", True))
+    coefficient_v_per_c: float
+    reference_c: float
+    tau_s: float
 
-    def _lagged(self, t_s, temp):
+    def _lagged(self, t_s: npt.ArrayLike, temp: Optional[_FloatArray]) -> Optional[_FloatArray]:
         t = np.asarray(t_s, dtype=float)
         if temp is None or t.size == 0:
             return None
         return exp_convolve(t, temp, [1.0 / self.tau_s], y0=[temp[0] * self.tau_s])[:, 0] / self.tau_s
 
-    def forward(self, t_s, x, aux=None, state=None):
-        """``x + coefficient_v_per_c * (T_lag - reference_c)`` (V), the lag settled at the call's first temperature (degC).
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: object = None) -> _FloatArray:
+        """The input plus the lagged thermal term, ``x + coefficient_v_per_c * (T_lag - reference_c)``.
 
-        ``x`` unchanged without ``aux['temperature_c']``; ``state`` is not used.
+        The lag starts settled at the call's first temperature; ``x`` passes unchanged without
+        ``aux['temperature_c']``.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s], non-decreasing.
+        x : (n,) array_like of float
+            Input [V].
+        aux : mapping of str to array_like, optional
+            ``temperature_c``: T, (n,) or a scalar [degC].
+        state : object, optional
+            Not used: each call starts the lag anew.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [V].
         """
         x = np.asarray(x, dtype=float)
         lagged = self._lagged(t_s, _temperature(aux, x.size))
         return x if lagged is None else x + self.coefficient_v_per_c * (lagged - self.reference_c)
 
-    def backward(self, t_s, y, aux=None):
-        """``y - coefficient_v_per_c * (T_lag - reference_c)`` (V), the lag settled at the first temperature.
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The output less the lagged thermal term, ``y - coefficient_v_per_c * (T_lag - reference_c)``.
 
-        Without a temperature ``y`` passes unchanged.
+        The lag starts settled at the first temperature; ``y`` passes unchanged without
+        ``aux['temperature_c']``.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s], non-decreasing.
+        y : (n,) array_like of float
+            Output [V].
+        aux : mapping of str to array_like, optional
+            ``temperature_c``: T, (n,) or a scalar [degC].
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [V].
         """
         y = np.asarray(y, dtype=float)
         lagged = self._lagged(t_s, _temperature(aux, y.size))
         return y if lagged is None else y - self.coefficient_v_per_c * (lagged - self.reference_c)
 
-    def streaming(self):
-        """The per-sample form of :meth:`backward`; the lag starts settled at the first temperature after a reset."""
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`; the lag starts settled at the first temperature after a reset.
+
+        Returns
+        -------
+        ElementStream
+            A fresh stream [V in, V out]; a sample without ``aux['temperature_c']`` passes unchanged.
+        """
         c, ref, tau = self.coefficient_v_per_c, self.reference_c, self.tau_s
         lag = ExpConvState([1.0 / tau])
 
-        def step(t_s, y, aux=None):
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
             temp = None if not aux else aux.get("temperature_c")
             if temp is None:
                 return y
@@ -993,8 +1711,10 @@ class ExponentialDriftElement(_TimeDriftElement):
 
     kind = "exponential_drift"
     PARAMS = (("amplitude_v", False), ("tau_s", True))
+    amplitude_v: float
+    tau_s: float
 
-    def _term(self, s):
+    def _term(self, s: _FloatOrArray) -> _FloatOrArray:
         return self.amplitude_v * -np.expm1(-np.asarray(s, dtype=float) / self.tau_s)
 
 
@@ -1012,16 +1732,37 @@ class PolynomialGainElement(_SimpleElement):
 
     kind = "polynomial_gain"
     PARAMS = (("quadratic_per_v", False), ("cubic_per_v2", False), ("quartic_per_v3", False))
+    quadratic_per_v: float
+    cubic_per_v2: float
+    quartic_per_v3: float
 
-    def _poly(self, x):
+    def _poly(self, x: _FloatArray) -> tuple[_FloatArray, _FloatArray]:
         q, c, d = self.quadratic_per_v, self.cubic_per_v2, self.quartic_per_v3
         return x + x * x * (q + x * (c + x * d)), 1.0 + x * (2.0 * q + x * (3.0 * c + 4.0 * d * x))
 
-    def forward(self, t_s, x, aux=None, state=None):
-        """``x + q x**2 + c x**3 + d x**4`` (V); ``t_s``, ``aux`` and ``state`` are not used."""
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: object = None) -> _FloatArray:
+        """The curve ``x + q x**2 + c x**3 + d x**4``.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        x : (n,) array_like of float
+            Input [V].
+        aux : mapping, optional
+            Not used.
+        state : object, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [V].
+        """
         return self._poly(np.asarray(x, dtype=float))[0]
 
-    def _invert(self, y):
+    def _invert(self, y: _FloatArray) -> _FloatArray:
         x = np.array(y, dtype=float, copy=True)
         with np.errstate(all="ignore"):
             for _ in range(16):
@@ -1030,12 +1771,35 @@ class PolynomialGainElement(_SimpleElement):
                 x = x - (fx - y) / slope
         return np.where(np.isfinite(x), x, y)
 
-    def backward(self, t_s, y, aux=None):
-        """The input for each ``y`` (V) by 16 Newton steps from ``x = y`` (``y`` itself where they end non-finite)."""
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The input for each ``y`` by 16 Newton steps from ``x = y``.
+
+        Where the iteration ends non-finite, ``y`` itself is returned.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s]; not used.
+        y : (n,) array_like of float
+            Output [V].
+        aux : mapping, optional
+            Not used.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Input [V].
+        """
         return self._invert(np.asarray(y, dtype=float))
 
-    def streaming(self):
-        """A stateless stream applying the inverse of :meth:`backward` per sample (V)."""
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`.
+
+        Returns
+        -------
+        ElementStream
+            A stateless stream [V in, V out].
+        """
         return _FunctionStream(lambda t_s, y, aux=None: float(self._invert(np.array([y]))[0]))
 
 
@@ -1048,8 +1812,11 @@ class PolynomialDriftElement(_TimeDriftElement):
 
     kind = "polynomial_drift"
     PARAMS = (("rate_v_per_s", False), ("curvature_v_per_s2", False), ("cubic_v_per_s3", False))
+    rate_v_per_s: float
+    curvature_v_per_s2: float
+    cubic_v_per_s3: float
 
-    def _term(self, s):
+    def _term(self, s: _FloatOrArray) -> _FloatOrArray:
         return s * (self.rate_v_per_s + s * (self.curvature_v_per_s2 + s * self.cubic_v_per_s3))
 
 
@@ -1072,27 +1839,59 @@ class SplineDriftElement(_TimeDriftElement):
 
     kind = "spline_drift"
     KEYS = ("knots_s", "values_v")
+    knots_s: _FloatArray
+    values_v: _FloatArray
+    _spline: CubicSpline
 
-    def __init__(self, knots_s, values_v):
+    def __init__(self, knots_s: _Numbers, values_v: _Numbers) -> None:
         from scipy.interpolate import CubicSpline
 
         knots, values = _abscissae_and_values(self.kind, "knots_s", knots_s, "values_v", values_v)
         self._freeze(knots_s=knots, values_v=values,
                      _spline=CubicSpline(np.concatenate([[0.0], knots]), np.concatenate([[0.0], values]), bc_type="natural"))
 
-    def _term(self, s):
+    def _term(self, s: _FloatOrArray) -> _FloatOrArray:
         s = np.asarray(s, dtype=float)
         return self._spline(np.clip(s, 0.0, self.knots_s[-1]))
 
-    def to_dict(self):
-        """``{'type': 'spline_drift', 'knots_s': [...], 'values_v': [...]}`` (s, V)."""
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping.
+
+        Returns
+        -------
+        dict
+            ``{'type': 'spline_drift', 'knots_s': [...], 'values_v': [...]}`` [s, V].
+        """
         return {"type": self.kind, "knots_s": [float(v) for v in self.knots_s], "values_v": [float(v) for v in self.values_v]}
 
     @classmethod
-    def from_dict(cls, d):
-        """The element from a model-file mapping with ``knots_s`` and ``values_v``; ModelError for bad keys or values."""
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping.
+
+        Parameters
+        ----------
+        d : mapping
+            ``type``, ``knots_s`` [s] and ``values_v`` [V].
+
+        Returns
+        -------
+        SplineDriftElement
+            The element.
+
+        Raises
+        ------
+        ModelError
+            For missing or unknown keys, lists that are empty, too long or of different lengths,
+            values out of range, or knots not strictly increasing.
+        """
         _check_keys(cls.kind, d, cls.KEYS)
         return cls(d["knots_s"], d["values_v"])
+
+
+class _ElementType(Protocol):
+    """An element class as :meth:`SensorChain.from_dict` uses it: every value of ELEMENT_TYPES."""
+
+    def from_dict(self, d: Mapping[str, Any]) -> Element: ...
 
 
 ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}
@@ -1109,9 +1908,37 @@ class ForwardElement(Protocol):
 
     kind: str
 
-    def forward_state(self) -> Any: ...
+    def forward_state(self) -> Any:
+        """A fresh state for block-wise :meth:`forward` runs (relaxed, unloaded).
 
-    def forward(self, t_s, x, aux=None, state=None) -> np.ndarray: ...
+        Returns
+        -------
+        object
+            The element's state (None for a stateless element), to pass to :meth:`forward`.
+        """
+        ...
+
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Any = None) -> _FloatArray:
+        """Output for input ``x`` at times ``t_s``; ``state`` carries the history across blocks.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s].
+        x : (n,) array_like of float
+            Input [the element's input unit: N or V].
+        aux : mapping of str to array_like, optional
+            Auxiliary signals sampled with ``x`` (``temperature_c`` [degC]).
+        state : object, optional
+            A state from :meth:`forward_state`, updated in place; a relaxed, unloaded element when omitted.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [the element's output unit: N or V].
+        """
+        ...
 
 
 class SensorChain:
@@ -1124,7 +1951,7 @@ class SensorChain:
     _elements: tuple
     forward_only: bool
 
-    def __init__(self, elements: Sequence[Element], *, forward_only: bool = False):
+    def __init__(self, elements: Sequence[Element], *, forward_only: bool = False) -> None:
         items = tuple(elements)
         object.__setattr__(self, "_elements", items)
         object.__setattr__(self, "forward_only", bool(forward_only))
@@ -1143,17 +1970,30 @@ class SensorChain:
         """The elements, force end first (a tuple: a changed chain is a new chain)."""
         return self._elements
 
-    def __setattr__(self, name, value):
+    def __setattr__(self, name: str, value: Any) -> NoReturn:
         raise AttributeError(f"SensorChain is immutable (tried to set {name}); build a new one "
                              "(SensorChain([...]), with_offset)")
 
     @classmethod
-    def from_model(cls, model: ViscoelasticModel, offset_v: float = 0.0):
-        """The usual chain: a viscoelastic core ``model`` followed by an offset of ``offset_v`` (V)."""
+    def from_model(cls, model: ViscoelasticModel, offset_v: float = 0.0) -> Self:
+        """The usual chain: a viscoelastic core followed by an offset.
+
+        Parameters
+        ----------
+        model : ViscoelasticModel
+            The core [N/V, N*s/V].
+        offset_v : float, optional
+            Bridge output at zero force [V].
+
+        Returns
+        -------
+        SensorChain
+            ``[ViscoelasticElement(model), OffsetElement(offset_v)]``.
+        """
         return cls([ViscoelasticElement(model), OffsetElement(offset_v)])
 
     @property
-    def viscoelastic(self):
+    def viscoelastic(self) -> Optional[ViscoelasticModel]:
         """The viscoelastic model of the core, or None."""
         for e in self.elements:
             if isinstance(e, ViscoelasticElement):
@@ -1179,86 +2019,188 @@ class SensorChain:
         return self.offset.voltage_v
 
     def with_offset(self, voltage_v: float) -> "SensorChain":
-        """A new chain with the bridge offset ``voltage_v`` (V); this one is left as it is.
+        """A new chain with another bridge offset; this one is left as it is.
 
         The offset element is replaced where it stands, or appended at the
         voltage end when the chain has none.
+
+        Parameters
+        ----------
+        voltage_v : float
+            Bridge output at zero force [V].
+
+        Returns
+        -------
+        SensorChain
+            The new chain.
         """
         element = OffsetElement(voltage_v)
         if any(isinstance(e, OffsetElement) for e in self.elements):
             return SensorChain([element if isinstance(e, OffsetElement) else e for e in self.elements])
         return SensorChain([*self.elements, element])
 
-    def forward_states(self):
-        """Fresh element states for block-wise forward runs (relaxed, unloaded sensor)."""
+    def forward_states(self) -> list[Any]:
+        """Fresh element states for block-wise forward runs (relaxed, unloaded sensor).
+
+        Returns
+        -------
+        list
+            Each element's :meth:`~Element.forward_state`, force end first.
+        """
         return [e.forward_state() for e in self.elements]
 
-    def forward(self, t_s, force_n, aux=None, states=None):
-        """Voltage for a force history; pass ``states`` to continue from a previous block."""
+    def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                states: Optional[Sequence[Any]] = None) -> _FloatArray:
+        """Voltage for a force history: each element's :meth:`~Element.forward` from the force end.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s], non-decreasing.
+        force_n : (n,) array_like of float
+            Applied force [N].
+        aux : mapping of str to array_like, optional
+            Auxiliary signals sampled with the force (``temperature_c`` [degC]).
+        states : sequence, optional
+            From :meth:`forward_states`, to continue from a previous block (updated in place);
+            a relaxed, unloaded sensor when omitted.
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Bridge voltage [V].
+        """
         states = states if states is not None else self.forward_states()
         x = np.asarray(force_n, dtype=float)
         for element, state in zip(self.elements, states):
             x = element.forward(t_s, x, aux, state)
         return x
 
-    def backward(self, t_s, voltage_v, aux=None):
-        """Force (N) for a voltage record ``voltage_v`` (V) at ``t_s`` (s): each element's :meth:`backward` from the voltage end."""
+    def backward(self, t_s: npt.ArrayLike, voltage_v: npt.ArrayLike,
+                 aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """Force for a voltage record: each element's :meth:`~Element.backward` from the voltage end.
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s].
+        voltage_v : (n,) array_like of float
+            Bridge voltage [V].
+        aux : mapping of str to array_like, optional
+            Auxiliary signals sampled with the voltage (``temperature_c`` [degC]).
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Force [N].
+        """
         x = np.asarray(voltage_v, dtype=float)
         for element in reversed(self.elements):
             x = element.backward(t_s, x, aux)
         return x
 
-    def streaming(self):
-        """A :class:`ChainStream`: the elements' per-sample inverses from the voltage end."""
+    def streaming(self) -> ChainStream:
+        """The per-sample inverse of the chain.
+
+        Returns
+        -------
+        ChainStream
+            The elements' fresh per-sample inverses from the voltage end [V in, N out].
+        """
         return ChainStream([e.streaming() for e in reversed(self.elements)])
 
     def static_gain_v_per_n(self) -> float:
-        """The core's static gain in V/N (1.0 without a core); the other elements are not included."""
+        """The core's static gain (1.0 without a core); the other elements are not included.
+
+        Returns
+        -------
+        float
+            Static gain [V/N].
+        """
         core = self.viscoelastic
         return core.static_gain_v_per_n() if core is not None else 1.0
 
-    def to_dict(self):
-        """``{'elements': [...]}``: each element's :meth:`to_dict`, force end first."""
+    def to_dict(self) -> dict[str, Any]:
+        """The chain as a model-file mapping.
+
+        Returns
+        -------
+        dict
+            ``{'elements': [...]}``: each element's :meth:`~Element.to_dict`, force end first.
+        """
         return {"elements": [e.to_dict() for e in self.elements]}
 
     @classmethod
-    def from_dict(cls, d):
-        """The chain from ``{'elements': [...]}`` (force end first), each built by its ``type``.
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The chain from a model-file mapping, each element built by its ``type``.
 
-        ModelError if anything is invalid.
+        Parameters
+        ----------
+        d : mapping
+            ``{'elements': [...]}``, force end first.
+
+        Returns
+        -------
+        SensorChain
+            The chain.
+
+        Raises
+        ------
+        ModelError
+            If anything is invalid.
         """
         if not isinstance(d, dict) or not isinstance(d.get("elements"), list):
             raise ModelError("model must be a mapping with a list under 'elements'")
-        elements = []
+        elements: list[Element] = []
         for i, item in enumerate(d["elements"]):
             if not isinstance(item, dict) or "type" not in item:
                 raise ModelError(f"element {i}: must be a mapping with a 'type'")
             kind = item["type"]
             if kind not in ELEMENT_TYPES:
                 raise ModelError(f"element {i}: unknown type {kind!r}; known: {sorted(ELEMENT_TYPES)}")
-            elements.append(ELEMENT_TYPES[kind].from_dict(item))
+            # ELEMENT_TYPES holds plain types for its readers; every one of them builds from a mapping
+            elements.append(cast(_ElementType, ELEMENT_TYPES[kind]).from_dict(item))
         return cls(elements)
 
 
 class ChainStream:
     """Per-sample inverse of a chain: voltage in, force out (or None if rejected)."""
 
-    def __init__(self, streams):
+    def __init__(self, streams: Sequence[ElementStream]) -> None:
         self.streams = streams
         # The usual chain, an offset then the viscoelastic core, runs at 1 kHz: its offset is one
         # subtraction here and its one stateful stream is called directly (the same arithmetic as the loop).
         rest = list(streams)
-        self._offset_v = rest.pop(0).voltage_v if rest and isinstance(rest[0], _OffsetStream) else 0.0
+        self._offset_v = 0.0
+        if rest and isinstance(rest[0], _OffsetStream):
+            self._offset_v = rest[0].voltage_v
+            del rest[0]
         self._only = rest[0] if len(rest) == 1 else None
         self._rest = rest
 
-    def reset(self):
+    def reset(self) -> None:
         """Reset every element's stream (the next sample starts from a relaxed, unloaded sensor)."""
         for s in self.streams:
             s.reset()
 
-    def step(self, t_s, voltage_v, aux=None):
-        """Force (N) for one voltage sample (V) at ``t_s`` (s), or None if an element rejects the sample."""
+    def step(self, t_s: float, voltage_v: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+        """Force for one voltage sample, or None if an element rejects the sample.
+
+        Parameters
+        ----------
+        t_s : float
+            Sample time [s].
+        voltage_v : float
+            Bridge voltage [V].
+        aux : mapping of str to float, optional
+            Auxiliary samples at ``t_s`` (``temperature_c`` [degC]).
+
+        Returns
+        -------
+        float or None
+            Force [N], or None when an element cannot use the sample.
+        """
+        x: Optional[float]  # declared apart from its value, so that mypy narrows it to float here
         x = voltage_v - self._offset_v
         only = self._only
         if only is not None:

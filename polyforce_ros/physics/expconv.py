@@ -52,7 +52,20 @@ _UNIFORM_RTOL = 1e-12
 
 
 def uniform_step(t: npt.ArrayLike) -> Optional[float]:
-    """The common step (s) of sample times ``t`` if they are uniform up to rounding, else None."""
+    """The common step of sample times ``t`` if they are uniform up to rounding, else None.
+
+    Parameters
+    ----------
+    t : (n,) array_like of float
+        Sample times [s].
+
+    Returns
+    -------
+    float or None
+        The mean spacing ``(t[-1] - t[0]) / (n - 1)`` [s] when the spacings spread by no more
+        than 1e-12 of the first spacing plus the float64 rounding of the stamps; None for
+        fewer than two samples, a non-positive span, or irregular spacing.
+    """
     t = np.asarray(t, dtype=float)
     if t.size < 2:
         return None
@@ -66,10 +79,23 @@ def uniform_step(t: npt.ArrayLike) -> Optional[float]:
 
 
 def uniform_step_after(t_prev_s: Optional[float], t: npt.ArrayLike) -> Optional[float]:
-    """The common step (s) of a previous sample time ``t_prev_s`` followed by ``t``, else None.
+    """The common step of a previous sample time ``t_prev_s`` followed by ``t``, else None.
 
     As :func:`uniform_step` of the joined times (``t`` alone when ``t_prev_s`` is None),
     without copying ``t``.
+
+    Parameters
+    ----------
+    t_prev_s : float or None
+        Time of the sample before ``t`` [s], or None when there is none.
+    t : (n,) array_like of float
+        Sample times [s].
+
+    Returns
+    -------
+    float or None
+        The common step [s], or None when the joined times are not uniform (or too few:
+        an empty ``t``, or a single ``t`` without ``t_prev_s``).
     """
     t = np.asarray(t, dtype=float)
     if t_prev_s is None:
@@ -114,11 +140,23 @@ def step_weights(z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def step_weights(z: npt.ArrayLike) -> tuple[float, float, float] | tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Return ``(E, alpha, beta)`` for decay ``z = r h`` (dimensionless, >= 0).
+    """Weights ``(E, alpha, beta)`` of one step of the exact exponential recursion.
 
     Works on scalars and arrays. ``E = exp(-z)``; ``alpha``/``beta`` weight the
     previous/current input sample (see module docstring); multiply them by the
-    step length ``h`` in seconds.
+    step length ``h`` in seconds. Below ``z = 0.01`` ``alpha`` and ``beta`` come
+    from their Taylor series (the closed forms lose digits to cancellation there).
+
+    Parameters
+    ----------
+    z : float or array_like of float
+        Decay over the step, ``z = r h`` (rate [1/s] times step [s]; dimensionless, >= 0).
+
+    Returns
+    -------
+    E, alpha, beta : float or ndarray
+        Decay factor and input weights (dimensionless): three floats for a scalar (0-d)
+        ``z``, else three arrays of the shape of ``z``.
     """
     z = np.asarray(z, dtype=float)
     e = np.exp(-z)
@@ -139,7 +177,19 @@ def step_weights(z: npt.ArrayLike) -> tuple[float, float, float] | tuple[np.ndar
 
 
 def step_weights_scalar(z: float) -> tuple[float, float, float]:
-    """Scalar fast path of :func:`step_weights` for per-sample use (no numpy)."""
+    """Scalar fast path of :func:`step_weights` for per-sample use (no numpy).
+
+    Parameters
+    ----------
+    z : float
+        Decay over the step, ``z = r h`` (dimensionless, >= 0).
+
+    Returns
+    -------
+    E, alpha, beta : float
+        Decay factor ``exp(-z)`` and the weights of the previous and current input
+        sample (dimensionless; multiply ``alpha``/``beta`` by ``h`` [s]).
+    """
     e = math.exp(-z)
     if z < _SERIES_BELOW:
         z2 = z * z
@@ -251,10 +301,25 @@ def _convolve_irregular(h: np.ndarray, u_all: np.ndarray, r: float, y_start: flo
 
 
 def exp_convolve_columns(t_s: npt.ArrayLike, u: npt.ArrayLike, rate_per_s: float) -> np.ndarray:
-    """:func:`exp_convolve` of every column of ``u`` (n, m) with one rate, from rest; (n, m) out.
+    """:func:`exp_convolve` of every column of ``u`` with one rate, from rest.
 
     One ``lfilter`` call along axis 0 when the spacing is uniform (many
     signals through one filter at once); column by column otherwise.
+
+    Parameters
+    ----------
+    t_s : (n,) array_like of float
+        Sample times [s], non-decreasing.
+    u : (n, m) array_like of float
+        Input signals as columns (any unit ``U``).
+    rate_per_s : float
+        Decay rate ``r >= 0`` [1/s].
+
+    Returns
+    -------
+    (n, m) ndarray of float
+        ``y(t_i)`` of each column in ``U*s``, zero at the first sample (all zeros for
+        fewer than two samples).
     """
     t = np.asarray(t_s, dtype=float)
     u = np.asarray(u, dtype=float)
@@ -277,6 +342,11 @@ class ExpConvState:
     internal storage, copy it to keep it). The first sample only initialises
     the previous-sample memory. Returns ``None`` and changes nothing when the
     time goes backwards, so the caller decides what to do with such a sample.
+
+    Parameters
+    ----------
+    rates_per_s : array_like of float
+        Decay rates ``r_k >= 0`` [1/s], one state per rate.
     """
 
     __slots__ = ("rates_per_s", "y", "t_prev_s", "u_prev", "_h_cached", "_w_cached")
@@ -290,12 +360,37 @@ class ExpConvState:
         self._w_cached: list[tuple[float, float, float]] = []  # filled with _h_cached (read only after it)
 
     def reset(self, y: Optional[Iterable[float]] = None) -> None:
-        """Forget the history (state ``y`` zero unless given, no previous sample)."""
+        """Forget the history: no previous sample, and the state set to ``y``.
+
+        Parameters
+        ----------
+        y : iterable of float, optional
+            New state, one value per rate (input unit times s); zeros when omitted.
+        """
         self.y = [0.0] * len(self.rates_per_s) if y is None else [float(v) for v in y]
         self.t_prev_s = None
         self.u_prev = 0.0
 
-    def update(self, t_s: float, u: float):
+    def update(self, t_s: float, u: float) -> Optional[list[float]]:
+        """Advance the state to a new sample by the exact exponential recursion.
+
+        Parameters
+        ----------
+        t_s : float
+            Sample time [s]. A stamp equal to the previous one is a zero-length step
+            (the state does not change; the new value becomes the previous sample).
+        u : float
+            Input sample (any unit ``U``), taken to vary linearly from the previous one.
+
+        Returns
+        -------
+        list of float or None
+            The state ``y_k`` after the sample (``U*s``, one per rate): the internal list
+            itself, updated in place by later calls, so copy it to keep it. The first
+            sample after construction or :meth:`reset` only initialises the previous
+            sample and returns the state unchanged. None when ``t_s`` is earlier than the
+            previous sample; nothing is changed then.
+        """
         if self.t_prev_s is None:
             self.t_prev_s, self.u_prev = t_s, u
             return self.y

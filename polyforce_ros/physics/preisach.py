@@ -23,8 +23,10 @@ from __future__ import annotations
 
 import bisect
 from dataclasses import dataclass
+from typing import Any, Mapping, Optional, Union
 
 import numpy as np
+import numpy.typing as npt
 from scipy import optimize
 
 __all__ = ["PreisachModel", "relay_states", "ramp_states", "identify", "PreisachStream", "ContinuousPreisachStream",
@@ -38,10 +40,10 @@ class PreisachModel:
 
     u_min: float
     u_max: float
-    density: np.ndarray
+    density: npt.NDArray[np.float64]
     offset: float = 0.0
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         density = np.tril(np.asarray(self.density, dtype=float))
         density.flags.writeable = False
         object.__setattr__(self, "density", density)
@@ -65,7 +67,7 @@ class PreisachModel:
         return n * (n + 1) // 2
 
     @property
-    def edges(self) -> np.ndarray:
+    def edges(self) -> npt.NDArray[np.float64]:
         """The n + 1 level edges e_0 = u_min < ... < e_n = u_max, evenly spaced (input unit)."""
         return np.linspace(self.u_min, self.u_max, self.n_levels + 1)
 
@@ -74,28 +76,68 @@ class PreisachModel:
         """Width of one level, (u_max - u_min) / n (input unit)."""
         return (self.u_max - self.u_min) / self.n_levels
 
-    def forward(self, u):
-        """Discrete output for an input sequence, starting with all relays down."""
+    def forward(self, u: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """Discrete output for an input sequence, starting with all relays down.
+
+        Parameters
+        ----------
+        u : (n,) array_like of float
+            Input samples (input unit, e.g. N or V).
+
+        Returns
+        -------
+        (n,) ndarray of float
+            ``offset + sum_ij density[i, j] * H_ij`` at each sample (output unit).
+        """
         states = relay_states(u, self.u_min, self.u_max, self.n_levels)
         i, j = np.tril_indices(self.n_levels)
         return self.offset + states @ self.density[i, j]
 
-    def stream(self, continuous=False):
-        """Per-sample operator: discrete relays with the CMA inverse, or continuous ramps."""
+    def stream(self, continuous: bool = False) -> Union[PreisachStream, ContinuousPreisachStream]:
+        """Per-sample operator: discrete relays with the CMA inverse, or continuous ramps.
+
+        Parameters
+        ----------
+        continuous : bool, optional
+            False (default): the discrete operator; True: the continuous (ramp) operator.
+
+        Returns
+        -------
+        PreisachStream or ContinuousPreisachStream
+            A new stream with all relays down and the input at ``u_min``.
+        """
         return ContinuousPreisachStream(self) if continuous else PreisachStream(self)
 
-    def to_dict(self):
-        """Plain (JSON-ready) dict: u_min, u_max, n_levels, offset and the n (n + 1) / 2 lower-triangular
-        density values as a flat list in row-major (``np.tril_indices``) order.
+    def to_dict(self) -> dict[str, Any]:
+        """Plain (JSON-ready) dict of the model, the inverse of :meth:`from_dict`.
+
+        Returns
+        -------
+        dict
+            ``u_min``, ``u_max`` (float, input unit), ``n_levels`` (int), ``offset`` (float,
+            output unit) and ``density``: the n (n + 1) / 2 lower-triangular density values
+            (output unit) as a flat list of floats in row-major (``np.tril_indices``) order.
         """
         i, j = np.tril_indices(self.n_levels)
         return {"u_min": float(self.u_min), "u_max": float(self.u_max), "n_levels": self.n_levels,
                 "offset": float(self.offset), "density": [float(v) for v in self.density[i, j]]}
 
     @classmethod
-    def from_dict(cls, d):
-        """The model from a :meth:`to_dict` dict; ValueError if ``density`` does not hold
-        n (n + 1) / 2 values for ``n_levels``.
+    def from_dict(cls, d: Mapping[str, Any]) -> PreisachModel:
+        """The model from a :meth:`to_dict` dict.
+
+        Parameters
+        ----------
+        d : mapping
+            With the keys ``u_min``, ``u_max`` (input unit), ``n_levels``, ``offset`` (output
+            unit) and ``density`` (n (n + 1) / 2 values in ``np.tril_indices`` order, output
+            unit); other keys are ignored.
+
+        Returns
+        -------
+        PreisachModel
+            The model. Raises ValueError if ``density`` does not hold n (n + 1) / 2 values for
+            ``n_levels`` or the model's own checks reject the values, KeyError for a missing key.
         """
         n = int(d["n_levels"])
         values = np.asarray(d["density"], dtype=float)
@@ -106,12 +148,29 @@ class PreisachModel:
         return cls(float(d["u_min"]), float(d["u_max"]), density, float(d["offset"]))
 
 
-def relay_states(u, u_min, u_max, n_levels, chunk=20000):
-    """Relay outputs (+1/-1, int8) for every sample: shape (len(u), n(n+1)/2), tril order.
+def relay_states(u: npt.ArrayLike, u_min: float, u_max: float, n_levels: int,
+                 chunk: int = 20000) -> npt.NDArray[np.int8]:
+    """Relay outputs (+1/-1) of the discrete operator for every sample, starting with all relays down.
 
     Relay (i, j) is up at sample k when the input last reached e_{i+1} after it
     last fell to e_j; both "last" indices are running maxima, so the whole
     record is vectorised.
+
+    Parameters
+    ----------
+    u : (n,) array_like of float
+        Input samples (input unit).
+    u_min, u_max : float
+        Input range (input unit), cut into ``n_levels`` even levels.
+    n_levels : int
+        Number of levels.
+    chunk : int, optional
+        Samples transposed into the output at a time (memory only; the result does not depend on it).
+
+    Returns
+    -------
+    (n, n_levels (n_levels + 1) / 2) ndarray of int8
+        +1 (up) or -1 (down) per sample and relay, relays in ``np.tril_indices`` order.
     """
     u = np.asarray(u, dtype=float)
     edges = np.linspace(u_min, u_max, n_levels + 1)
@@ -126,8 +185,23 @@ def relay_states(u, u_min, u_max, n_levels, chunk=20000):
     return out
 
 
-def ramp_states(u, u_min, u_max, n_levels):
-    """Relay values of the continuous operator (ramp hysterons) for every sample: (len(u), n(n+1)/2)."""
+def ramp_states(u: npt.ArrayLike, u_min: float, u_max: float, n_levels: int) -> npt.NDArray[np.float64]:
+    """Relay values of the continuous operator (ramp hysterons) for every sample, starting with all ramps at -1.
+
+    Parameters
+    ----------
+    u : (n,) array_like of float
+        Input samples (input unit).
+    u_min, u_max : float
+        Input range (input unit), cut into ``n_levels`` even levels.
+    n_levels : int
+        Number of levels.
+
+    Returns
+    -------
+    (n, n_levels (n_levels + 1) / 2) ndarray of float
+        Ramp values in [-1, 1] per sample and relay, relays in ``np.tril_indices`` order.
+    """
     probe = ContinuousPreisachStream(PreisachModel(u_min, u_max, np.zeros((n_levels, n_levels)) + 1e-300, 0.0))
     i, j = np.tril_indices(n_levels)
     out = np.empty((np.size(u), i.size))
@@ -137,7 +211,8 @@ def ramp_states(u, u_min, u_max, n_levels):
     return out
 
 
-def identify(u, y, n_levels=40, u_min=None, u_max=None) -> PreisachModel:
+def identify(u: npt.ArrayLike, y: npt.ArrayLike, n_levels: int = 40, u_min: Optional[float] = None,
+             u_max: Optional[float] = None) -> PreisachModel:
     """Density >= 0 and offset by least squares from an input/output record (seed 001).
 
     Samples with the same relay state are merged (mean output, weighted by
@@ -145,6 +220,22 @@ def identify(u, y, n_levels=40, u_min=None, u_max=None) -> PreisachModel:
     small. The input should switch every relay both ways (e.g. triangles of
     increasing amplitude over the whole range), or the unexcited relays'
     weights stay undetermined (they come out as 0).
+
+    Parameters
+    ----------
+    u : (n,) array_like of float
+        Input samples (input unit), starting from the all-relays-down state.
+    y : (n,) array_like of float
+        Output samples (output unit).
+    n_levels : int, optional
+        Number of levels (default 40, as in seed 001).
+    u_min, u_max : float, optional
+        Input range (input unit); the record's minimum and maximum input when omitted.
+
+    Returns
+    -------
+    PreisachModel
+        The identified model (density and offset in the output unit).
     """
     u, y = np.asarray(u, dtype=float), np.asarray(y, dtype=float)
     lo = float(np.min(u)) if u_min is None else u_min
@@ -173,45 +264,61 @@ class PreisachStream:
     to ``y`` (seed 001's CMA: quantised to the levels) and moves the state
     there. A target reachable without switching any relay keeps the previous
     input.
+
+    Parameters
+    ----------
+    model : PreisachModel
+        The operator; the stream starts with all relays down and the input at ``u_min``.
     """
 
-    def __init__(self, model: PreisachModel):
+    def __init__(self, model: PreisachModel) -> None:
         self.model = model
         n = model.n_levels
         self._w = model.density
         self._tril = np.tril(np.ones((n, n), dtype=bool))
-        self._edges = model.edges.tolist()
+        self._edges: list[float] = model.edges.tolist()
         self._step = model.level_step
         self.reset()
 
-    def reset(self):
+    def reset(self) -> None:
         """All relays down, input at u_min."""
         self._h = np.where(self._tril, -1.0, 0.0)
-        self.y = self.model.offset - float(self._w.sum())
+        self.y: float = self.model.offset - float(self._w.sum())
         self.u = self.model.u_min
         self._candidates()
 
-    def _candidates(self):
+    def _candidates(self) -> None:
         """Outputs after moving the input up to each edge (rising) and down to each edge (falling)."""
         row_off = ((self._h < 0) * self._w).sum(axis=1)
         col_on = ((self._h > 0) * self._w).sum(axis=0)
-        self._up = (self.y + 2.0 * np.concatenate(([0.0], np.cumsum(row_off)))).tolist()
-        self._down = (self.y - 2.0 * np.concatenate((np.cumsum(col_on[::-1])[::-1], [0.0]))).tolist()
+        self._up: list[float] = (self.y + 2.0 * np.concatenate(([0.0], np.cumsum(row_off)))).tolist()
+        self._down: list[float] = (self.y - 2.0 * np.concatenate((np.cumsum(col_on[::-1])[::-1], [0.0]))).tolist()
 
-    def _move_up(self, k):
+    def _move_up(self, k: int) -> None:
         if self._up[k] != self.y:
             self._h[:k][self._tril[:k]] = 1.0
             self.y = self._up[k]
             self._candidates()
 
-    def _move_down(self, k):
+    def _move_down(self, k: int) -> None:
         if self._down[k] != self.y:
             self._h[:, k:][self._tril[:, k:]] = -1.0
             self.y = self._down[k]
             self._candidates()
 
     def forward(self, u: float) -> float:
-        """Move the input to ``u`` (input unit), switching relays as needed; returns the discrete output (output unit)."""
+        """Move the input to ``u``, switching relays as needed.
+
+        Parameters
+        ----------
+        u : float
+            New input (input unit).
+
+        Returns
+        -------
+        float
+            The discrete output (output unit).
+        """
         n = self.model.n_levels
         pos = (u - self.model.u_min) / self._step
         self._move_up(min(max(int(np.floor(pos)), 0), n))  # relays with e_{i+1} <= u switch up
@@ -220,11 +327,22 @@ class PreisachStream:
         return self.y
 
     def inverse(self, y_target: float) -> float:
-        """CMA inverse: the input (input unit) that gives the output closest to ``y_target``.
+        """CMA inverse: the input that gives the output closest to ``y_target``.
 
         Searches the edges reachable from the current state in the direction of
-        ``y_target`` and moves the state there. Returns the previous input when
-        ``y_target`` equals the current output or the nearest candidate switches no relay.
+        ``y_target`` and moves the state there.
+
+        Parameters
+        ----------
+        y_target : float
+            Wanted output (output unit).
+
+        Returns
+        -------
+        float
+            The input (input unit): the level edge whose output is closest to ``y_target``,
+            or the previous input when ``y_target`` equals the current output or the nearest
+            candidate switches no relay.
         """
         if y_target == self.y:
             return self.u
@@ -259,9 +377,14 @@ class ContinuousPreisachStream:
     The inverse uses that, from a given state, the output is monotone and
     piecewise linear in the input: candidate outputs at the edges locate the
     level, and inside it the ramp value solves a sorted piecewise-linear sum.
+
+    Parameters
+    ----------
+    model : PreisachModel
+        The operator; the stream starts with all ramps at -1 and the input at ``u_min``.
     """
 
-    def __init__(self, model: PreisachModel):
+    def __init__(self, model: PreisachModel) -> None:
         self.model = model
         n = model.n_levels
         self._w = model.density
@@ -270,17 +393,28 @@ class ContinuousPreisachStream:
         self._h = model.level_step
         self.reset()
 
-    def reset(self):
+    def reset(self) -> None:
         """All ramps at -1 (relays down), input at u_min, output offset - sum(density)."""
         self.r = np.where(self._tril, -1.0, 0.0)
         self.u = self.model.u_min
         self.y = self.model.offset - float(self._w.sum())
 
-    def _ramps(self, u):
+    def _ramps(self, u: float) -> npt.NDArray[np.float64]:
         return -1.0 + 2.0 * np.clip((u - self._e[:-1]) / self._h, 0.0, 1.0)
 
     def forward(self, u: float) -> float:
-        """Move the input to ``u`` (input unit), updating the ramps; returns the continuous output (output unit)."""
+        """Move the input to ``u``, updating the ramps.
+
+        Parameters
+        ----------
+        u : float
+            New input (input unit).
+
+        Returns
+        -------
+        float
+            The continuous output (output unit).
+        """
         f = self._ramps(u)
         self.r = np.minimum(np.maximum(self.r, f[:, None]), f[None, :]) * self._tril
         self.u = u
@@ -288,11 +422,21 @@ class ContinuousPreisachStream:
         return self.y
 
     def inverse(self, y_target: float) -> float:
-        """Exact inverse: the input (input unit) whose output, from the current state, equals ``y_target``.
+        """Exact inverse: the input whose output, from the current state, equals ``y_target``.
 
-        The state is moved there (as :meth:`forward`). A target beyond reach is clamped
-        to u_max (rising) or u_min (falling); if ``y_target`` equals the current output
-        the current input is returned and nothing changes.
+        The state is moved there (as :meth:`forward`).
+
+        Parameters
+        ----------
+        y_target : float
+            Wanted output (output unit).
+
+        Returns
+        -------
+        float
+            The input (input unit). A target beyond reach is clamped to u_max (rising) or
+            u_min (falling); if ``y_target`` equals the current output the current input is
+            returned and nothing changes.
         """
         n = self.model.n_levels
         if y_target > self.y:
@@ -322,7 +466,7 @@ class ContinuousPreisachStream:
         return u
 
 
-def _solve_ramp(weights, values, need):
+def _solve_ramp(weights: npt.NDArray[np.float64], values: npt.NDArray[np.float64], need: float) -> float:
     """s in [-1, 1] with sum_k weights_k * max(0, s - values_k) = need (monotone, piecewise linear)."""
     order = np.argsort(values)
     v, w = values[order], weights[order]
@@ -336,8 +480,25 @@ def _solve_ramp(weights, values, need):
     return float(np.clip((need + cs[m]) / cw[m], -1.0, 1.0))
 
 
-def hysteresis_error_percent(u, y) -> float:
-    """Seed 001 eq. 3: 100 * max (unloading - loading output at equal input) / max output."""
+def hysteresis_error_percent(u: npt.ArrayLike, y: npt.ArrayLike) -> float:
+    """Seed 001 eq. 3: 100 * max (unloading - loading output at equal input) / max output.
+
+    Computed by :func:`~.metrics.hysteresis_percent` (one loading/unloading cycle, split
+    at the input's maximum, branches compared over 2-98 % of the input range).
+
+    Parameters
+    ----------
+    u : (n,) array_like of float
+        Input of one loading/unloading cycle (input unit).
+    y : (n,) array_like of float
+        Output (output unit).
+
+    Returns
+    -------
+    float
+        Hysteresis error [%] of the normalised output. Raises ValueError if the cycle has
+        no loading and unloading branch.
+    """
     from .metrics import hysteresis_percent
 
     return hysteresis_percent(u, y)

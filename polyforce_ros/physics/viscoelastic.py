@@ -25,9 +25,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields
-from typing import ClassVar, Optional
+from typing import Any, ClassVar, Iterable, Optional, Sequence, TypeVar, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from scipy import linalg, signal
 
@@ -36,6 +37,8 @@ from .expconv import ExpConvState, exp_convolve, exp_convolve_columns, step_weig
 __all__ = ["CreepCompliance", "RelaxationModulus", "ViscoelasticModel", "Elastic", "Maxwell", "KelvinVoigt", "Zener",
     "Burgers", "Zener2", "Burgers2", "MODEL_TYPES", "PAPER_BURGERS", "simulate_deformation",
     "simulate_deformation_columns", "ForwardState", "compensate", "BackwardState", "StreamingCompensator"]
+
+_Model = TypeVar("_Model", bound="ViscoelasticModel")
 
 
 @dataclass(frozen=True)
@@ -52,7 +55,19 @@ class CreepCompliance:
     tau_s: tuple[float, ...] = ()
     fluidity_v_per_n_s: float = 0.0
 
-    def __call__(self, t_s):
+    def __call__(self, t_s: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """J(t) [V/N] at the given times.
+
+        Parameters
+        ----------
+        t_s : float or array_like of float
+            Time since the unit force step [s].
+
+        Returns
+        -------
+        ndarray of float
+            J(t_s) [V/N], shaped like ``t_s`` (a numpy scalar for a scalar ``t_s``).
+        """
         t = np.asarray(t_s, dtype=float)
         j = self.j0_v_per_n + self.fluidity_v_per_n_s * t
         for c, tau in zip(self.c_v_per_n, self.tau_s):
@@ -78,7 +93,21 @@ class RelaxationModulus:
         """G(0+), the instantaneous stiffness in N/V."""
         return self.g_inf_n_per_v + float(sum(self.a_n_per_v))
 
-    def __call__(self, t_s):
+    def __call__(self, t_s: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """G(t) [N/V] at the given times, without the impulse term.
+
+        Parameters
+        ----------
+        t_s : float or array_like of float
+            Time since the unit deformation step [s].
+
+        Returns
+        -------
+        ndarray of float
+            ``g_inf + sum_k a_k exp(-r_k t)`` [N/V], shaped like ``t_s`` (0-d for a scalar ``t_s``:
+            a numpy scalar, or a 0-d array without exponential terms); ``eta_impulse_n_s_per_v``
+            is not included.
+        """
         t = np.asarray(t_s, dtype=float)
         g = np.full_like(t, self.g_inf_n_per_v)
         for a, r in zip(self.a_n_per_v, self.r_per_s):
@@ -86,17 +115,19 @@ class RelaxationModulus:
         return g
 
 
-def _relaxation_from_ode(char_poly, g0, g0_dot, g_inf=0.0) -> tuple[tuple, tuple]:
+def _relaxation_from_ode(char_poly: Sequence[float], g0: float, g0_dot: Optional[float],
+                         g_inf: float = 0.0) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """Rates and coefficients of G(t) = g_inf + sum a_k exp(-r_k t).
 
     char_poly: coefficients (highest power first) of the polynomial whose roots
     are the rates r_k (eq. 8 for Burgers). The coefficients solve the initial
-    conditions G(0) = g0 and, for two rates, G'(0) = g0_dot.
+    conditions G(0) = g0 and, for two rates, G'(0) = g0_dot (then not None).
     """
     rates = np.sort(np.real(np.roots(char_poly)))
     if rates.size == 1:
         return (g0 - g_inf,), (float(rates[0]),)
     vander = np.vstack([np.ones_like(rates), -rates])
+    assert g0_dot is not None, "two rates need G'(0)"
     coeffs = np.linalg.solve(vander, [g0 - g_inf, g0_dot])
     return tuple(float(a) for a in coeffs), tuple(float(r) for r in rates)
 
@@ -110,7 +141,7 @@ class ViscoelasticModel:
     #: provide (the discrepancy engine's columns, the fluid kinds of identification)
     shape: ClassVar[tuple[int, bool, bool]] = (0, True, False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         for f in fields(self):
             value = getattr(self, f.name)
             if not isinstance(value, (int, float)) or isinstance(value, bool):
@@ -120,33 +151,87 @@ class ViscoelasticModel:
 
     @classmethod
     def parameter_names(cls) -> tuple[str, ...]:
-        """The names of the model's parameters (its dataclass fields, units in their names), in field order."""
+        """The names of the model's parameters (its dataclass fields, units in their names), in field order.
+
+        Returns
+        -------
+        tuple of str
+            Field names such as ``k1_n_per_v`` or ``eta2_n_s_per_v``; the suffix is the unit.
+        """
         return tuple(f.name for f in fields(cls))
 
     def as_dict(self) -> dict[str, float]:
-        """The model's parameters as ``{name: value}`` floats (units in their names)."""
+        """The model's parameters as ``{name: value}`` floats (units in their names).
+
+        Returns
+        -------
+        dict of str to float
+            Parameter values in the units their names carry (N/V, N*s/V), in field order.
+        """
         return {name: float(getattr(self, name)) for name in self.parameter_names()}
 
-    def as_vector(self) -> np.ndarray:
-        """The model's parameters in the order of parameter_names() (units in their names)."""
+    def as_vector(self) -> npt.NDArray[np.float64]:
+        """The model's parameters in the order of parameter_names() (units in their names).
+
+        Returns
+        -------
+        (p,) ndarray of float
+            Parameter values (N/V, N*s/V as their names say), one per field.
+        """
         return np.array([getattr(self, n) for n in self.parameter_names()], dtype=float)
 
     @classmethod
-    def from_vector(cls, values):
-        """The model built from parameter values in the order of parameter_names() (inverse of as_vector)."""
+    def from_vector(cls: type[_Model], values: Iterable[float]) -> _Model:
+        """The model built from parameter values in the order of parameter_names() (inverse of as_vector).
+
+        Parameters
+        ----------
+        values : iterable of float
+            One value per parameter, in the units their names carry (N/V, N*s/V).
+
+        Returns
+        -------
+        ViscoelasticModel
+            An instance of the class it is called on. Raises TypeError for a wrong number of
+            values and ValueError for a value that is not finite and > 0.
+        """
         return cls(*(float(v) for v in values))
 
     # Subclasses implement these two.
     def compliance(self) -> CreepCompliance:  # pragma: no cover - abstract
-        """The creep compliance J(t) as a Prony series in V/N; implemented by each subclass."""
+        """The creep compliance J(t) as a Prony series in V/N; implemented by each subclass.
+
+        Returns
+        -------
+        CreepCompliance
+            J(t) [V/N]: instantaneous, retarded (Kelvin) and viscous-flow terms.
+        """
         raise NotImplementedError
 
     def relaxation(self) -> RelaxationModulus:  # pragma: no cover - abstract
-        """The relaxation modulus G(t) as exponentials in N/V; implemented by each subclass."""
+        """The relaxation modulus G(t) as exponentials in N/V; implemented by each subclass.
+
+        Returns
+        -------
+        RelaxationModulus
+            G(t) [N/V]: the equilibrium modulus, exponential terms with their rates [1/s], and
+            an impulse term [N*s/V] for a model without instantaneous elasticity.
+        """
         raise NotImplementedError
 
-    def creep_compliance(self, t_s):
-        """J(t) in V/N (eq. 4 for Burgers)."""
+    def creep_compliance(self, t_s: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """J(t) in V/N (eq. 4 for Burgers).
+
+        Parameters
+        ----------
+        t_s : float or array_like of float
+            Time since the unit force step [s].
+
+        Returns
+        -------
+        ndarray of float
+            J(t_s) [V/N], shaped like ``t_s`` (a numpy scalar for a scalar ``t_s``).
+        """
         return self.compliance()(t_s)
 
     def static_gain_v_per_n(self) -> float:
@@ -155,6 +240,11 @@ class ViscoelasticModel:
         For Burgers this is the paper's static gain k_s = 0.31 V/N (the inverse
         of the static stiffness k1 k2 / (k1 + k2)); the free dashpot is left
         out because its creep is unbounded.
+
+        Returns
+        -------
+        float
+            ``j0 + sum_k c_k`` of the creep compliance [V/N].
         """
         c = self.compliance()
         return c.j0_v_per_n + float(sum(c.c_v_per_n))
@@ -168,12 +258,24 @@ class Elastic(ViscoelasticModel):
     shape: ClassVar[tuple[int, bool, bool]] = (0, True, False)
     k_n_per_v: float
 
-    def compliance(self):
-        """J(t) = 1/k in V/N, constant."""
+    def compliance(self) -> CreepCompliance:
+        """The creep compliance J(t) = 1/k in V/N, constant.
+
+        Returns
+        -------
+        CreepCompliance
+            Only the instantaneous compliance j0 = 1/k [V/N].
+        """
         return CreepCompliance(1.0 / self.k_n_per_v)
 
-    def relaxation(self):
-        """G(t) = k in N/V, constant."""
+    def relaxation(self) -> RelaxationModulus:
+        """The relaxation modulus G(t) = k in N/V, constant.
+
+        Returns
+        -------
+        RelaxationModulus
+            Only the equilibrium modulus g_inf = k [N/V].
+        """
         return RelaxationModulus(self.k_n_per_v)
 
 
@@ -186,12 +288,24 @@ class Maxwell(ViscoelasticModel):
     k_n_per_v: float
     eta_n_s_per_v: float
 
-    def compliance(self):
-        """J(t) = 1/k + t/eta in V/N (unbounded creep)."""
+    def compliance(self) -> CreepCompliance:
+        """The creep compliance J(t) = 1/k + t/eta in V/N (unbounded creep).
+
+        Returns
+        -------
+        CreepCompliance
+            j0 = 1/k [V/N] and fluidity 1/eta [V/(N*s)].
+        """
         return CreepCompliance(1.0 / self.k_n_per_v, fluidity_v_per_n_s=1.0 / self.eta_n_s_per_v)
 
-    def relaxation(self):
-        """G(t) = k exp(-(k/eta) t) in N/V, relaxing to 0."""
+    def relaxation(self) -> RelaxationModulus:
+        """The relaxation modulus G(t) = k exp(-(k/eta) t) in N/V, relaxing to 0.
+
+        Returns
+        -------
+        RelaxationModulus
+            One exponential: a = k [N/V] at rate r = k/eta [1/s]; g_inf = 0.
+        """
         # eta/k F' + F = eta gamma'  ->  root r = k/eta, G(0) = k, G(inf) = 0.
         a, r = _relaxation_from_ode([self.eta_n_s_per_v / self.k_n_per_v, -1.0], self.k_n_per_v, None)
         return RelaxationModulus(0.0, a, r)
@@ -206,12 +320,24 @@ class KelvinVoigt(ViscoelasticModel):
     k_n_per_v: float
     eta_n_s_per_v: float
 
-    def compliance(self):
-        """J(t) = (1/k) (1 - exp(-t k/eta)) in V/N, no instantaneous compliance."""
+    def compliance(self) -> CreepCompliance:
+        """The creep compliance J(t) = (1/k) (1 - exp(-t k/eta)) in V/N, no instantaneous compliance.
+
+        Returns
+        -------
+        CreepCompliance
+            One retarded term c = 1/k [V/N] with tau = eta/k [s]; j0 = 0.
+        """
         return CreepCompliance(0.0, (1.0 / self.k_n_per_v,), (self.eta_n_s_per_v / self.k_n_per_v,))
 
-    def relaxation(self):
-        """G(t) = k + eta delta(t): g_inf = k (N/V) and an impulse term eta (N s/V), no exponentials."""
+    def relaxation(self) -> RelaxationModulus:
+        """The relaxation modulus G(t) = k + eta delta(t), without exponentials.
+
+        Returns
+        -------
+        RelaxationModulus
+            g_inf = k [N/V] and the impulse term eta [N*s/V].
+        """
         # F = k gamma + eta gamma': G(t) = k + eta delta(t), no exponential term.
         return RelaxationModulus(self.k_n_per_v, eta_impulse_n_s_per_v=self.eta_n_s_per_v)
 
@@ -226,14 +352,27 @@ class Zener(ViscoelasticModel):
     k2_n_per_v: float
     eta2_n_s_per_v: float
 
-    def compliance(self):
-        """J(t) = 1/k1 + (1/k2) (1 - exp(-t k2/eta2)) in V/N."""
+    def compliance(self) -> CreepCompliance:
+        """The creep compliance J(t) = 1/k1 + (1/k2) (1 - exp(-t k2/eta2)) in V/N.
+
+        Returns
+        -------
+        CreepCompliance
+            j0 = 1/k1 [V/N] and one retarded term c = 1/k2 [V/N] with tau = eta2/k2 [s].
+        """
         return CreepCompliance(
             1.0 / self.k1_n_per_v, (1.0 / self.k2_n_per_v,), (self.eta2_n_s_per_v / self.k2_n_per_v,)
         )
 
-    def relaxation(self):
-        """G(t) in N/V: one exponential of rate (k1 + k2)/eta2 (1/s) from G(0) = k1 to G(inf) = k1 k2/(k1 + k2)."""
+    def relaxation(self) -> RelaxationModulus:
+        """The relaxation modulus G(t) in N/V: one exponential from G(0) = k1 to G(inf) = k1 k2/(k1 + k2).
+
+        Returns
+        -------
+        RelaxationModulus
+            g_inf = k1 k2/(k1 + k2) [N/V] and one exponential of rate (k1 + k2)/eta2 [1/s]
+            with a = k1 - g_inf [N/V].
+        """
         k1, k2, eta2 = self.k1_n_per_v, self.k2_n_per_v, self.eta2_n_s_per_v
         # (eta2/k1) F' + (1 + k2/k1) F = k2 gamma + eta2 gamma' with gamma fixed:
         # root r = (k1 + k2)/eta2, G(0) = k1, G(inf) = k1 k2/(k1 + k2).
@@ -253,8 +392,15 @@ class Burgers(ViscoelasticModel):
     eta1_n_s_per_v: float
     eta2_n_s_per_v: float
 
-    def compliance(self):
-        """J(t) = 1/k1 + t/eta1 + (1/k2) (1 - exp(-t k2/eta2)) in V/N (eq. 4)."""
+    def compliance(self) -> CreepCompliance:
+        """The creep compliance of the Burgers model, J(t) = 1/k1 + t/eta1 + (1/k2) (1 - exp(-t k2/eta2)) in V/N (eq. 4).
+
+        Returns
+        -------
+        CreepCompliance
+            j0 = 1/k1 [V/N], one retarded term c = 1/k2 [V/N] with tau = eta2/k2 [s], and
+            fluidity 1/eta1 [V/(N*s)].
+        """
         return CreepCompliance(
             1.0 / self.k1_n_per_v,
             (1.0 / self.k2_n_per_v,),
@@ -263,12 +409,24 @@ class Burgers(ViscoelasticModel):
         )
 
     def retardation_time_s(self) -> float:
-        """lambda = eta2 / k2 (8.51 s for eq. 5)."""
+        """The retardation time lambda = eta2 / k2 of the Kelvin element (8.51 s for eq. 5).
+
+        Returns
+        -------
+        float
+            lambda [s].
+        """
         return self.eta2_n_s_per_v / self.k2_n_per_v
 
-    def relaxation(self):
-        """G(t) in N/V: two exponentials whose rates (1/s) are the roots of eq. 8, with G(0) = k1,
-        G'(0) = -k1^2 (1/eta1 + 1/eta2) and G(inf) = 0.
+    def relaxation(self) -> RelaxationModulus:
+        """The relaxation modulus of the Burgers model: two exponentials whose rates are the roots of eq. 8.
+
+        The coefficients solve G(0) = k1 and G'(0) = -k1^2 (1/eta1 + 1/eta2), with G(inf) = 0.
+
+        Returns
+        -------
+        RelaxationModulus
+            Two exponentials (coefficients [N/V], rates [1/s], slowest first); g_inf = 0.
         """
         k1, k2 = self.k1_n_per_v, self.k2_n_per_v
         eta1, eta2 = self.eta1_n_s_per_v, self.eta2_n_s_per_v
@@ -290,7 +448,7 @@ def _relaxation_from_compliance(comp: CreepCompliance) -> RelaxationModulus:
     factors = [np.array([tau, 1.0]) for tau in comp.tau_s]  # 1 + tau s, highest power first
     flow = np.array([1.0, 0.0]) if comp.fluidity_v_per_n_s else np.ones(1)  # the 1/s of the dashpot
     den = np.polymul(flow, _polyprod(factors))
-    num = comp.j0_v_per_n * den
+    num: npt.NDArray[np.floating[Any]] = comp.j0_v_per_n * den
     for k, c in enumerate(comp.c_v_per_n):
         num = np.polyadd(num, c * np.polymul(flow, _polyprod(factors[:k] + factors[k + 1:])))
     if comp.fluidity_v_per_n_s:
@@ -318,19 +476,31 @@ class Zener2(ViscoelasticModel):
     k3_n_per_v: float
     eta3_n_s_per_v: float
 
-    def compliance(self):
-        """J(t) = 1/k1 + sum over the two Kelvin elements of (1/k_i) (1 - exp(-t k_i/eta_i)) in V/N."""
+    def compliance(self) -> CreepCompliance:
+        """The creep compliance J(t) = 1/k1 + sum over the two Kelvin elements of (1/k_i) (1 - exp(-t k_i/eta_i)) in V/N.
+
+        Returns
+        -------
+        CreepCompliance
+            j0 = 1/k1 [V/N] and two retarded terms c_i = 1/k_i [V/N] with tau_i = eta_i/k_i [s].
+        """
         return _two_kelvin_compliance(self)
 
-    def relaxation(self):
-        """G(t) in N/V from the compliance via Laplace (two exponentials, G(inf) = static stiffness).
+    def relaxation(self) -> RelaxationModulus:
+        """The relaxation modulus G(t) in N/V from the compliance via Laplace (two exponentials).
 
         Raises ValueError if the rates come out complex or non-negative.
+
+        Returns
+        -------
+        RelaxationModulus
+            g_inf = the static stiffness 1/(1/k1 + 1/k2 + 1/k3) [N/V] and two exponentials
+            (coefficients [N/V], rates [1/s], slowest first).
         """
         return _relaxation_from_compliance(self.compliance())
 
 
-def _two_kelvin_compliance(model, fluidity_v_per_n_s=0.0) -> CreepCompliance:
+def _two_kelvin_compliance(model: Union[Zener2, Burgers2], fluidity_v_per_n_s: float = 0.0) -> CreepCompliance:
     """J(t) of spring k1 + Kelvin (k2, eta2) + Kelvin (k3, eta3) [+ a free dashpot]."""
     return CreepCompliance(
         1.0 / model.k1_n_per_v,
@@ -354,14 +524,26 @@ class Burgers2(ViscoelasticModel):
     k3_n_per_v: float
     eta3_n_s_per_v: float
 
-    def compliance(self):
-        """J(t) = 1/k1 + t/eta1 + sum over the two Kelvin elements of (1/k_i) (1 - exp(-t k_i/eta_i)) in V/N."""
+    def compliance(self) -> CreepCompliance:
+        """The creep compliance J(t) = 1/k1 + t/eta1 + sum over the two Kelvin elements of (1/k_i) (1 - exp(-t k_i/eta_i)) in V/N.
+
+        Returns
+        -------
+        CreepCompliance
+            j0 = 1/k1 [V/N], two retarded terms c_i = 1/k_i [V/N] with tau_i = eta_i/k_i [s], and
+            fluidity 1/eta1 [V/(N*s)].
+        """
         return _two_kelvin_compliance(self, 1.0 / self.eta1_n_s_per_v)
 
-    def relaxation(self):
-        """G(t) in N/V from the compliance via Laplace (exponentials only, G(inf) = 0: a fluid).
+    def relaxation(self) -> RelaxationModulus:
+        """The relaxation modulus G(t) in N/V from the compliance via Laplace (exponentials only: a fluid).
 
         Raises ValueError if the rates come out complex or non-negative.
+
+        Returns
+        -------
+        RelaxationModulus
+            Three exponentials (coefficients [N/V], rates [1/s], slowest first); g_inf = 0.
         """
         return _relaxation_from_compliance(self.compliance())
 
@@ -374,23 +556,32 @@ MODEL_TYPES: dict[str, type[ViscoelasticModel]] = {
 PAPER_BURGERS = Burgers(k1_n_per_v=4.8, k2_n_per_v=10.0, eta1_n_s_per_v=4627.94, eta2_n_s_per_v=85.12)
 
 
-def simulate_deformation(model: ViscoelasticModel, t_s, force_n, state=None):
+def simulate_deformation(model: ViscoelasticModel, t_s: npt.ArrayLike, force_n: npt.ArrayLike,
+                         state: Optional[ForwardState] = None) -> npt.NDArray[np.float64]:
     """Forward run: deformation (bridge volts above offset) for a sampled force history.
 
     gamma(t) = j0 F(t) + sum_k c_k x_k(t) + fluidity * int F dt, where each
-    Kelvin state obeys tau_k x_k' + x_k = F. Exact for force varying linearly
-    between samples; any (non-decreasing) spacing.
+    Kelvin state obeys tau_k x_k' + x_k = F (the creep compliance applied by
+    Boltzmann superposition). Exact for force varying linearly between samples
+    (exact exponential recursion of :mod:`~.expconv`); any (non-decreasing) spacing.
 
     Parameters
     ----------
-    t_s, force_n : (n,) arrays, seconds and newtons.
-    state : :class:`ForwardState`, optional
+    model : ViscoelasticModel
+        The sensor model; its :meth:`~ViscoelasticModel.compliance` drives the run.
+    t_s : (n,) array_like of float
+        Sample times [s], non-decreasing (ValueError otherwise, also when they start
+        before the last sample of ``state``).
+    force_n : (n,) array_like of float
+        Force [N], compression positive.
+    state : ForwardState, optional
         Carries the element states across calls (block-wise simulation); a
         relaxed, unloaded sensor when omitted. Updated in place.
 
     Returns
     -------
-    (n,) array of volts.
+    (n,) ndarray of float
+        Deformation [V] (bridge volts above offset).
     """
     t = np.asarray(t_s, dtype=float)
     f = np.asarray(force_n, dtype=float)
@@ -412,8 +603,24 @@ def simulate_deformation(model: ViscoelasticModel, t_s, force_n, state=None):
     return gamma
 
 
-def simulate_deformation_columns(model: ViscoelasticModel, t_s, forces_n):
-    """:func:`simulate_deformation` of every column of ``forces_n`` (n, m) from rest, at once."""
+def simulate_deformation_columns(model: ViscoelasticModel, t_s: npt.ArrayLike,
+                                 forces_n: npt.ArrayLike) -> npt.NDArray[np.float64]:
+    """:func:`simulate_deformation` of every column of ``forces_n`` from rest, at once.
+
+    Parameters
+    ----------
+    model : ViscoelasticModel
+        The sensor model; its creep compliance drives the run.
+    t_s : (n,) array_like of float
+        Sample times [s], non-decreasing.
+    forces_n : (n, m) array_like of float
+        Force histories [N] as columns, compression positive.
+
+    Returns
+    -------
+    (n, m) ndarray of float
+        Deformation [V] (bridge volts above offset) of each column.
+    """
     comp = model.compliance()
     x = np.asarray(forces_n, dtype=float)
     gamma = comp.j0_v_per_n * x
@@ -425,16 +632,24 @@ def simulate_deformation_columns(model: ViscoelasticModel, t_s, forces_n):
 
 
 class ForwardState:
-    """Element states of a forward simulation, for simulating in blocks."""
+    """Element states of a forward simulation, for simulating in blocks.
 
-    def __init__(self, model: ViscoelasticModel):
+    Parameters
+    ----------
+    model : ViscoelasticModel
+        The model whose creep compliance sets the states: one per Kelvin element
+        (rate 1/tau [1/s]) plus one of rate 0 for a free dashpot. They start at
+        zero (a relaxed, unloaded sensor) with no previous sample.
+    """
+
+    def __init__(self, model: ViscoelasticModel) -> None:
         comp = model.compliance()
         rates = [1.0 / tau for tau in comp.tau_s]
         if comp.fluidity_v_per_n_s:
             rates.append(0.0)  # the free dashpot integrates the force
-        self.rates_per_s = np.array(rates, dtype=float)
-        self.y = np.zeros(len(rates))
-        self.t_prev_s = None
+        self.rates_per_s: npt.NDArray[np.float64] = np.array(rates, dtype=float)
+        self.y: npt.NDArray[np.float64] = np.zeros(len(rates))
+        self.t_prev_s: Optional[float] = None
         self.f_prev_n = 0.0
 
 
@@ -470,21 +685,27 @@ class _UniformCascade:
     of each section state at each pole.
     """
 
-    def __init__(self, rel: RelaxationModulus, h_s: float, sos, residues, order, e, alpha, beta):
+    def __init__(self, rel: RelaxationModulus, h_s: float, sos: npt.NDArray[np.float64],
+                 residues: npt.NDArray[np.float64], order: npt.NDArray[np.intp], e: npt.NDArray[np.float64],
+                 alpha: npt.NDArray[np.float64], beta: npt.NDArray[np.float64]) -> None:
         self.h_s, self.sos, self.residues = h_s, sos, residues
         self.order = order  # section i carries mode order[i]
         self.e, self.alpha, self.beta = e, alpha, beta
         self.ar = np.array(rel.a_n_per_v)[order] * np.array(rel.r_per_s)[order]
 
     @classmethod
-    def for_record(cls, rel: RelaxationModulus, t_s, state: BackwardState):
+    def for_record(cls, rel: RelaxationModulus, t_s: npt.ArrayLike,
+                   state: BackwardState) -> Optional[_UniformCascade]:
         """The cascade for stamps ``t_s`` continuing ``state``, or None if the stamps are not
         uniform (or too few) or the model falls outside the positive case treated here."""
         h = uniform_step_after(state.t_prev_s, t_s)
         return None if h is None else cls.build(rel, h)
 
     @classmethod
-    def build(cls, rel: RelaxationModulus, h_s: float):
+    def build(cls, rel: RelaxationModulus, h_s: float) -> Optional[_UniformCascade]:
+        """The cascade for the fixed step ``h_s`` (s), or None if a coefficient or rate is not
+        positive, G(inf) < 0, or the factorisation fails (complex or missing zeros, a pole
+        cancelled by a zero)."""
         a = np.array(rel.a_n_per_v, dtype=float)
         r = np.array(rel.r_per_s, dtype=float)
         if a.size == 0 or np.any(a <= 0) or np.any(r <= 0) or rel.g_inf_n_per_v < 0:
@@ -521,7 +742,7 @@ class _UniformCascade:
             return None  # a pole cancelled by a zero: the modal path handles it
         return cls(rel, h_s, sos, residues, order, e, alpha, beta)
 
-    def run(self, g_v, state: BackwardState):
+    def run(self, g_v: npt.NDArray[np.float64], state: BackwardState) -> npt.NDArray[np.float64]:
         """Force (N) for deformations ``g_v``; ``state`` is read and then advanced."""
         h = self.h_s
         if state.t_prev_s is None:
@@ -542,28 +763,49 @@ class _UniformCascade:
         return force
 
 
-def _polyprod(factors):
-    out = np.ones(1)
+def _polyprod(factors: Iterable[npt.NDArray[np.floating[Any]]]) -> npt.NDArray[np.floating[Any]]:
+    out: npt.NDArray[np.floating[Any]] = np.ones(1)
     for f in factors:
         out = np.polymul(out, f)
     return out
 
 
-def compensate(model: ViscoelasticModel, t_s, deformation_v, state=None):
+def compensate(model: ViscoelasticModel, t_s: npt.ArrayLike, deformation_v: npt.ArrayLike,
+               state: Optional[BackwardState] = None) -> npt.NDArray[np.float64]:
     """Backward run, batch: force in N from deformation (volts above offset).
 
-    Boltzmann superposition in the derivative-free form of eq. 10-11:
+    Boltzmann superposition with the relaxation modulus, in the derivative-free
+    form of eq. 10-11:
     F(t) = G(0) gamma(t) - sum_k a_k r_k int exp(-r_k (t - s)) gamma(s) ds,
-    evaluated exactly for gamma linear between samples (see expconv). For a
+    evaluated exactly for gamma linear between samples (the exact exponential
+    recursion of :mod:`~.expconv`). For a
     Kelvin-Voigt model the impulsive term eta * dgamma/dt is added as the slope
     over the last interval (this differentiates noise; prefer a model with
     instantaneous elasticity). Uniformly stamped blocks run as one IIR cascade
     in a single pass (:class:`_UniformCascade`), others through the general
     recursion; both give the same result to float64 rounding.
 
-    state : :class:`BackwardState`, optional
+    Parameters
+    ----------
+    model : ViscoelasticModel
+        The sensor model; its :meth:`~ViscoelasticModel.relaxation` drives the run.
+    t_s : (n,) array_like of float
+        Sample times [s], non-decreasing. For a model with exponential relaxation
+        terms, decreasing stamps (also a first stamp before the last one of
+        ``state``) raise ValueError; for one without (elastic, Kelvin-Voigt) they
+        are not checked, and the Kelvin-Voigt slope term is zero over a
+        non-increasing interval.
+    deformation_v : (n,) array_like of float
+        Deformation [V] (bridge volts above offset).
+    state : BackwardState, optional
         Carries the history across calls (block-wise compensation of long
-        records); a relaxed, unloaded sensor when omitted. Updated in place.
+        records); a relaxed, unloaded sensor when omitted. Updated in place
+        (unchanged for an empty block).
+
+    Returns
+    -------
+    (n,) ndarray of float
+        Force [N], compression positive.
     """
     t = np.asarray(t_s, dtype=float)
     g = np.asarray(deformation_v, dtype=float)
@@ -600,11 +842,18 @@ def compensate(model: ViscoelasticModel, t_s, deformation_v, state=None):
 
 
 class BackwardState:
-    """History of a batch compensation, for compensating in blocks."""
+    """History of a batch compensation, for compensating in blocks.
 
-    def __init__(self, model: ViscoelasticModel):
-        self.y = np.zeros(len(model.relaxation().r_per_s))
-        self.t_prev_s = None
+    Parameters
+    ----------
+    model : ViscoelasticModel
+        The model whose relaxation modulus sets the states: one per exponential
+        term, starting at zero (a relaxed, unloaded sensor) with no previous sample.
+    """
+
+    def __init__(self, model: ViscoelasticModel) -> None:
+        self.y: npt.NDArray[np.float64] = np.zeros(len(model.relaxation().r_per_s))
+        self.t_prev_s: Optional[float] = None
         self.g_prev_v = 0.0
 
 
@@ -617,9 +866,15 @@ class StreamingCompensator:
     untouched). A duplicate stamp is processed as a zero-length step: the
     history integral does not change and the instantaneous term follows the
     new value.
+
+    Parameters
+    ----------
+    model : ViscoelasticModel
+        The sensor model; its relaxation modulus drives the run (Boltzmann
+        superposition by the exact exponential recursion of :class:`~.expconv.ExpConvState`).
     """
 
-    def __init__(self, model: ViscoelasticModel):
+    def __init__(self, model: ViscoelasticModel) -> None:
         self.model = model
         rel = model.relaxation()
         self._g0 = rel.g0_n_per_v
@@ -629,23 +884,41 @@ class StreamingCompensator:
         self._t_prev_s: Optional[float] = None  # previous sample, for the Kelvin-Voigt slope
         self._gamma_prev_v = 0.0
 
-    def reset(self):
+    def reset(self) -> None:
         """Forget the deformation history (sensor assumed relaxed and unloaded)."""
         self._conv.reset()
         self._t_prev_s = None
 
     @property
-    def last_time_s(self):
+    def last_time_s(self) -> Optional[float]:
         """Stamp (s) of the last sample processed by step(), or None before the first one and after reset()."""
         return self._conv.t_prev_s if self._ar else self._t_prev_s
 
-    def step(self, t_s: float, deformation_v: float, aux=None):
-        """Force (N) for one sample, or None for a stamp before the previous one.
-        ``aux`` is not used (the signature of a chain element's stream)."""
-        t_prev = self._t_prev_s
-        if t_prev is not None and t_s < t_prev:
-            return None
+    def step(self, t_s: float, deformation_v: float, aux: object = None) -> Optional[float]:
+        """Force for one sample, or None for a stamp before the previous one.
+
+        Parameters
+        ----------
+        t_s : float
+            Sample time [s]. A stamp equal to the previous one is a zero-length step.
+        deformation_v : float
+            Deformation [V] (bridge volts above offset).
+        aux : object, optional
+            Not used (the signature of a chain element's stream).
+
+        Returns
+        -------
+        float or None
+            Force [N], compression positive; None, with the state left untouched, when
+            ``t_s`` is earlier than the previous sample's stamp.
+        """
+        # The convolution state has seen every accepted stamp (and is reset with this object), so
+        # its refusal of a stamp before its previous one is exactly the "earlier than the previous
+        # sample" test: one comparison per sample, and it narrows ``y`` for the loop below.
         y = self._conv.update(t_s, deformation_v)
+        if y is None:
+            return None
+        t_prev = self._t_prev_s
         force = self._g0 * deformation_v
         for ar, yk in zip(self._ar, y):
             force -= ar * yk

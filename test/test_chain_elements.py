@@ -5,7 +5,7 @@ import pytest
 from polyforce_ros.model_file import SensorModel, load_model, save_model
 from polyforce_ros.physics.chain import (
     GainElement, ModelError, NonlinearGainElement, OffsetDriftElement, OffsetElement, SensorChain, SensorLagElement,
-    ThermalDriftElement, ViscoelasticElement,
+    ThermalDriftElement, ThermalLagElement, ViscoelasticElement,
 )
 from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
 from polyforce_ros.sim.sensor import BridgeSimulator
@@ -24,6 +24,7 @@ ELEMENTS = [
     SensorLagElement(tau_s=0.03),
     ThermalDriftElement(coefficient_v_per_c=2e-3, reference_c=22.0),
     OffsetDriftElement(rate_v_per_s=1e-4),
+    ThermalLagElement(coefficient_v_per_c=-1.5e-3, reference_c=23.0, tau_s=2.0),
 ]
 
 
@@ -151,3 +152,34 @@ def test_sensor_lag_noise_filter_streams_like_batch_and_round_trips_in_yaml(tmp_
         SensorChain.from_dict({"elements": [{"type": "sensor_lag", "tau_s": 0.03, "noise_filter_tau_s": -1.0}]})
     with pytest.raises(ModelError, match="unknown keys"):
         SensorChain.from_dict({"elements": [{"type": "sensor_lag", "tau_s": 0.03, "filter": 1.0}]})
+
+
+@pytest.mark.parametrize("bad", ["2.0", True, "abc", None, float("nan")])
+def test_play_hysteresis_numbers_are_checked_like_every_other_key(bad):
+    from polyforce_ros.physics.chain import PlayHysteresisElement
+
+    with pytest.raises(ModelError, match="linear_weight"):
+        PlayHysteresisElement(bad, [0.1], [0.1])
+    with pytest.raises(ModelError, match="history_max"):
+        PlayHysteresisElement(1.0, [0.1], [0.1], history_max=bad)
+    assert PlayHysteresisElement(np.float32(1.0), [0.1], [0.1], history_max=np.int64(3)).history_max == 3.0
+
+
+def test_a_new_offset_keeps_a_forward_only_chain_forward_only():
+    from polyforce_ros.physics.chain import ForwardElement
+
+    class Bump:  # an element that can only simulate (no inverse), as the bench generator's truths hold
+        kind = "bump"
+
+        def forward(self, t_s, x, aux=None, state=None):
+            return np.asarray(x, dtype=float) + 0.01
+
+        def forward_state(self):
+            return None
+
+    assert isinstance(Bump(), ForwardElement)
+    truth = SensorChain([ViscoelasticElement(PAPER_BURGERS), Bump()], forward_only=True)
+    moved = truth.with_offset(0.2)
+    assert moved.forward_only and moved.offset_v == 0.2 and truth.offset_v == 0.0
+    t = np.arange(100) * 1e-3
+    np.testing.assert_allclose(moved.forward(t, np.ones(100)), truth.forward(t, np.ones(100)) + 0.2)

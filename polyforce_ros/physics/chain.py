@@ -12,6 +12,7 @@ elements that need it (thermal terms) read and others ignore.
 from __future__ import annotations
 
 import math
+import numbers
 from typing import (TYPE_CHECKING, Any, Callable, Collection, Mapping, NoReturn, Optional, Protocol, Self, Sequence,
                     TypedDict, Union, cast, runtime_checkable)
 
@@ -261,7 +262,8 @@ def _range_text(key: str) -> str:
 
 def _number(kind: str, key: str, value: Any, positive: bool) -> float:
     """``value`` as a finite float within PARAMETER_BOUNDS[key] (when listed), else ModelError."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    # numbers.Real: numpy's float and integer scalars too; bool is a number to Python, not to a model file
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise ModelError(f"{kind}: {key} must be a number, got {_short(value)}")
     try:
         value = float(value)
@@ -759,7 +761,8 @@ class NonlinearGainElement(_SimpleElement):
 
     Inverted with the root nearest x, written as 2y / (1 + sqrt(1 + 4 q y))
     (no cancellation when q is small); where 1 + 4 q y < 0 the model has no
-    inverse and the vertex is returned.
+    inverse and the square root is taken as 0: the inverse goes on past the
+    vertex with slope 2, continuous and monotone rather than saturating.
     """
 
     kind = "nonlinear_gain"
@@ -822,6 +825,12 @@ class NonlinearGainElement(_SimpleElement):
         """
         q = self.quadratic_per_v
         return _FunctionStream(lambda t_s, y, aux=None: 2.0 * y / (1.0 + math.sqrt(max(1.0 + 4.0 * q * y, 0.0))))
+
+
+class _ThermalForwardState(TypedDict):
+    y: _FloatArray  # the lag's integral state, degC * s
+    t_prev: Optional[float]  # s; None before the first sample
+    temp_prev: float  # degC
 
 
 class _LagForwardState(TypedDict):
@@ -1414,13 +1423,13 @@ class PlayHysteresisElement(_Frozen):
     history_max: float
 
     def __init__(self, linear_weight: float, radii: _Numbers, weights: _Numbers, history_max: float = 0.0) -> None:
-        linear_weight = _number(self.kind, "linear_weight", float(linear_weight), positive=True)
+        linear_weight = _number(self.kind, "linear_weight", linear_weight, positive=True)
         radii, weights = _abscissae_and_values(self.kind, "radii", radii, "weights", weights)
         slopes = linear_weight + np.cumsum(weights)
         if np.any(slopes < 1e-6):
             raise ModelError(f"{self.kind}: every partial sum linear_weight + weights[0] + ... + weights[i] must be "
                              f">= 1e-6 (a monotone, invertible operator); the smallest is {slopes.min():.6g}")
-        history_max = _number(self.kind, "history_max", float(history_max), positive=False)
+        history_max = _number(self.kind, "history_max", history_max, positive=False)
         if history_max < 0:
             raise ModelError(f"{self.kind}: history_max must be >= 0")
         self._freeze(linear_weight=linear_weight, radii=radii, weights=weights, history_max=history_max)
@@ -1621,18 +1630,37 @@ class ThermalLagElement(_SimpleElement):
     reference_c: float
     tau_s: float
 
-    def _lagged(self, t_s: npt.ArrayLike, temp: Optional[_FloatArray]) -> Optional[_FloatArray]:
+    def _lagged(self, t_s: npt.ArrayLike, temp: Optional[_FloatArray],
+                state: Optional[_ThermalForwardState] = None) -> Optional[_FloatArray]:
         t = np.asarray(t_s, dtype=float)
         if temp is None or t.size == 0:
             return None
-        return exp_convolve(t, temp, [1.0 / self.tau_s], y0=[temp[0] * self.tau_s])[:, 0] / self.tau_s
+        rate = 1.0 / self.tau_s
+        if state is None or state["t_prev"] is None:  # settled at the first temperature
+            y = exp_convolve(t, temp, [rate], y0=[temp[0] * self.tau_s])[:, 0]
+        else:
+            y = exp_convolve(t, temp, [rate], y0=state["y"], u_prev=state["temp_prev"], t_prev_s=state["t_prev"])[:, 0]
+        if state is not None:
+            state["y"], state["t_prev"], state["temp_prev"] = np.array([y[-1]]), float(t[-1]), float(temp[-1])
+        return y * rate
+
+    def forward_state(self) -> _ThermalForwardState:
+        """A fresh lag state for block-wise :meth:`forward` runs (settles at the first temperature it sees).
+
+        Returns
+        -------
+        dict
+            ``y``: the lag's integral state (1,) [degC s]; ``t_prev``: the last sample time [s] (None
+            before the first); ``temp_prev``: the last temperature [degC].
+        """
+        return {"y": np.zeros(1), "t_prev": None, "temp_prev": 0.0}
 
     def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
-                state: object = None) -> _FloatArray:
+                state: Optional[_ThermalForwardState] = None) -> _FloatArray:
         """The input plus the lagged thermal term, ``x + coefficient_v_per_c * (T_lag - reference_c)``.
 
-        The lag starts settled at the call's first temperature; ``x`` passes unchanged without
-        ``aux['temperature_c']``.
+        The lag starts settled at the first temperature (of the call, or of the first block
+        when a state is given); ``x`` passes unchanged without ``aux['temperature_c']``.
 
         Parameters
         ----------
@@ -1642,8 +1670,9 @@ class ThermalLagElement(_SimpleElement):
             Input [V].
         aux : mapping of str to array_like, optional
             ``temperature_c``: T, (n,) or a scalar [degC].
-        state : object, optional
-            Not used: each call starts the lag anew.
+        state : dict, optional
+            From :meth:`forward_state`, carries the lag across blocks (updated in place); without
+            it the lag starts settled at this call's first temperature.
 
         Returns
         -------
@@ -1651,7 +1680,7 @@ class ThermalLagElement(_SimpleElement):
             Output [V].
         """
         x = np.asarray(x, dtype=float)
-        lagged = self._lagged(t_s, _temperature(aux, x.size))
+        lagged = self._lagged(t_s, _temperature(aux, x.size), state)
         return x if lagged is None else x + self.coefficient_v_per_c * (lagged - self.reference_c)
 
     def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
@@ -1726,8 +1755,7 @@ class PolynomialGainElement(_SimpleElement):
     Describes polynomial and saturating (tanh, exponential-approach) gain curves
     over a sensor's range. Inverted per sample by Newton's method from x = y
     (16 iterations, the slope kept away from zero); where the curve is not
-    monotone the last iterate is returned, as the quadratic element returns
-    its vertex.
+    monotone the last iterate is returned.
     """
 
     kind = "polynomial_gain"
@@ -2036,8 +2064,9 @@ class SensorChain:
         """
         element = OffsetElement(voltage_v)
         if any(isinstance(e, OffsetElement) for e in self.elements):
-            return SensorChain([element if isinstance(e, OffsetElement) else e for e in self.elements])
-        return SensorChain([*self.elements, element])
+            return SensorChain([element if isinstance(e, OffsetElement) else e for e in self.elements],
+                               forward_only=self.forward_only)
+        return SensorChain([*self.elements, element], forward_only=self.forward_only)
 
     def forward_states(self) -> list[Any]:
         """Fresh element states for block-wise forward runs (relaxed, unloaded sensor).

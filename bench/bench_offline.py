@@ -35,7 +35,8 @@ def offline_compensation(n):
     g = 0.3 * (2 + np.sin(2 * np.pi * 0.5 * t)) + np.random.default_rng(0).normal(0, 1e-3, n)
     ours = best_of(lambda: compensate(PAPER_BURGERS, t, g))
     ref = best_of(lambda: signal.lfilter([1.0], [1.0, -0.999], g))
-    return {"samples": n, "ours_samples_per_s": n / ours, "lfilter_samples_per_s": n / ref, "ratio": ref / ours, "target": ">= 0.5"}
+    return {"samples": n, "ours_samples_per_s": n / ours, "lfilter_samples_per_s": n / ref, "ratio": ref / ours,
+            "target": ">= 0.5"}
 
 
 def bag_reading(n, tmp):
@@ -52,7 +53,8 @@ def bag_reading(n, tmp):
         return len(out)
 
     ref = best_of(reference, repeat=1)
-    return {"messages": 2 * n, "ours_msg_per_s": 2 * n / ours, "mcap_ros2_msg_per_s": 2 * n / ref, "ratio": ref / ours, "target": ">= 10"}
+    return {"messages": 2 * n, "ours_msg_per_s": 2 * n / ours, "mcap_ros2_msg_per_s": 2 * n / ref, "ratio": ref / ours,
+            "target": ">= 10"}
 
 
 def preisach_inverse(n):
@@ -106,8 +108,8 @@ def calibration_hour(tmp, hours=1.0):
     t_start = time.perf_counter()
     result = calibrate_bag(path, out)
     elapsed = time.perf_counter() - t_start
-    return {"samples": int(t.size), "bag_mb": os.path.getsize(path) / 1e6, "seconds": elapsed, "selected": result.fits[0]["model"],
-            "written": result.written, "target": "<= 10 s"}
+    return {"samples": int(t.size), "bag_mb": os.path.getsize(path) / 1e6, "seconds": elapsed,
+            "selected": result.fits[0]["model"], "written": result.written, "target": "<= 10 s"}
 
 
 def main():

@@ -112,7 +112,8 @@ def plan(workdir, backend=None, port=None, model=None, with_bridge=False, record
         if not model.is_file():
             raise FileNotFoundError(f"model file {model} not found")
         overrides["compensation_node"]["model_file"] = str(model)
-    names = (["recorder_node"] if record else []) + (["haptic_bridge_node"] if with_bridge else []) + ["compensation_node", "driver_node"]
+    names = ((["recorder_node"] if record else []) + (["haptic_bridge_node"] if with_bridge else [])
+             + ["compensation_node", "driver_node"])
     if record:
         overrides["recorder_node"]["bag_path"] = str(Path(record).expanduser().resolve())
     specs = []

@@ -33,8 +33,9 @@ import numpy as np
 from .contract import FLOAT64, JOINT_STATE, SCALAR_FIELD, TEMPERATURE_MSG, WRENCH_STAMPED
 
 __all__ = [
-    "ENCAPSULATION", "STAMP_MIN_NS", "STAMP_MAX_NS", "SeriesLayout", "encode", "encode_float64", "encode_message", "encode_joint_state",
-    "encode_series", "encode_temperature", "encode_wrench_stamped", "series_layout", "split_stamp", "split_stamps",
+    "ENCAPSULATION", "STAMP_MIN_NS", "STAMP_MAX_NS", "SeriesLayout", "encode", "encode_float64", "encode_message",
+    "encode_joint_state", "encode_series", "encode_temperature", "encode_wrench_stamped", "series_layout", "split_stamp",
+    "split_stamps",
 ]
 
 #: CDR_LE encapsulation (representation id 0x0001, options 0).
@@ -161,7 +162,9 @@ def _float64(w, data=0.0):
     w.f64(float(data), "data")
 
 
-_BUILDERS: dict[str, Callable[..., None]] = {JOINT_STATE: _joint_state, WRENCH_STAMPED: _wrench_stamped, TEMPERATURE_MSG: _temperature, FLOAT64: _float64}
+_BUILDERS: dict[str, Callable[..., None]] = {
+    JOINT_STATE: _joint_state, WRENCH_STAMPED: _wrench_stamped, TEMPERATURE_MSG: _temperature, FLOAT64: _float64,
+}
 
 
 def _build(type_name, fields) -> _Writer:

@@ -6,7 +6,8 @@
     polyforce compensate IN.mcap OUT.mcap [--model M.yaml]
     polyforce replay BAG.mcap [--rate 2.0] [--loop] [--lossless]
     polyforce evaluate [--out DIR] [--bag BAG.mcap ...]
-    polyforce diagnose BAG.mcap --base {elastic,maxwell,kelvin,zener,burgers,...} [--json OUT] [--report DIR] [--save-model M.yaml]
+    polyforce diagnose BAG.mcap --base {elastic,maxwell,kelvin,zener,burgers,...} [--json OUT] [--report DIR] \
+[--save-model M.yaml]
     polyforce make-bags [--out bags/]
     polyforce bringup [--backend sim|serial] [--port DEV] [--model M.yaml] [--with-bridge] [--record BAG.mcap]
 """

@@ -36,9 +36,12 @@ class Recorder(Node):
         super().__init__("demo_recorder", namespace=contract.NAMESPACE, context=context)
         qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE)
         self.raw, self.ref, self.wrench = {}, {}, {}
-        self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, lambda m: self.raw.__setitem__(stamp_to_ns(m.header.stamp), m.position[0]), qos)
-        self.create_subscription(WrenchStamped, contract.Rel.REFERENCE_FORCE, lambda m: self.ref.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
-        self.create_subscription(WrenchStamped, contract.Rel.WRENCH, lambda m: self.wrench.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+        self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE,
+                                 lambda m: self.raw.__setitem__(stamp_to_ns(m.header.stamp), m.position[0]), qos)
+        self.create_subscription(WrenchStamped, contract.Rel.REFERENCE_FORCE,
+                                 lambda m: self.ref.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+        self.create_subscription(WrenchStamped, contract.Rel.WRENCH,
+                                 lambda m: self.wrench.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
         self.tare = self.create_client(Trigger, "compensation_node/tare")
 
 

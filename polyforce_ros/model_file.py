@@ -269,10 +269,12 @@ def validate_chain_numerics(chain) -> None:
             try:
                 volts = chain.forward(t, force, aux)
                 ok = _finite(volts)
-                for stage, x in ((("backward", volts), ("backward", plain)) if ok else ()):
-                    if not _finite(chain.backward(t, x, aux)):
-                        ok = False
-                        break
+                if ok:
+                    stage = "backward"  # stage and x name what failed, for _first_bad_element below
+                    for x in (volts, plain):
+                        if not _finite(chain.backward(t, x, aux)):
+                            ok = False
+                            break
                 if ok and label.startswith(("irregular", "uniform, step 0.001 ")):
                     stage, x = "streaming", volts
                     stream = chain.streaming()

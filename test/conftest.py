@@ -33,18 +33,20 @@ import shutil  # noqa: E402
 
 # Every test file belongs to exactly one layer (pytest -m <layer>); "slow" is added on top.
 LAYERS = {
-    "unit": ["test_bags.py", "test_bench_bridge.py", "test_bench_stats.py", "test_chain_elements.py", "test_expconv.py", "test_identification.py",
-             "test_metrics.py", "test_model_file.py", "test_fitting.py", "test_record.py", "test_preisach.py", "test_properties.py", "test_runtime.py",
-             "test_serial_protocol.py", "test_thinfilm.py", "test_viscoelastic.py", "test_model_fuzz.py"],
-    "ros": ["test_teleop_files.py", "test_compensation_node.py", "test_contract.py", "test_driver_node.py", "test_live_attacks.py",
-            "test_param_files.py", "test_replay.py", "test_haptic_bridge.py", "test_lifecycle.py"],
-    "process": ["test_bad_input.py", "test_calibration.py", "test_cli_demo.py", "test_discrepancy.py", "test_discrepancy_elements.py", "test_discrepancy_pipeline.py", "test_evaluate.py",
-                "test_node_processes.py", "test_package_build.py", "test_ros_free_physics.py", "test_bag_fuzz.py",
-                "test_bringup.py", "test_firmware.py", "test_static.py", "test_cdr.py", "test_bag_conventions.py"],
+    "unit": ["test_bags.py", "test_bench_bridge.py", "test_bench_stats.py", "test_chain_elements.py", "test_expconv.py",
+             "test_identification.py", "test_metrics.py", "test_model_file.py", "test_fitting.py", "test_record.py",
+             "test_preisach.py", "test_properties.py", "test_runtime.py", "test_serial_protocol.py", "test_thinfilm.py",
+             "test_viscoelastic.py", "test_model_fuzz.py"],
+    "ros": ["test_teleop_files.py", "test_compensation_node.py", "test_contract.py", "test_driver_node.py",
+            "test_live_attacks.py", "test_param_files.py", "test_replay.py", "test_haptic_bridge.py", "test_lifecycle.py"],
+    "process": ["test_bad_input.py", "test_calibration.py", "test_cli_demo.py", "test_discrepancy.py",
+                "test_discrepancy_elements.py", "test_discrepancy_pipeline.py", "test_evaluate.py", "test_node_processes.py",
+                "test_package_build.py", "test_ros_free_physics.py", "test_bag_fuzz.py", "test_bringup.py", "test_firmware.py",
+                "test_static.py", "test_cdr.py", "test_bag_conventions.py"],
     "netns": ["test_two_namespaces.py"],
 }
-SLOW = {"test_discrepancy.py", "test_discrepancy_pipeline.py", "test_evaluate.py", "test_package_build.py", "test_two_namespaces.py", "test_cli_demo.py",
-        "test_bringup.py", "test_firmware.py"}
+SLOW = {"test_discrepancy.py", "test_discrepancy_pipeline.py", "test_evaluate.py", "test_package_build.py",
+        "test_two_namespaces.py", "test_cli_demo.py", "test_bringup.py", "test_firmware.py"}
 _LAYER_OF = {name: layer for layer, names in LAYERS.items() for name in names}
 import subprocess  # noqa: E402
 
@@ -57,7 +59,8 @@ _hypothesis_settings.register_profile("ci", derandomize=True, database=None)
 _hypothesis_settings.register_profile("fuzz", derandomize=False, max_examples=2000)
 _hypothesis_settings.load_profile("fuzz" if os.environ.get("POLYFORCE_FUZZ") else "ci")
 
-_SKIP = shutil.ignore_patterns(".venv", ".git", "build", "install", "log", "__pycache__", "*.egg-info", ".pytest_cache", ".hypothesis", "out")
+_SKIP = shutil.ignore_patterns(".venv", ".git", "build", "install", "log", "__pycache__", "*.egg-info", ".pytest_cache",
+                               ".hypothesis", "out")
 
 
 @pytest.fixture(scope="session")

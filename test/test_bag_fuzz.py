@@ -195,7 +195,7 @@ def read(path):
     copied = bounded(lambda: bags.copy_messages(path, NullWriter()), trace=False)  # same walk as read_bag
     assert isinstance(copied, (list, bags.BagError))
     if isinstance(bag, bags.BagData):
-        for topic, data in bag.topics.items():
+        for _topic, data in bag.topics.items():
             n = len(data)
             assert data.log_time_ns.dtype == np.int64 and data.stamp_ns.dtype == np.int64 and data.stamp_ns.size == n
             assert set(data.fields) == FIELDS[data.type_name], data.fields.keys()

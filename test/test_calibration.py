@@ -124,7 +124,8 @@ def test_live_recording_of_a_creep_experiment(tmp_path):
         start = cal.create_client(Trigger, "calibration_node/start_recording")
         stop = cal.create_client(Trigger, "calibration_node/stop_and_fit")
         assert h.call(start, Trigger.Request()).success
-        h.add(DriverNode(context=h.context, parameter_overrides=[Parameter("profile", value="step"), Parameter("noise_std_v", value=2e-4)]))
+        h.add(DriverNode(context=h.context, parameter_overrides=[
+            Parameter("profile", value="step"), Parameter("noise_std_v", value=2e-4)]))
         h.spin_for(8.5)  # 2 s unloaded, then the 5 N step held for 6.5 s
         response = h.call(stop, Trigger.Request(), timeout=30.0)
     assert response.success, response.message

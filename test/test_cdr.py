@@ -6,6 +6,7 @@ byte-for-byte what rosbags' ``serialize_cdr`` gives (zero padding, no
 trailing bytes). Bags written by ``BagWriter.write_series`` are byte-identical
 whatever the process memory held, and rosbags' reader strictly decodes them.
 """
+import functools
 import hashlib
 import math
 import os
@@ -34,12 +35,11 @@ PROPERTY = settings(derandomize=not _FUZZ, database=None, max_examples=200 * (20
 
 
 # ----------------------------------------------------------------------------- decoders
-def _mcap_ros2_decoder(type_name, _cache={}):
-    if type_name not in _cache:
-        from mcap_ros2._dynamic import generate_dynamic
+@functools.cache
+def _mcap_ros2_decoder(type_name):
+    from mcap_ros2._dynamic import generate_dynamic
 
-        _cache[type_name] = generate_dynamic(type_name, bags.schema_text(type_name))[type_name]
-    return _cache[type_name]
+    return generate_dynamic(type_name, bags.schema_text(type_name))[type_name]
 
 
 def _rclpy_class(type_name):
@@ -265,7 +265,7 @@ def test_bags_are_byte_identical_whatever_the_memory_held(tmp_path):
                PYTHONHASHSEED="random")
     code = _CHILD.format(test_dir=str(Path(__file__).parent))
     digests = []
-    for i, state in enumerate(("clean", "dirty")):
+    for state in ("clean", "dirty"):
         path = tmp_path / state / "bag.mcap"  # one file name: the rosbag2 metadata record names the file
         path.parent.mkdir()
         proc = subprocess.run([sys.executable, "-c", code, str(path), state], env=env, capture_output=True, text=True,

@@ -80,7 +80,8 @@ def test_block_wise_simulation_equals_whole_record():
     force = 2 + np.sin(2 * np.pi * 0.5 * t)
     whole = BridgeSimulator(chain=chain, noise_std_v=0.0, adc_bits=0).simulate(t, force, aux["temperature_c"])
     sim = BridgeSimulator(chain=chain, noise_std_v=0.0, adc_bits=0)
-    blocks = [sim.simulate(tb, fb, cb) for tb, fb, cb in zip(np.array_split(t, 9), np.array_split(force, 9), np.array_split(aux["temperature_c"], 9))]
+    blocks = [sim.simulate(tb, fb, cb)
+              for tb, fb, cb in zip(np.array_split(t, 9), np.array_split(force, 9), np.array_split(aux["temperature_c"], 9))]
     np.testing.assert_allclose(np.concatenate(blocks), whole, rtol=1e-12, atol=1e-12)
 
 

@@ -27,7 +27,8 @@ def test_contract_stamps_frame_and_values_match_batch_compensation():
     assert [stamp_to_ns(w.header.stamp) for w in got] == list(stamps)
     assert {w.header.frame_id for w in got} == {"sensor_frame"}
     force = np.array([w.wrench.force.z for w in got])
-    others = np.array([[w.wrench.force.x, w.wrench.force.y, w.wrench.torque.x, w.wrench.torque.y, w.wrench.torque.z] for w in got])
+    others = np.array([[w.wrench.force.x, w.wrench.force.y, w.wrench.torque.x, w.wrench.torque.y, w.wrench.torque.z]
+                       for w in got])
     np.testing.assert_allclose(force, compensate(PAPER_BURGERS, t, volts), rtol=1e-9, atol=1e-12)
     assert not others.any()
 
@@ -67,7 +68,8 @@ def test_float64_input_is_compensated_with_arrival_stamps():
         for _ in range(50):
             probe.scalar.publish(Float64(data=0.31))
             h.spin_for(0.002)
-        assert h.spin_until(lambda: node.counts["published"] >= 50 and len([w for w in probe.wrenches if stamp_to_ns(w.header.stamp) >= before]) >= 50)
+        assert h.spin_until(lambda: node.counts["published"] >= 50
+                            and len([w for w in probe.wrenches if stamp_to_ns(w.header.stamp) >= before]) >= 50)
         got = [w for w in probe.wrenches if stamp_to_ns(w.header.stamp) >= before and w.wrench.force.z != 0.0]
     assert len(got) >= 49
     assert got[0].wrench.force.z == pytest.approx(0.31 * 4.8, rel=1e-6)  # instantaneous stiffness k1

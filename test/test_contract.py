@@ -7,7 +7,8 @@ from polyforce_ros.nodes.common import message_class
 from polyforce_ros.nodes.recorder_node import TOPICS as RECORDER_TOPICS
 
 # "temperature" is also a field and a signal name, so only the unambiguous relative names are checked
-TOPIC_NAMES = ({contract.Rel.BRIDGE_VOLTAGE, contract.Rel.BRIDGE_VOLTAGE_SCALAR, contract.Rel.REFERENCE_FORCE, contract.Rel.WRENCH}
+TOPIC_NAMES = ({contract.Rel.BRIDGE_VOLTAGE, contract.Rel.BRIDGE_VOLTAGE_SCALAR, contract.Rel.REFERENCE_FORCE,
+                contract.Rel.WRENCH}
                | set(contract.CONTRACT) | {contract.FRAME_ID, contract.JOINT_NAME, contract.NAMESPACE})
 
 

@@ -204,15 +204,17 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
     from ros_harness import ros
 
     truth = tmp_path / "truth.yaml"
-    save_model(truth, SensorModel(SensorChain([ViscoelasticElement(Zener(4.8, 10.0, 85.12)), NonlinearGainElement(quadratic_per_v=0.06),
-                                               OffsetElement(0.0)])))
+    save_model(truth, SensorModel(SensorChain([ViscoelasticElement(Zener(4.8, 10.0, 85.12)),
+                                               NonlinearGainElement(quadratic_per_v=0.06), OffsetElement(0.0)])))
     bag = tmp_path / "driver.mcap"
     with ros() as h:
         recorder = h.add(RecorderNode(context=h.context, parameter_overrides=[
-            Parameter("bag_path", value=str(bag)), Parameter("topics", value=["bridge_voltage", "reference_force", "temperature"])]))
+            Parameter("bag_path", value=str(bag)),
+            Parameter("topics", value=["bridge_voltage", "reference_force", "temperature"])]))
         h.spin_for(0.5)
         h.add(DriverNode(context=h.context, parameter_overrides=[
-            Parameter("truth_model_file", value=str(truth)), Parameter("rate_hz", value=200.0), Parameter("profile", value="needle_insertion")]))
+            Parameter("truth_model_file", value=str(truth)), Parameter("rate_hz", value=200.0),
+            Parameter("profile", value="needle_insertion")]))
         h.spin_for(40.0)
         h.executor.remove_node(recorder)
         h.nodes.remove(recorder)

@@ -5,8 +5,8 @@ import pytest
 
 from polyforce_ros.model_file import SensorModel, load_model, save_model
 from polyforce_ros.physics.chain import (
-    ELEMENT_TYPES, ExponentialDriftElement, ModelError, OffsetElement, PlayHysteresisElement, PolynomialDriftElement, PolynomialGainElement,
-    SensorChain, SplineDriftElement, ThermalLagElement, ViscoelasticElement, play_operator,
+    ELEMENT_TYPES, ExponentialDriftElement, ModelError, OffsetElement, PlayHysteresisElement, PolynomialDriftElement,
+    PolynomialGainElement, SensorChain, SplineDriftElement, ThermalLagElement, ViscoelasticElement, play_operator,
 )
 from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
 

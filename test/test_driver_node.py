@@ -62,7 +62,8 @@ def test_sim_backend_contract_values_and_rate():
     expected = BridgeSimulator(model=PAPER_BURGERS, offset_v=0.05, noise_std_v=1e-3, seed=3).simulate(t[:n], f[:n])
     np.testing.assert_allclose([m.position[0] for m in raw], expected, rtol=0, atol=1e-12)
     ref_by_stamp = {stamp_to_ns(m.header.stamp): m.wrench.force.z for m in ref}
-    np.testing.assert_array_equal([ref_by_stamp[s] for s in stamps if s in ref_by_stamp], f[:n][np.isin(stamps, list(ref_by_stamp))])
+    np.testing.assert_array_equal([ref_by_stamp[s] for s in stamps if s in ref_by_stamp],
+                                  f[:n][np.isin(stamps, list(ref_by_stamp))])
     assert len(ref_by_stamp) >= n - 5
 
 
@@ -118,7 +119,7 @@ def test_serial_backend_scales_counts_and_survives_unplug(tmp_path):
         device.plug()
         assert h.spin_until(lambda: node.connected, 5.0)
         before = len(lis.raw)
-        for i in range(20):
+        for _ in range(20):
             device.send(7)
             h.spin_for(0.001)
         assert h.spin_until(lambda: len(lis.raw) >= before + 20, 5.0)
@@ -128,7 +129,9 @@ def test_serial_backend_scales_counts_and_survives_unplug(tmp_path):
 
 def test_sim_backend_with_extra_effects_and_temperature_swing(tmp_path):
     from polyforce_ros.model_file import SensorModel, save_model
-    from polyforce_ros.physics.chain import NonlinearGainElement, OffsetElement, SensorChain, ThermalDriftElement, ViscoelasticElement
+    from polyforce_ros.physics.chain import (
+        NonlinearGainElement, OffsetElement, SensorChain, ThermalDriftElement, ViscoelasticElement,
+    )
 
     truth = tmp_path / "truth.yaml"
     chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), NonlinearGainElement(quadratic_per_v=0.1),

@@ -169,7 +169,8 @@ def test_slew_rate_limit():
 
 
 def test_stale_ramp_reaches_zero_within_ramp_s_and_recovers_without_a_step():
-    assert stale_ramp(2.0, 0.1, 0.2) == pytest.approx(1.0) and stale_ramp(2.0, 0.2, 0.2) == 0.0 and stale_ramp(2.0, 0.0, 0.0) == 0.0
+    assert (stale_ramp(2.0, 0.1, 0.2) == pytest.approx(1.0) and stale_ramp(2.0, 0.2, 0.2) == 0.0
+            and stale_ramp(2.0, 0.0, 0.0) == 0.0)
     bridge = bridge_with(max_slew_n_per_s=100.0)
     command, t = settle(bridge, 2.0)
     last_valid = bridge.last_valid_s

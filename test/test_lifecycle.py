@@ -82,7 +82,8 @@ def test_driver_lifecycle_publishes_only_while_active():
         driver = h.add(DriverLifecycleNode(context=h.context, parameter_overrides=[Parameter("profile", value="step")]))
         sink = h.add(Node("sink", namespace="/polyforce", context=h.context))
         got = []
-        sink.create_subscription(JointState, "bridge_voltage", got.append, QoSProfile(depth=5000, reliability=ReliabilityPolicy.RELIABLE))
+        sink.create_subscription(JointState, "bridge_voltage", got.append,
+                                 QoSProfile(depth=5000, reliability=ReliabilityPolicy.RELIABLE))
         change = sink.create_client(ChangeState, "driver_node/change_state")
         get = sink.create_client(GetState, "driver_node/get_state")
         assert _change(h, change, Transition.TRANSITION_CONFIGURE)

@@ -95,8 +95,10 @@ def test_driver_and_compensation_with_defaults_track_the_reference_within_a_seco
         sink = h.add(Node("sink", namespace="/polyforce", context=h.context))
         qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE)
         wrench, ref = {}, {}
-        sink.create_subscription(WrenchStamped, "wrench", lambda m: wrench.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
-        sink.create_subscription(WrenchStamped, "reference_force", lambda m: ref.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+        sink.create_subscription(WrenchStamped, "wrench",
+                                 lambda m: wrench.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+        sink.create_subscription(WrenchStamped, "reference_force",
+                                 lambda m: ref.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
         h.add(DriverNode(context=h.context))
         # wait for the chain to flow, then for 3 s of samples after the first one
         assert h.spin_until(lambda: len(set(wrench) & set(ref)) > 0, 20.0)

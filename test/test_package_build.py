@@ -13,8 +13,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Every console entry point of setup.py; nodes are added here as they land.
-EXECUTABLES = ["polyforce", "driver_node", "compensation_node", "compensation_lifecycle_node", "driver_lifecycle_node", "calibration_node", "replay_node", "recorder_node",
-               "haptic_bridge_node"]
+EXECUTABLES = ["polyforce", "driver_node", "compensation_node", "compensation_lifecycle_node", "driver_lifecycle_node",
+               "calibration_node", "replay_node", "recorder_node", "haptic_bridge_node"]
 
 
 def test_every_entry_point_is_installed_where_ros2_run_looks(colcon_install):
@@ -56,7 +56,8 @@ def test_ament_index_resolves_package_and_shares_config(colcon_install):
 def test_installed_executable_runs_and_finds_shipped_model(colcon_install):
     env, prefix = install_env(colcon_install)
     exe = prefix / "lib" / "polyforce_ros" / "polyforce"
-    out = subprocess.run([str(exe), "simulate", "--profile", "step"], env=env, cwd="/", capture_output=True, text=True, check=True).stdout
+    out = subprocess.run([str(exe), "simulate", "--profile", "step"], env=env, cwd="/", capture_output=True, text=True,
+                         check=True).stdout
     assert str(prefix / "share" / "polyforce_ros" / "config" / "paper_burgers.yaml") in out
 
 
@@ -69,13 +70,15 @@ def test_launch_file_urdf_and_layouts_are_installed_with_everything_they_name(co
     launch_file = share / "launch" / "polyforce.launch.py"
     assert launch_file.is_file()
     tree = ast.parse(launch_file.read_text())
-    executables = {ast.literal_eval(k.value) for n in ast.walk(tree) if isinstance(n, ast.Call) and getattr(n.func, "id", None) == "Node"
+    executables = {ast.literal_eval(k.value) for n in ast.walk(tree)
+                   if isinstance(n, ast.Call) and getattr(n.func, "id", None) == "Node"
                    for k in n.keywords if k.arg == "executable"}
     assert executables == {"driver_node", "compensation_node", "haptic_bridge_node", "recorder_node"}
     for exe in executables:
         path = prefix / "lib" / "polyforce_ros" / exe
         assert path.is_file() and os.access(path, os.X_OK), path
-    yamls = {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, str) and n.value.endswith(".yaml")}
+    yamls = {n.value for n in ast.walk(tree)
+             if isinstance(n, ast.Constant) and isinstance(n.value, str) and n.value.endswith(".yaml")}
     assert yamls and all((share / "config" / name).is_file() for name in yamls), yamls
     for layout in ("polyforce.foxglove.json", "polyforce.plotjuggler.xml"):
         assert (share / "config" / layout).is_file(), layout

@@ -27,7 +27,8 @@ def _replay_through_compensation(n, replay_params, comp_depth=1000, timeout=60.0
             Parameter("auto_tare", value=False)]))
         sink = h.add(Node("sink", namespace="/polyforce", context=h.context))
         got = []
-        sink.create_subscription(WrenchStamped, "wrench", got.append, QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE))
+        sink.create_subscription(WrenchStamped, "wrench", got.append,
+                                 QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE))
         replay = h.add(ReplayNode(context=h.context, parameter_overrides=[
             Parameter("bag_path", value=str(path)), Parameter("start_delay_s", value=0.5), *replay_params]))
         # Waits for the chain, never for the clock: the answers count what went through.

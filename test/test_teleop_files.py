@@ -49,7 +49,8 @@ def test_launch_file_names_only_existing_executables_and_parameter_files():
             packages.add(kw["package"].id if isinstance(kw["package"], ast.Name) else ast.literal_eval(kw["package"]))
     assert executables == NODES
     assert executables <= entry_points()
-    yamls = {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, str) and n.value.endswith(".yaml")}
+    yamls = {n.value for n in ast.walk(tree)
+             if isinstance(n, ast.Constant) and isinstance(n.value, str) and n.value.endswith(".yaml")}
     assert yamls == {"driver.yaml", "compensation.yaml", "haptic_bridge.yaml"}
     for name in yamls:
         assert (REPO / "config" / name).is_file(), name

@@ -35,7 +35,8 @@ from typing import Callable, Optional
 import numpy as np
 
 from ..physics.chain import (
-    ExponentialDriftElement, PlayHysteresisElement, PolynomialGainElement, PolynomialDriftElement, PreisachElement, SensorLagElement,
+    ExponentialDriftElement, PlayHysteresisElement, PolynomialGainElement, PolynomialDriftElement, PreisachElement,
+    SensorLagElement,
     SplineDriftElement, ThermalDriftElement, ThermalLagElement, play_operator,
 )
 from ..physics.expconv import exp_convolve
@@ -490,7 +491,8 @@ EFFECTS = {
         {"preisach_force": _FAM(_hyst_preisach), "play_voltage": _FAM(_pi_family(_random_play, "voltage", 6)),
          "stop_force": _FAM(_pi_family(_random_stop, "force", 5)),
          "stop_voltage": _FAM(_pi_family(_random_stop, "voltage", 5)),
-         "play_force": _FAM(_pi_family(_random_play, "force", 6), held_out=True), "bouc_wen_voltage": _FAM(_hyst_bouc_wen, held_out=True)},
+         "play_force": _FAM(_pi_family(_random_play, "force", 6), held_out=True),
+         "bouc_wen_voltage": _FAM(_hyst_bouc_wen, held_out=True)},
         variants=("force", "voltage", "force_descending", "voltage_descending",
                   "force_stop", "voltage_stop", "force_stop_descending", "voltage_stop_descending"),
         grid=lambda variant, sig: [None],
@@ -512,11 +514,13 @@ EFFECTS = {
         variants=("direct", "lag"), grid=lambda variant, sig: [None] if variant == "direct" else _log_grid(3.0, 120.0, 6),
         columns=_thermal_columns, to_elements=_thermal_elements, needs_temperature=True),
     "offset_drift": Effect(
-        "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",), ("polynomial_drift", "exponential_drift", "spline_drift"),
-        {"linear": _FAM(_drift_linear), "exp_approach": _FAM(_drift_exp), "events": _FAM(_drift_events), "power_law": _FAM(_drift_power, held_out=True),
-         "random_walk": _FAM(_drift_walk, held_out=True)},
+        "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",),
+        ("polynomial_drift", "exponential_drift", "spline_drift"),
+        {"linear": _FAM(_drift_linear), "exp_approach": _FAM(_drift_exp), "events": _FAM(_drift_events),
+         "power_law": _FAM(_drift_power, held_out=True), "random_walk": _FAM(_drift_walk, held_out=True)},
         variants=("polynomial", "settling", *(f"spline{m}" for m in SPLINE_INTERVALS)),
-        grid=lambda variant, sig: [sig.duration_s * f for f in (0.05, 0.1, 0.2, 0.35, 0.6, 1.0)] if variant == "settling" else [None],
+        grid=lambda variant, sig: ([sig.duration_s * f for f in (0.05, 0.1, 0.2, 0.35, 0.6, 1.0)] if variant == "settling"
+                                   else [None]),
         columns=_drift_columns, to_elements=_drift_elements),
 }
 

@@ -189,7 +189,8 @@ def design(sig, st: Structure):
         if term.effect == "sensor_lag":
             lag = lag_stages(term.variant, term.param)
             continue
-        cols += _cached(sig, (term.effect, term.variant, term.param), lambda: eff.columns(sig, term.variant, term.param))
+        cols += _cached(sig, (term.effect, term.variant, term.param),
+                        lambda eff=eff, term=term: eff.columns(sig, term.variant, term.param))
     names = [c[0] for c in cols] + ["offset"]
     mats = []
     for c in cols:

@@ -67,15 +67,16 @@ def write_report(diag, rec, out_dir, bag_name=""):
 
     data = diag.to_json()
     u = diag.unexplained
+    named = ", ".join(f"`{e}` (confidence {diag.confidences[e]:.0%})" for e in diag.missing_effects)
     lines = [f"# Discrepancy diagnosis {bag_name}", "",
-             f"**Missing effects: {', '.join(f'`{e}` (confidence {diag.confidences[e]:.0%})' for e in diag.missing_effects) or '`' + diag.missing_effect + '`'}** "
+             f"**Missing effects: {named or '`' + diag.missing_effect + '`'}** "
              f"(base `{diag.base}`). Out-of-sample RMSE {diag.rmse_before:.3e} V -> {diag.rmse_after:.3e} V "
              f"(x{diag.rmse_before / max(diag.rmse_after, 1e-300):.1f}); noise floor estimated from the data "
              f"{diag.noise_floor_v:.3e} V. Validation: {data['validation']}.", ""]
     if u["present"]:
-        lines += [f"**Unexplained:** a structured residual of {u['rms_v']:.3e} V remains (Ljung-Box p = {u['ljung_box_p']:.1e}), "
-                  f"{u['rms_v'] / max(u['noise_floor_v'], 1e-300):.1f}x the noise floor; no effect of the catalogue describes it. "
-                  f"Where: {u['where']}.", ""]
+        lines += [f"**Unexplained:** a structured residual of {u['rms_v']:.3e} V remains "
+                  f"(Ljung-Box p = {u['ljung_box_p']:.1e}), {u['rms_v'] / max(u['noise_floor_v'], 1e-300):.1f}x the noise "
+                  f"floor; no effect of the catalogue describes it. Where: {u['where']}.", ""]
     for name, why in diag.skipped.items():
         lines.append(f"- `{name}` not tested: {why}")
     lines += ["", "## Evidence", ""]
@@ -85,7 +86,8 @@ def write_report(diag, rec, out_dir, bag_name=""):
               "share of excess removed | BIC | accepted |", "|---|---|---|---|---|---|---|---|---|"]
     for c in data["candidates"]:
         lines.append(f"| {c['step']} | {c['effect']} | {c['variant']} | {c['rmse']:.3e} | {c['rmse_fit']:.3e} | "
-                     f"{c['confidence']:.0%} | {c['excess_share']:+.2f} | {c['criterion']:.1f} | {'yes' if c['accepted'] else ''} |")
+                     f"{c['confidence']:.0%} | {c['excess_share']:+.2f} | {c['criterion']:.1f} | "
+                     f"{'yes' if c['accepted'] else ''} |")
     lines += ["", "![measured vs simulated](figures/measured_vs_simulated.png)", "", "![residual](figures/residual.png)", "",
               "![localisation](figures/localisation.png)", ""]
     (out / "report.md").write_text("\n".join(lines) + "\n")

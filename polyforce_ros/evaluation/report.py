@@ -70,7 +70,8 @@ def write_report(sections, settings: Settings, out_dir, progress=None):
     data = {"settings": settings.as_dict(), "sections": []}
     for section in sections:
         lines += [f"## {section.title}", "",
-                  "| experiment | metric | unit | paper: baseline | paper: method | ours: baseline | ours: method | meets paper | note |",
+                  "| experiment | metric | unit | paper: baseline | paper: method | ours: baseline | ours: method "
+                  "| meets paper | note |",
                   "|---|---|---|---|---|---|---|---|---|"]
         for r in section.rows:
             verdict = {True: "yes", False: "**no**", None: ""}[r.passed]

@@ -44,7 +44,8 @@ def identify(settings, section):
     v = _sensor(settings, 1).simulate(t, f)
     sel = select_model(t, f, v)
     best = sel.best
-    section.rows.append(Row("Creep 5 N (Fig. 9)", "R² of the creep fit", "", None, PAPER["creep_r2"], None, best.r2, ">=").judge())
+    section.rows.append(Row("Creep 5 N (Fig. 9)", "R² of the creep fit", "", None, PAPER["creep_r2"],
+                            None, best.r2, ">=").judge())
     section.rows.append(Row("Creep 5 N (Fig. 9)", "selected model", "", None, "burgers", None, best.kind, "",
                             passed=best.kind == "burgers"))
     for name, value in best.parameters.items():
@@ -98,7 +99,8 @@ def sawtooth_and_hysteresis(settings, chain, section):
     ax[0, 0].legend()
     for est, color, label in ((static, "k", f"static gain ({h_static:.1f} %)"), (comp, "b", f"compensated ({h_comp:.2f} %)")):
         ax[0, 1].plot(f[first] / f[first].max(), est[first] / est[first].max(), color, lw=0.8, label=label)
-    ax[0, 1].set(xlabel="normalised applied force [-]", ylabel="normalised reading [-]", title="Hysteresis of the first cycle (Fig. 11)")
+    ax[0, 1].set(xlabel="normalised applied force [-]", ylabel="normalised reading [-]",
+                 title="Hysteresis of the first cycle (Fig. 11)")
     ax[0, 1].legend()
     section.figures.append(("s000_sawtooth_hysteresis.png", fig, "Sawtooth drift and first-cycle hysteresis."))
 

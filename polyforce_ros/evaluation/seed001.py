@@ -98,7 +98,7 @@ def generalised(settings, n_sensors):
                          seed=settings.seed + 20 + k) for k in range(n_sensors)]
     f_train = triangles(points=25)
     pooled_f, pooled_v, data = [], [], []
-    for k, s in enumerate(sensors):
+    for s in sensors:
         v = run_truth(s, f_train, 0.005, rng)
         b0, v_nom = v[0], v[np.argmax(f_train)]  # measured at null force and at the nominal force
         data.append((s, b0, v_nom))
@@ -125,8 +125,8 @@ def run(settings) -> Section:
     red_inc = 100 * (1 - mse["CMA (discrete)"] / mse["linear, increasing data"])
     red_all = 100 * (1 - mse["CMA (discrete)"] / mse["linear, whole data"])
     section.rows += [
-        Row("Characterisation (Fig. 4)", "hysteresis error HE (eq. 3) of the simulated FSR", "%", None, "7.6-17", None, res["he"], "",
-            passed=7.6 <= res["he"] <= 17.0),
+        Row("Characterisation (Fig. 4)", "hysteresis error HE (eq. 3) of the simulated FSR", "%", None, "7.6-17",
+            None, res["he"], "", passed=7.6 <= res["he"] <= 17.0),
         Row("Preisach model (Sect. 3.2)", "hysterons for n_h = 40", "", 820, None, None, res["model"].n_hysterons, "",
             passed=res["model"].n_hysterons == 820),
         Row("Grip profile (Fig. 8-9)", "MSE reduction of CMA vs linear, increasing data", "%", None,
@@ -140,8 +140,8 @@ def run(settings) -> Section:
     batch = generalised(settings, n_sensors)
     better = sum(r["generalised"] < r["linear, whole data"] for r in batch)
     section.rows += [
-        Row("Generalised parameters (eq. 6)", f"mean MSE over {n_sensors} sensors: generalised CMA", "N²", None, "higher than tuned",
-            None, float(np.mean([r["generalised"] for r in batch]))),
+        Row("Generalised parameters (eq. 6)", f"mean MSE over {n_sensors} sensors: generalised CMA", "N²", None,
+            "higher than tuned", None, float(np.mean([r["generalised"] for r in batch]))),
         Row("Generalised parameters (eq. 6)", "mean MSE: sensor-tuned CMA", "N²", None, None, None,
             float(np.mean([r["CMA (discrete)"] for r in batch]))),
         Row("Generalised parameters (eq. 6)", "sensors where generalised beats linear (whole data)", "", None, "mixed",
@@ -156,7 +156,8 @@ def run(settings) -> Section:
     ax[0, 0].legend(fontsize=7)
     dens = np.where(np.tril(np.ones((N_LEVELS, N_LEVELS))) > 0, res["model"].density, np.nan)
     im = ax[0, 1].imshow(dens, origin="lower", cmap="viridis")
-    ax[0, 1].set(xlabel="down-switching level j", ylabel="up-switching level i", title="Identified Preisach density, n_h = 40 (Fig. 7)")
+    ax[0, 1].set(xlabel="down-switching level j", ylabel="up-switching level i",
+                 title="Identified Preisach density, n_h = 40 (Fig. 7)")
     fig.colorbar(im, ax=ax[0, 1], label="weight [V]")
     section.figures.append(("s001_preisach.png", fig, "Seed 001: estimators on a grip profile and the identified density."))
     fig, ax = figure()
@@ -168,5 +169,6 @@ def run(settings) -> Section:
     ax[0, 0].legend(fontsize=8)
     section.figures.append(("s001_batch.png", fig, "Seed 001: per-sensor MSE, including the generalised (eq. 6) parameters."))
     section.notes.append("The simulated FSRs are continuous Preisach operators (ramp hysterons); the identified model is the "
-                         "discrete one of the paper, so the CMA keeps its level quantisation and the continuous inverse removes it.")
+                         "discrete one of the paper, so the CMA keeps its level quantisation and the continuous inverse "
+                         "removes it.")
     return section

@@ -32,7 +32,8 @@ def run(settings) -> Section:
             note=f"recording noise {RECORDING_NOISE_V} V").judge(tolerance=0.05),
     ]
     for name in ("c2_per_pa", "c3_s", "k0", "k1", "tau_s", "b_v"):
-        section.rows.append(Row("Identification, Table 5", name, "", None, getattr(truth, name), None, f"{getattr(fit, name):.4g}"))
+        section.rows.append(Row("Identification, Table 5", name, "", None, getattr(truth, name), None,
+                                f"{getattr(fit, name):.4g}"))
     section.notes.append("kappa, A_eff and c0 are held in the fit: kappa scales every patch coefficient and kappa A_eff c0 "
                          "is indistinguishable from the offset b, so the data cannot separate them.")
     # System simulation without joint motion (Sect. 4.2, Fig. 5), the paper's setting.
@@ -44,7 +45,8 @@ def run(settings) -> Section:
     summary = linear_summary(ps, fs)
     section.rows += [
         Row("System simulation (Fig. 5)", "chamber pressure range", "kPa", None, "120-600", None,
-            f"{ps.min() / 1e3:.0f}-{ps.max() / 1e3:.0f}", "", passed=abs(ps.min() / 1e3 - 120) < 5 and abs(ps.max() / 1e3 - 600) < 1),
+            f"{ps.min() / 1e3:.0f}-{ps.max() / 1e3:.0f}", "",
+            passed=abs(ps.min() / 1e3 - 120) < 5 and abs(ps.max() / 1e3 - 600) < 1),
         Row("System simulation (Fig. 5)", "peak patch force", "N", None, "~450", None, float(fs.max())),
         Row("System simulation (eq. 13)", "slope of F vs p", "N/kPa", None, PAPER_LINEAR_SUMMARY["slope_n_per_kpa"], None,
             summary["slope_n_per_kpa"]),
@@ -67,7 +69,8 @@ def run(settings) -> Section:
     ax[0, 0].legend(fontsize=8)
     ax[0, 1].plot(ps / 1e3, fs, "r.", ms=1, label="simulated")
     pk = np.linspace(120, 600, 10)
-    ax[0, 1].plot(pk, summary["slope_n_per_kpa"] * pk + summary["intercept_n"], "k", label=f"ours: {summary['slope_n_per_kpa']:.3f} p {summary['intercept_n']:+.1f}")
+    ax[0, 1].plot(pk, summary["slope_n_per_kpa"] * pk + summary["intercept_n"], "k",
+                  label=f"ours: {summary['slope_n_per_kpa']:.3f} p {summary['intercept_n']:+.1f}")
     ax[0, 1].plot(pk, 0.810 * pk - 51.42, "g--", label="paper: 0.810 p - 51.42")
     ax[0, 1].set(xlabel="pressure [kPa]", ylabel="patch force [N]", title="Pressure-force relation (eq. 13)")
     ax[0, 1].legend(fontsize=8)

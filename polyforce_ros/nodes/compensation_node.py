@@ -73,7 +73,8 @@ class _CompensationLogic(PolyforceNode):
         declare(self, "joint_name", "", "Joint to read from JointState; empty = position[0]")
         declare(self, "frame_id", "", "Frame of the wrench; empty = the frame of the input")
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
-        declare(self, "model_check_period_s", 1.0, "How often the model file is checked for changes (s)", 0.1, 60.0, read_only=True)
+        declare(self, "model_check_period_s", 1.0,
+                "How often the model file is checked for changes (s)", 0.1, 60.0, read_only=True)
         declare_qos(self)
 
     def _start(self, create_publisher):

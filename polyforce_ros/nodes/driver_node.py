@@ -52,8 +52,10 @@ class _DriverLogic(PolyforceNode):
         declare(self, "rate_hz", 1000.0, "Sample rate of the simulator (Hz)", 1.0, 20000.0, read_only=True)
         declare(self, "joint_name", contract.JOINT_NAME, "JointState name of the sensor's prismatic joint", read_only=True)
         declare(self, "frame_id", contract.FRAME_ID, "Frame of the sensor", read_only=True)
-        declare(self, "publish_period_s", 0.002, "Timer period; samples due are published each tick (s)", 0.0005, 0.1, read_only=True)
-        declare(self, "profile", "needle_insertion", f"Simulated force profile: {', '.join(profiles.PROFILE_NAMES)}, okamura", read_only=True)
+        declare(self, "publish_period_s", 0.002,
+                "Timer period; samples due are published each tick (s)", 0.0005, 0.1, read_only=True)
+        declare(self, "profile", "needle_insertion",
+                f"Simulated force profile: {', '.join(profiles.PROFILE_NAMES)}, okamura", read_only=True)
         declare(self, "loop", True, "Restart the profile when it ends (else stop publishing)", read_only=True)
         declare(self, "truth_model_file", "",
                 "Model YAML of the simulated sensor (may add nonlinear_gain, sensor_lag, thermal_drift, offset_drift "
@@ -62,7 +64,8 @@ class _DriverLogic(PolyforceNode):
         declare(self, "adc_bits", 16, "Simulated ADC resolution (bits, 0 = none)", 0, 32, read_only=True)
         declare(self, "offset_v", 0.05, "Simulated bridge output at zero force (V)", -5.0, 5.0, read_only=True)
         declare(self, "temperature_c", 24.0, "Simulated mean temperature (degC)", -40.0, 125.0, read_only=True)
-        declare(self, "temperature_amplitude_c", 0.0, "Amplitude of a sinusoidal temperature swing (degC)", 0.0, 50.0, read_only=True)
+        declare(self, "temperature_amplitude_c", 0.0,
+                "Amplitude of a sinusoidal temperature swing (degC)", 0.0, 50.0, read_only=True)
         declare(self, "temperature_period_s", 600.0, "Period of the temperature swing (s)", 1.0, 1e6, read_only=True)
         declare(self, "seed", 0, "Noise and profile seed", 0, 2**31 - 1, read_only=True)
         declare(self, "wait_for_subscribers", 0,

@@ -107,9 +107,11 @@ class ReplayNode(Node):
         kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
         super().__init__("replay_node", **kwargs)
         path = declare(self, "bag_path", "", "The mcap log to play", read_only=True)
-        declare(self, "rate_factor", 1.0, "Playback speed (2.0 = twice as fast); an upper bound when lossless", 0.01, 1000.0, read_only=True)
+        declare(self, "rate_factor", 1.0,
+                "Playback speed (2.0 = twice as fast); an upper bound when lossless", 0.01, 1000.0, read_only=True)
         declare(self, "loop", False, "Start again at the end", read_only=True)
-        declare(self, "start_delay_s", 0.5, "Wait before the first message, for subscribers to connect (s)", 0.0, 60.0, read_only=True)
+        declare(self, "start_delay_s", 0.5,
+                "Wait before the first message, for subscribers to connect (s)", 0.0, 60.0, read_only=True)
         declare(self, "joint_name", contract.JOINT_NAME, "JointState name used for replayed samples", read_only=True)
         declare(self, "frame_id", contract.FRAME_ID, "Frame of replayed messages", read_only=True)
         declare(self, "lossless", False,
@@ -118,8 +120,10 @@ class ReplayNode(Node):
         declare(self, "pace_topic", contract.Rel.WRENCH,
                 "WrenchStamped topic stamped like the replayed bridge_voltage (the compensation output); empty = none",
                 read_only=True)
-        declare(self, "max_in_flight", 100, "Lossless mode: samples published ahead of the last answer", 1, 100000, read_only=True)
-        declare(self, "pace_timeout_s", 2.0, "A sample not answered for this long is counted unanswered (s)", 0.01, 600.0, read_only=True)
+        declare(self, "max_in_flight", 100,
+                "Lossless mode: samples published ahead of the last answer", 1, 100000, read_only=True)
+        declare(self, "pace_timeout_s", 2.0,
+                "A sample not answered for this long is counted unanswered (s)", 0.01, 600.0, read_only=True)
         declare_qos(self)
         if not path:
             raise ValueError("replay_node needs the bag_path parameter")

@@ -39,8 +39,8 @@ if TYPE_CHECKING:  # for annotations only: at run time scipy.interpolate and the
 __all__ = ["ModelError", "ElementStream", "Element", "PARAMETER_BOUNDS", "MAX_PREISACH_LEVELS", "ViscoelasticElement",
     "OffsetElement", "GainElement", "NonlinearGainElement", "SensorLagElement", "ThermalDriftElement",
     "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "ThermalLagElement",
-    "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement", "ELEMENT_TYPES", "SensorChain",
-    "ChainStream"]
+    "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement", "ELEMENT_TYPES",
+    "SensorChain", "ChainStream"]
 
 _FloatArray = npt.NDArray[np.float64]
 # A drift term is evaluated on a whole record (array) and, when streaming, on one sample (float).
@@ -1293,7 +1293,8 @@ class PreisachElement(_Frozen):
         from .preisach import PreisachModel
 
         _check_keys(cls.kind, d, cls.KEYS)
-        if not isinstance(d["density"], list) or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in d["density"]):
+        if not isinstance(d["density"], list) or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                         for v in d["density"]):
             raise ModelError("preisach: density must be a list of numbers")
         n_levels = d["n_levels"]
         if isinstance(n_levels, bool) or not isinstance(n_levels, int) or not 1 <= n_levels <= MAX_PREISACH_LEVELS:

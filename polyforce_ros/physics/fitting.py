@@ -21,8 +21,9 @@ from scipy import optimize
 
 from .viscoelastic import MODEL_TYPES, ViscoelasticModel
 
-__all__ = ["LOG_BOUNDS", "TAU_LOG_BOUNDS", "TAU_GRID_S", "FLUID_KINDS", "model_type", "check_model_types", "log_bounds", "multistart_least_squares",
-           "log_standard_errors", "block_jackknife_standard_errors", "information_criteria", "starts_from_compliance"]
+__all__ = ["LOG_BOUNDS", "TAU_LOG_BOUNDS", "TAU_GRID_S", "FLUID_KINDS", "model_type", "check_model_types", "log_bounds",
+           "multistart_least_squares", "log_standard_errors", "block_jackknife_standard_errors", "information_criteria",
+           "starts_from_compliance"]
 
 #: Bounds of log(parameter) for every mechanical parameter (N/V, N s/V): 1e-6 .. 1e12.
 LOG_BOUNDS = (math.log(1e-6), math.log(1e12))

@@ -90,7 +90,7 @@ def find_creep_segments(t_s: npt.ArrayLike, force_n: npt.ArrayLike, min_hold_s: 
     pre_n = max(1, int(round(1.0 / dt)))
     off_load = fs - baseline > 0.25 * threshold
     result: list[CreepSegment] = []
-    for i, (start, load, release, run_stop, level, hold_s) in enumerate(segments):
+    for start, load, release, run_stop, level, hold_s in segments:
         lo = result[-1].stop if result else 0
         rest = np.flatnonzero(~off_load[run_stop:])
         rest_at = run_stop + int(rest[0]) if rest.size else t.size
@@ -273,7 +273,8 @@ def _rescale_segments(segments: Iterable[CreepSegment], t_full: np.ndarray, t_de
         return int(np.clip(np.searchsorted(t_dec, t_full[min(i, t_full.size - 1)]), 0, t_dec.size - 1))
 
     return [
-        CreepSegment(idx(s.start), idx(s.load), max(idx(s.release), idx(s.load) + 1), idx(s.stop - 1) + 1, s.hold_force_n, s.hold_s)
+        CreepSegment(idx(s.start), idx(s.load), max(idx(s.release), idx(s.load) + 1), idx(s.stop - 1) + 1,
+                     s.hold_force_n, s.hold_s)
         for s in segments
     ]
 

@@ -238,7 +238,8 @@ def test_bag_recorded_from_the_driver_node_then_augmented_model_runs_live(tmp_pa
             Parameter("model_file", value=str(tmp_path / "aug.yaml")), Parameter("stale_timeout_s", value=30.0)]))
         assert [e.kind for e in comp.model.chain.elements] == ["zener", "polynomial_gain", "offset"]
         stream = comp.compensator.chain.streaming()
-        forces = [stream.step(ti, vi, comp._aux) for ti, vi in zip(t[:400], volts[:400])]
+        aux = {"temperature_c": comp.compensator.temperature_c}  # what the node hands its chain
+        forces = [stream.step(ti, vi, aux) for ti, vi in zip(t[:400], volts[:400])]
     np.testing.assert_allclose(forces, expected, rtol=1e-9, atol=1e-9)
     assert np.sqrt(np.mean((np.array(forces) - force[:400]) ** 2)) < 0.05
 

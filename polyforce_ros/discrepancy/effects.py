@@ -58,10 +58,9 @@ PLAY_RIDGE = 1e-4
 def lag_columns(t, x, tau_s):
     """Unit-gain first-order lag of each column of x (n,) or (n, m), from rest."""
     x = np.asarray(x, dtype=float)
-    one = x.ndim == 1
-    x2 = x[:, None] if one else x
-    out = np.column_stack([exp_convolve(t, x2[:, k], [1.0 / tau_s])[:, 0] / tau_s for k in range(x2.shape[1])])
-    return out[:, 0] if one else out
+    if x.ndim == 1:  # the design's columns, one by one: no stacking
+        return exp_convolve(t, x, [1.0 / tau_s])[:, 0] / tau_s
+    return np.column_stack([exp_convolve(t, x[:, k], [1.0 / tau_s])[:, 0] / tau_s for k in range(x.shape[1])])
 
 
 # --------------------------------------------------------------------------- simulate-only elements
@@ -370,8 +369,15 @@ def _hyst_columns(sig, variant, param):
         span = sig.span_f if force else sig.span_x
         radii = PLAY_FRACTIONS * span
         start = _hyst_start(radii, variant)
+        if force:  # the force's plays do not change with the reference core: computed once per record
+            plays_key = ("force plays", variant.endswith("descending"))
+            plays = sig.record_cache.get(plays_key)
+            if plays is None:
+                plays = sig.record_cache[plays_key] = play_operator(sig.f, radii, start) - start
+            cols = plays
+        else:
+            cols = play_operator(sig.x_ref, radii, start) - start
         u = sig.f if force else sig.x_ref
-        cols = play_operator(u, radii, start) - start
         if stop:
             cols = u[:, None] - cols
         sig.cache[key] = simulate_deformation_columns(sig.core_ref, sig.t, cols) if force else cols

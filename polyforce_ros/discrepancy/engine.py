@@ -85,6 +85,8 @@ class Signals:
     span_f: float = 1.0              # force span (N) and core-output span (V) of the record, at the fit rate:
     span_x: float = 1.0              # the play radii scale with them (the same at every rate)
     cache: dict = field(default_factory=dict, init=False, repr=False)  # design columns (new with every ref)
+    # what depends on the record alone (force, time), not on the reference core: kept by every refresh
+    record_cache: dict = field(default_factory=dict, repr=False)
 
 
 def uniform_blocks(t_s, force_n, voltage_v, temperature_c, rate_hz):
@@ -180,6 +182,12 @@ def _cached(sig, key, make):
 
 def design(sig, st: Structure):
     """(names, A, lower, upper, ridge group mask) of a structure on these signals."""
+    names, mats, lo, hi, ridge = design_columns(sig, st)
+    return names, np.column_stack(mats), lo, hi, ridge
+
+
+def design_columns(sig, st: Structure):
+    """:func:`design` with the columns of A as a list of arrays (not stacked: the polish needs a few rows)."""
     cols = list(_cached(sig, ("core", st.core, st.taus), lambda: _core_columns(sig, st.core, st.taus)))
     lag = None
     for term in st.terms:
@@ -200,11 +208,10 @@ def design(sig, st: Structure):
                 x = lag_columns(sig.t, x, tau)
         mats.append(x)
     mats.append(np.ones_like(sig.t))
-    a = np.column_stack(mats)
     lo = np.array([c[2] for c in cols] + [-np.inf])
     hi = np.array([c[3] for c in cols] + [np.inf])
     ridge = np.array([c[5] is not None for c in cols] + [False])  # ridge groups: play weights, spline knots
-    return names, a, lo, hi, ridge
+    return names, mats, lo, hi, ridge
 
 
 @dataclass
@@ -430,11 +437,13 @@ def _polish(fitter: Fitter, st: Structure) -> Structure:
 
     def residual(theta):
         s = make(theta)
-        names, a, lo, hi, ridge = design(sig, s)
-        scale = np.sqrt(np.mean(a * a, axis=0))
+        names, mats, lo, hi, ridge = design_columns(sig, s)
+        # scaled by the whole record's RMS, but only the rows used are stacked: stacking every row at every
+        # evaluation had been a third of a diagnosis
+        scale = np.array([math.sqrt(float(m @ m) / m.size) for m in mats])
         scale[scale <= 0] = 1.0
         w = np.ones(sig.t.size) if sig.valid is None else sig.valid.astype(float)
-        a = a[sub] / scale * w[sub, None]
+        a = np.column_stack([m[sub] for m in mats]) / scale * w[sub, None]
         g, h = a.T @ a, a.T @ (sig.v * w)[sub]
         reg = PLAY_RIDGE * float(np.trace(g)) / g.shape[0] * ridge.astype(float)
         c = _bounded_solve(g, h, lo * scale, hi * scale, reg)

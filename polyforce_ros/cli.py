@@ -51,9 +51,10 @@ def cmd_simulate(args) -> int:
         truth.reset()
         t, f = profiles.make_profile(name, rate_hz=args.rate, seed=args.seed)
         v = truth.simulate(t, f)
-        used, static, compensated, _ = compensate_record(model.chain, t, v)
-        _print_row(name, "static gain", error_summary(f[used], static[used]))
-        _print_row(name, "compensated", error_summary(f[used], compensated[used]))
+        out = compensate_record(model.chain, t, v)
+        used = out.used
+        _print_row(name, "static gain", error_summary(f[used], out.static_n[used]))
+        _print_row(name, "compensated", error_summary(f[used], out.compensated_n[used]))
         ok &= bool(used.all())
     return 0 if ok else 1
 

@@ -25,8 +25,8 @@ from .record import load_record
 from .runtime import Compensator, CompensatorConfig, SampleGate
 from .runtime.compensator import WARN_COUNTERS
 
-__all__ = ["clean_samples", "static_and_compensated", "compensate_record", "CalibrationResult",
-    "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "runtime_warnings"]
+__all__ = ["clean_samples", "static_force_n", "static_and_compensated", "RecordCompensation", "compensate_record",
+           "CalibrationResult", "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "runtime_warnings"]
 
 
 def clean_samples(stamp_ns: npt.ArrayLike, values: npt.ArrayLike, receive_ns: Optional[npt.ArrayLike] = None,
@@ -38,6 +38,26 @@ def clean_samples(stamp_ns: npt.ArrayLike, values: npt.ArrayLike, receive_ns: Op
     than the last used one (backwards or duplicate).
     """
     return SampleGate(config).mask(stamp_ns, values, receive_ns)
+
+
+def static_force_n(chain: SensorChain, voltage_v: npt.ArrayLike, offset_v: float) -> np.ndarray:
+    """Force read by static gain: ``(V - offset_v) / G``, G the chain's static gain [V/N].
+
+    Parameters
+    ----------
+    chain : SensorChain
+        Sensor model (its static gain).
+    voltage_v : (n,) array_like
+        Bridge output [V].
+    offset_v : float
+        Bridge output at zero force [V].
+
+    Returns
+    -------
+    (n,) ndarray
+        Force [N].
+    """
+    return (np.asarray(voltage_v, dtype=float) - offset_v) / chain.static_gain_v_per_n()
 
 
 def static_and_compensated(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarray,
@@ -63,22 +83,31 @@ def static_and_compensated(chain: SensorChain, t_s: np.ndarray, voltage_v: np.nd
     static_n, compensated_n : (n,) ndarray
         Force [N] by static gain and by the chain's inverse.
     """
-    chain = chain.with_offset(offset_v)
-    static = (np.asarray(voltage_v) - offset_v) / chain.static_gain_v_per_n()
-    return static, chain.backward(t_s, voltage_v)
+    return static_force_n(chain, voltage_v, offset_v), chain.with_offset(offset_v).backward(t_s, voltage_v)
+
+
+@dataclass(frozen=True)
+class RecordCompensation:
+    """A record through the runtime (:func:`compensate_record`)."""
+
+    used: np.ndarray           #: (n,) bool: samples that gave a force
+    static_n: np.ndarray       #: (n,) force by static gain [N]; NaN where not used
+    compensated_n: np.ndarray  #: (n,) force by the compensator [N]; NaN where not used
+    offset_v: float            #: bridge output at zero force used [V]
+    zeroing: str               #: how the offset was found (the runtime's auto-tare status)
 
 
 def compensate_record(chain: SensorChain, t_s: npt.ArrayLike, voltage_v: npt.ArrayLike,
                       temperature_c: Optional[npt.ArrayLike] = None,
-                      config: CompensatorConfig = CompensatorConfig()) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+                      config: CompensatorConfig = CompensatorConfig()) -> RecordCompensation:
     """What the compensation node outputs for a record once zeroed, beside the static-gain reading.
 
     Two passes through the runtime's :class:`Compensator`, with the record's
-    times as both stamps and receive clock: the first finds the bridge offset by
-    the node's auto-tare rule (the mean of the first ``auto_tare_s`` if the
-    sensor rests there, else the model's offset); the second runs the whole
-    record with that offset and auto-tare off, as a sensor that was zeroed at
-    rest before the record. The static reading uses the same offset, so both
+    times as both stamps and receive clock. The first steps the samples until
+    the node's auto-tare rule has decided (the mean of the first ``auto_tare_s``
+    if the sensor rests there, else the model's offset); the second runs the
+    whole record with that offset and auto-tare off, as a sensor that was zeroed
+    at rest before the record. The static reading uses the same offset, so both
     methods are zeroed the same way.
 
     Parameters
@@ -90,34 +119,31 @@ def compensate_record(chain: SensorChain, t_s: npt.ArrayLike, voltage_v: npt.Arr
     voltage_v : (n,) array_like
         Bridge output [V].
     temperature_c : (n,) array_like, optional
-        Sensor temperature [degC] per sample (thermal models); NaN = none yet.
+        A temperature reading [degC] taken before each sample (thermal models). A record's
+        temperature is interpolated onto its samples; ``polyforce compensate`` instead takes a
+        bag's messages in order of arrival, as the node does.
     config : CompensatorConfig
         The sample policy (the node's defaults unless given).
 
     Returns
     -------
-    used : (n,) ndarray of bool
-        Samples that gave a force.
-    static_n, compensated_n : (n,) ndarray
-        Force [N] by static gain and by the compensator; NaN where not used.
-    offset_v : float
-        Bridge output at zero force used [V].
+    RecordCompensation
+        Used samples, static and compensated force [N], the offset [V] and how it was found.
     """
     t = np.asarray(t_s, dtype=float)
     volts = np.asarray(voltage_v, dtype=float)
     stamp_ns = np.round((t - t[0]) * 1e9).astype(np.int64) if t.size else np.zeros(0, dtype=np.int64)
-    offset_v = chain.offset_v
-    if config.auto_tare:
-        # the decision falls on the first used sample auto_tare_s after the first; a second more covers
-        # dropped or jittered samples at the start without running the whole record twice
-        window = stamp_ns <= round((config.auto_tare_s + 1.0) * 1e9)
-        zeroing = Compensator(chain, config)
-        zeroing.run(stamp_ns[window], volts[window])
-        offset_v = zeroing.offset_v
+    zeroing = Compensator(chain, config)
+    for i in range(stamp_ns.size):  # until the auto-tare rule has decided (at once when it is off)
+        if zeroing.auto_tare_status != "pending":
+            break
+        zeroing.step(int(stamp_ns[i]), float(volts[i]))
+    offset_v = zeroing.offset_v
     compensator = Compensator(chain.with_offset(offset_v), replace(config, auto_tare=False))
     used, force = compensator.run(stamp_ns, volts, temperature_c=temperature_c)
-    static = (volts - offset_v) / chain.static_gain_v_per_n()
-    return used, np.where(used, static, np.nan), np.where(used, force, np.nan), offset_v
+    static = static_force_n(chain, volts, offset_v)
+    return RecordCompensation(used, np.where(used, static, np.nan), np.where(used, force, np.nan), offset_v,
+                              zeroing.auto_tare_status)
 
 
 @dataclass

@@ -356,30 +356,51 @@ def test_a_record_is_compensated_by_the_runtime_zeroed_by_its_auto_tare_rule():
     from polyforce_ros.workflows import compensate_record
 
     t, force, volts = _rest_then_load()
-    used, static, comp, offset = compensate_record(CHAIN, t, volts)
+    out = compensate_record(CHAIN, t, volts)
     zeroing = Compensator(CHAIN)
     _feed(zeroing, volts[:1200])
-    assert offset == zeroing.tare_offset_v and offset == pytest.approx(0.05, abs=3e-4)
+    assert out.offset_v == zeroing.tare_offset_v and out.offset_v == pytest.approx(0.05, abs=3e-4)
+    assert out.zeroing == zeroing.auto_tare_status and out.zeroing.startswith("zeroed")
     stamps = np.round(t * 1e9).astype(np.int64)
-    node = Compensator(CHAIN.with_offset(offset), CompensatorConfig(auto_tare=False))
+    node = Compensator(CHAIN.with_offset(out.offset_v), CompensatorConfig(auto_tare=False))
     expected = [node.step(int(s), float(v), int(s)) for s, v in zip(stamps, volts)]
-    assert used.all() and comp.tolist() == expected  # the node's rule, bit for bit
-    assert np.abs(comp - force).max() < 0.05
-    assert static == pytest.approx((volts - offset) / CHAIN.static_gain_v_per_n())
+    assert out.used.all() and out.compensated_n.tolist() == expected  # the node's rule, bit for bit
+    assert np.abs(out.compensated_n - force).max() < 0.05
+    assert out.static_n == pytest.approx((volts - out.offset_v) / CHAIN.static_gain_v_per_n())
 
 
 def test_a_record_that_starts_loaded_keeps_the_model_offset_and_a_spike_is_dropped():
     from polyforce_ros.workflows import compensate_record
 
     t, force, volts = _rest_then_load(offset_v=0.0)
-    loaded = volts + 0.5  # ~2.4 N from the first sample: no rest to zero on
-    used, static, comp, offset = compensate_record(CHAIN, t, loaded)
-    assert offset == CHAIN.offset_v == 0.0 and used.all()
+    loaded = compensate_record(CHAIN, t, volts + 0.5)  # ~2.4 N from the first sample: no rest to zero on
+    assert loaded.offset_v == CHAIN.offset_v == 0.0 and loaded.used.all()
+    assert loaded.zeroing.startswith("not zeroed") and "offset shift" in loaded.zeroing
     volts[1700] = 1e12
-    used, static, comp, offset = compensate_record(CHAIN, t, volts)
-    assert not used[1700] and used.sum() == t.size - 1
-    assert np.isnan(comp[1700]) and np.isnan(static[1700])
-    assert np.isfinite(comp[used]).all() and np.abs(comp[used] - force[used]).max() < 0.05
+    out = compensate_record(CHAIN, t, volts)
+    assert not out.used[1700] and out.used.sum() == t.size - 1
+    assert np.isnan(out.compensated_n[1700]) and np.isnan(out.static_n[1700])
+    assert np.isfinite(out.compensated_n[out.used]).all() and np.abs(out.compensated_n[out.used] - force[out.used]).max() < 0.05
+
+
+def test_a_record_zeroes_on_its_first_rest_however_late_its_samples_start_and_follows_temperature():
+    from polyforce_ros.physics.chain import ThermalDriftElement, ViscoelasticElement
+    from polyforce_ros.workflows import compensate_record
+
+    t, force, volts = _rest_then_load()
+    t = np.concatenate([t[:3], t[3:] + 2.0])  # three samples, then 2 s missing, then the rest (still at rest)
+    out = compensate_record(CHAIN, t, volts)
+    assert out.zeroing.startswith("zeroed") and out.offset_v == pytest.approx(0.05, abs=3e-4)
+    thermal = SensorChain([ViscoelasticElement(PAPER_BURGERS), ThermalDriftElement(coefficient_v_per_c=0.01, reference_c=20.0),
+                           OffsetElement(0.0)])
+    hot = compensate_record(thermal, t, volts + 0.03, temperature_c=np.full(t.size, 23.0))  # 0.03 V not force
+    cold = compensate_record(thermal, t, volts + 0.03, temperature_c=np.full(t.size, 20.0))
+    # zeroed alike (the auto-tare averages raw volts), then the thermal element takes 0.03 V off the hot record:
+    # a step of -0.03 V from the first sample, whose force relaxes as the model's G(t)
+    assert hot.offset_v == cold.offset_v == pytest.approx(0.08, abs=3e-4)
+    g0 = PAPER_BURGERS.relaxation().g0_n_per_v
+    assert hot.compensated_n[0] - cold.compensated_n[0] == pytest.approx(-0.03 * g0, rel=1e-6)
+    assert np.all(hot.compensated_n < cold.compensated_n)
 
 
 def test_the_last_finite_temperature_is_used_and_a_log_is_taken_in_order_of_arrival():
@@ -393,8 +414,8 @@ def test_the_last_finite_temperature_is_used_and_a_log_is_taken_in_order_of_arri
     assert comp.temperature_c == 30.0  # ignored readings leave the last finite one
     assert comp.step(T0, 0.1) == pytest.approx(0.0, abs=1e-9)  # 10 degC over reference: 0.1 V that is not force
     stamps = T0 + np.arange(1, 200, dtype=np.int64) * MS
-    log_ns = np.array([T0 + 50 * MS, T0 + 50 * MS, T0 + 120 * MS, T0 + 10 * MS])  # unsorted; two at one time
-    log_c = np.array([25.0, np.nan, 20.0, 35.0])
+    log_ns = np.array([T0 + 50 * MS, T0 + 50 * MS, T0 + 70 * MS, T0 + 120 * MS, T0 + 10 * MS])  # unsorted; two at 50 ms
+    log_c = np.array([25.0, 28.0, np.nan, 20.0, 35.0])
     by_hand = Compensator(chain, CompensatorConfig(auto_tare=False))
     by_hand.temperature(30.0)
     by_hand.step(T0, 0.1)

@@ -27,10 +27,13 @@ def evaluate_bag(path, model_path=None) -> Section:
     rec = load_record(path)
     t, force, volts, warnings = rec.t_s, rec.force_n, rec.voltage_v, list(rec.warnings)
     # what the node would output (auto-tare at start, gate, clamp), beside static gain zeroed the same way
-    used, static, comp, _ = compensate_record(model.chain, t, volts, rec.temperature_c)
+    out = compensate_record(model.chain, t, volts, rec.temperature_c)
+    used = out.used
+    if not out.zeroing.startswith("zeroed"):
+        warnings.append(f"bridge offset: {out.zeroing}")
     if not used.all():
         warnings.append(f"{int((~used).sum())} samples gave no force (see the compensator's rules)")
-    t, force, static, comp = t[used], force[used], static[used], comp[used]
+    t, force, static, comp = t[used], force[used], out.static_n[used], out.compensated_n[used]
     es, ec = error_summary(force, static), error_summary(force, comp)
     section = Section(f"Recorded bag {Path(path).name}", notes=[f"model: {model_path or default_model_path()}"] + warnings)
     for key, unit in (("rmse_n", "N"), ("max_abs_n", "N"), ("r2", "")):

@@ -121,3 +121,19 @@ def test_live_demo_compensation_beats_static_gain():
     assert result["received_wrench"] >= result["expected"] - 1
     assert result["compensated"]["rmse_n"] < result["static"]["rmse_n"] / 10
     assert result["compensated"]["rmse_n"] < 0.02
+
+
+def test_timed_replay_starts_tracking_answers_when_an_answerer_appears():
+    """Nobody publishes the pace topic at the start; a compensation node that joins later is tracked from then on."""
+    path = REPO / "bags" / "step_5n.mcap"
+    with ros() as h:
+        replay = h.add(ReplayNode(context=h.context, parameter_overrides=[
+            Parameter("bag_path", value=str(path)), Parameter("start_delay_s", value=0.2),
+            Parameter("rate_factor", value=0.5), Parameter("pace_timeout_s", value=5.0)]))
+        assert h.spin_until(lambda: replay.index > 0, 10.0)
+        assert not replay._tracking and replay.answered == 0
+        h.add(CompensationNode(context=h.context, parameter_overrides=[
+            Parameter("stale_timeout_s", value=5.0), Parameter("auto_tare", value=False)]))
+        assert h.spin_until(lambda: replay._tracking, 10.0)       # the 1 Hz refresh saw the answerer
+        assert h.spin_until(lambda: replay.answered > 50, 20.0)    # and its answers are counted
+        assert replay.unanswered == 0 and not replay.done

@@ -167,6 +167,8 @@ def test_cli_contract_json_report_and_saved_model(tmp_path):
     coefficients = data["coefficients"]  # the final fit's, each with its block-jackknife standard error
     assert "offset" in coefficients and all(np.isfinite(c["value"]) and 0.0 <= c["standard_error"] < np.inf
                                             for c in coefficients.values())
+    # the folds disagree a little on a noisy record; the offset is pinned to well within its own size
+    assert 0.0 < coefficients["offset"]["standard_error"] < 0.05 * abs(coefficients["offset"]["value"]) + 1e-3
     text = (report / "report.md").read_text()
     assert all(name in text for name in named) and "confidence" in text
     for fig in ("measured_vs_simulated.png", "residual.png", "localisation.png"):

@@ -490,7 +490,8 @@ EFFECTS = {
         "delayed_elasticity", "creep and recovery that settle (delayed_elasticity)", ("hold_under_load", "rest_after_unloading"),
         ("load_history",), ("zener", "burgers", "zener2", "burgers2"),
         {"tau_two_decades": _FAM(_delayed)},
-        # retardation times up to a quarter of the record: a slower one is flow within the record
+        # starting retardation times up to a quarter of the record; the polish may take one up to the record's
+        # length (engine._polish), beyond which it is flow within the record
         grid=lambda variant, sig: _log_grid(0.3, max(min(300.0, sig.duration_s / 4.0), 1.0), 12),
         core_change={"elastic": "zener", "maxwell": "burgers", "zener": "zener2", "burgers": "burgers2"},
         needs_base=("elastic", "maxwell", "zener", "burgers")),

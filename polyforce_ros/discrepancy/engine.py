@@ -657,7 +657,12 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
 
     def rebuild(rival: Candidate, name: str) -> Fit | None:
         """The rival's own step with every effect named since (but ``name``) added back in order, each re-chosen."""
-        fit = fitter.evaluate(rival.fit.structure)
+        st: Structure | None = rival.fit.structure
+        for gone in [e for e in rival.fit.structure.effects if e != rival.effect and e not in accepted]:
+            st = _without(st, gone) if st is not None else None  # dropped or swapped away since that step
+        if st is None:
+            return None
+        fit = fitter.evaluate(st)
         for other in accepted:
             if other != name and fit.structure.term(other) is None:
                 added = addition(fit, other)
@@ -751,6 +756,10 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                                             confidences[rival.effect],
                                             float((reduced_fit.cv_mse - fit.cv_mse) / excess), step, accepted=True))
                 current = _refine(fitter, fit.structure)
+                for other in accepted:  # a rebuild may have re-chosen their shapes: report what is saved
+                    term = current.structure.term(other)
+                    if term is not None:
+                        variants[other] = term.variant
                 break
         if frozenset(accepted) in seen:
             break

@@ -82,13 +82,9 @@ class ElementStream(Protocol):
 
 
 @runtime_checkable
-class Element(Protocol):
-    """What every element of a :class:`SensorChain` is: an immutable value that runs forward
-    (simulate), backward in batch and per sample, and describes itself for the model file.
-
-    ``t_s`` in s; ``x``/``y`` in the element's input/output units (N or V); ``aux`` holds
-    auxiliary signals sampled with the main one (``temperature_c``).
-    """
+class ForwardElement(Protocol):
+    """What can simulate: every :class:`Element`, and elements that can only simulate (the bench
+    generator's truths: Bouc-Wen, a load-dependent core), which only a forward-only chain admits."""
 
     kind: str
 
@@ -123,6 +119,16 @@ class Element(Protocol):
             Output [the element's output unit: N or V].
         """
         ...
+
+
+@runtime_checkable
+class Element(ForwardElement, Protocol):
+    """What every element of a :class:`SensorChain` is: an immutable value that runs forward
+    (simulate), backward in batch and per sample, and describes itself for the model file.
+
+    ``t_s`` in s; ``x``/``y`` in the element's input/output units (N or V); ``aux`` holds
+    auxiliary signals sampled with the main one (``temperature_c``).
+    """
 
     def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
         """Input that gave output ``y`` at times ``t_s``: the inverse of :meth:`forward` over a record.
@@ -1929,45 +1935,6 @@ for _element in (GainElement, NonlinearGainElement, SensorLagElement, ThermalDri
                  PlayHysteresisElement, ThermalLagElement, PolynomialDriftElement, PolynomialGainElement,
                  ExponentialDriftElement, SplineDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
-
-
-@runtime_checkable
-class ForwardElement(Protocol):
-    """An element that can only simulate (the bench generator's truths: Bouc-Wen, a load-dependent core)."""
-
-    kind: str
-
-    def forward_state(self) -> Any:
-        """A fresh state for block-wise :meth:`forward` runs (relaxed, unloaded).
-
-        Returns
-        -------
-        object
-            The element's state (None for a stateless element), to pass to :meth:`forward`.
-        """
-        ...
-
-    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
-                state: Any = None) -> _FloatArray:
-        """Output for input ``x`` at times ``t_s``; ``state`` carries the history across blocks.
-
-        Parameters
-        ----------
-        t_s : (n,) array_like of float
-            Sample times [s].
-        x : (n,) array_like of float
-            Input [the element's input unit: N or V].
-        aux : mapping of str to array_like, optional
-            Auxiliary signals sampled with ``x`` (``temperature_c`` [degC]).
-        state : object, optional
-            A state from :meth:`forward_state`, updated in place; a relaxed, unloaded element when omitted.
-
-        Returns
-        -------
-        (n,) ndarray of float
-            Output [the element's output unit: N or V].
-        """
-        ...
 
 
 class SensorChain:

@@ -15,12 +15,13 @@ base the effects apply to, and the answer compared with the truth:
 ``--split held_out`` (default) uses the seeds (and families) the engine was
 never tuned on; ``--split tune`` the tuning split.
 
-    .venv/bin/python bench/discrepancy_matrix.py [--split held_out] [--seeds 1] [--duration 300] [--json out.json]
+    .venv/bin/python bench/discrepancy_matrix.py [--split held_out] [--seeds 1] [--duration 300] [--workers 2] [--json out.json]
 """
 import argparse
 import json
 import time
 from collections import Counter, defaultdict
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
 import numpy as np
 from tqdm import tqdm
@@ -67,6 +68,21 @@ def verdict(hidden, d, temperature):
     return "missed" if named < set(catalogue) else "wrong name"
 
 
+def run_case(i, hidden, fams, mag, seed, split, duration_s):
+    """Simulate and diagnose case ``i`` (its recording condition is the i-th of :data:`CONDITIONS`, cycled)."""
+    label, rate, jitter, drops, temperature = CONDITIONS[i % len(CONDITIONS)]
+    if "thermal_drift" in hidden and not temperature:  # a thermal effect needs the topic to be named
+        label, rate, jitter, drops, temperature = CONDITIONS[1]
+    base = default_base(hidden)
+    rec, case = bench_record(list(hidden) or "none", mag, base, duration_s, rate, seed, split=split,
+                             families=fams, jitter=jitter, drops=drops, temperature=temperature)
+    d = diagnose(rec, base=base)
+    return {"index": i, "hidden": list(hidden), "families": case.families, "magnitude": mag, "seed": seed,
+            "base": base, "conditions": label, "named": d.missing_effects, "answer": d.missing_effect,
+            "verdict": verdict(hidden, d, temperature), "confidence": d.confidences, "rmse_before": d.rmse_before,
+            "rmse_after": d.rmse_after, "noise_floor_v": d.noise_floor_v, "unexplained_rms_v": d.unexplained["rms_v"]}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--split", default="held_out", choices=sorted(SPLITS))
@@ -75,6 +91,7 @@ def main():
     ap.add_argument("--only", nargs="*", help="only cases whose hidden effects include these")
     ap.add_argument("--json", help="write every case as JSON (rewritten after each case)")
     ap.add_argument("--budget", type=float, default=840.0, help="start no new case after this many seconds")
+    ap.add_argument("--workers", type=int, default=1, help="cases diagnosed at once (processes)")
     ap.add_argument("--stride", type=int, default=1, help="run every n-th case only (a spread subset)")
     args = ap.parse_args()
     todo = cases(args.split, args.seeds)
@@ -82,28 +99,28 @@ def main():
         todo = [c for c in todo if set(c[0]) & set(args.only) or (not c[0] and "none" in args.only)]
     todo = todo[::args.stride]
     seed0 = SPLITS[args.split].start
+    jobs = [(i, hidden, fams, mag, seed0 + 97 * i + s, args.split, args.duration)
+            for i, (hidden, fams, mag, s) in enumerate(todo)]
     results = []
     t0 = time.perf_counter()
-    for i, (hidden, fams, mag, s) in enumerate(tqdm(todo, desc="diagnoses")):
-        if time.perf_counter() - t0 > args.budget:
-            print(f"time budget of {args.budget:.0f} s spent: {len(todo) - i} cases not run")
-            break
-        label, rate, jitter, drops, temperature = CONDITIONS[i % len(CONDITIONS)]
-        if "thermal_drift" in hidden and not temperature:  # a thermal effect needs the topic to be named
-            label, rate, jitter, drops, temperature = CONDITIONS[1]
-        base = default_base(hidden)
-        seed = seed0 + 97 * i + s
-        rec, case = bench_record(list(hidden) or "none", mag, base, args.duration, rate, seed, split=args.split,
-                                 families=fams, jitter=jitter, drops=drops, temperature=temperature)
-        d = diagnose(rec, base=base)
-        good = verdict(hidden, d, temperature)
-        results.append({"hidden": list(hidden), "families": case.families, "magnitude": mag, "seed": seed, "base": base,
-                        "conditions": label, "named": d.missing_effects, "answer": d.missing_effect, "verdict": good,
-                        "confidence": d.confidences, "rmse_before": d.rmse_before, "rmse_after": d.rmse_after,
-                        "noise_floor_v": d.noise_floor_v, "unexplained_rms_v": d.unexplained["rms_v"]})
-        if args.json:
-            with open(args.json, "w") as fh:
-                json.dump(results, fh, indent=1, default=float)
+    with ProcessPoolExecutor(args.workers) as pool:
+        # at most ``workers`` cases in flight: the budget is checked before each new case starts
+        pending, queue = set(), list(jobs)
+        with tqdm(total=len(jobs), desc="diagnoses") as bar:
+            while queue or pending:
+                while queue and len(pending) < args.workers and time.perf_counter() - t0 <= args.budget:
+                    pending.add(pool.submit(run_case, *queue.pop(0)))
+                if not pending:
+                    print(f"time budget of {args.budget:.0f} s spent: {len(queue)} cases not run")
+                    break
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in done:
+                    results.append(fut.result())
+                    bar.update()
+                if args.json:
+                    with open(args.json, "w") as fh:
+                        json.dump(sorted(results, key=lambda r: r["index"]), fh, indent=1, default=float)
+    results.sort(key=lambda r: r["index"])
     elapsed = time.perf_counter() - t0
     print(f"\nsplit {args.split}: {len(results)} diagnoses in {elapsed:.0f} s ({args.duration:.0f} s records; "
           f"conditions cycled over {[c[0] for c in CONDITIONS]})")

@@ -254,7 +254,7 @@ def build_parser():
                     "kept only when it lowers the out-of-sample error of a time-blocked cross-validation.\n\n"
                     "JSON: missing_effects (ordered list, empty for none), missing_effect (the first, 'none', or "
                     "'unexplained' when no effect is justified but a structured residual remains), effects (each with "
-                    "its variant and confidence = share of time blocks it improves), rmse_before/rmse_after (out of "
+                    "its variant and confidence = share of cross-validation folds it improves), rmse_before/rmse_after (out of "
                     "sample, V), noise_floor_v (estimated from the data), unexplained {present, rms_v, noise_floor_v, "
                     "where}, skipped (e.g. thermal_drift without a temperature topic), candidates, evidence, coefficients "
                     "(each with a block-jackknife standard_error over the folds), model.\n"
@@ -265,7 +265,8 @@ def build_parser():
     dg.add_argument("--report", help="write report.md and figures into this folder")
     dg.add_argument("--save-model", help="write the model with every named effect (loads in compensation_node)")
     dg.add_argument("--effects", nargs="+", choices=list(EFFECT_NAMES), help="consider only these effects (default: all)")
-    dg.add_argument("--folds", type=int, default=5, help="time blocks of the cross-validation (default 5)")
+    dg.add_argument("--folds", type=int, default=5,
+                    help="folds of the cross-validation, each made of interleaved time blocks (default 5)")
     dg.add_argument("--progress", action="store_true", help="show the progress bar even when stderr is not a terminal")
     dg.set_defaults(func=cmd_diagnose)
 

@@ -84,7 +84,8 @@ def describe(loc, diag):
     """Evidence as short sentences with numbers (the JSON ``evidence`` list)."""
     out = [f"noise floor estimated from the data: {diag.noise_floor_v:.3e} V (high-frequency differences of the raw "
            f"voltage and of the reference force through the static gain)",
-           f"base model: out-of-sample RMSE {diag.rmse_before:.3e} V ({diag.folds}-block time-blocked cross-validation)"]
+           f"base model: out-of-sample RMSE {diag.rmse_before:.3e} V ({diag.folds}-fold time-blocked cross-validation, "
+           f"{diag.folds * diag.blocks_per_fold} interleaved blocks)"]
     conc = sorted(loc["concentration"].items(), key=lambda kv: -kv[1]["rms_ratio"])
     for name, c in conc[:3]:
         if c["rms_ratio"] > 1.1:
@@ -97,12 +98,12 @@ def describe(loc, diag):
     for c in diag.candidates:
         if c.accepted:
             out.append(f"step {c.step}: named {c.effect}{' (' + c.variant + ')' if c.variant else ''}: out-of-sample RMSE "
-                       f"-> {c.rmse_v:.3e} V at the fit rate, lower in {100 * c.confidence:.0f} % of the blocks, removes "
+                       f"-> {c.rmse_v:.3e} V at the fit rate, lower in {100 * c.confidence:.0f} % of the folds, removes "
                        f"{100 * c.excess_share:.0f} % of the error above the noise floor")
     for name, why in diag.skipped.items():
         out.append(f"{name} not tested: {why}")
     if not diag.missing_effects:
-        out.append("no catalogue effect is justified: none lowers the out-of-sample error in enough blocks")
+        out.append("no catalogue effect is justified: none lowers the out-of-sample error in enough folds")
     else:
         out.append(f"validation RMSE {diag.rmse_before:.3e} -> {diag.rmse_after:.3e} V with {', '.join(diag.missing_effects)}")
     u = diag.unexplained

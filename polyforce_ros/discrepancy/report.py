@@ -27,7 +27,8 @@ def write_report(diag, rec, out_dir, bag_name=""):
     ax[0].plot(t, diag.simulated_before_v, "r", lw=0.8, label=f"base {diag.base} (RMSE {diag.rmse_before:.2e} V)")
     ax[0].plot(t, diag.simulated_after_v, "b--", lw=0.8, label=f"with {named} (RMSE {diag.rmse_after:.2e} V)")
     ax[0].set(ylabel="bridge output [V]",
-              title=f"Out-of-sample predictions ({diag.folds} time blocks, each predicted by the fit that left it out)")
+              title=f"Out-of-sample predictions ({diag.folds} folds of interleaved time blocks, each block predicted by "
+                    "the fit that left its fold out)")
     ax[0].legend(fontsize=8)
     ax[1].plot(t, rec.force_n, "g", lw=0.8)
     ax[1].set(xlabel="time [s]", ylabel="reference force [N]")
@@ -44,8 +45,13 @@ def write_report(diag, rec, out_dir, bag_name=""):
                         label=f"{top.replace('_', ' ')} (residual x{conc[top]['rms_ratio']:.2f})")
     ax.plot(t, before, "r", lw=0.6, label=f"base {diag.base}")
     ax.plot(t, after, "b", lw=0.6, label=f"with {named}")
-    for k in range(1, diag.folds):
-        ax.axvline(t[0] + k * (t[-1] - t[0]) / diag.folds, color="k", ls=":", lw=0.8)
+    n_blocks = diag.folds * diag.blocks_per_fold
+    for k in range(n_blocks):  # block boundaries, each block labelled with its fold
+        start = t[0] + k * (t[-1] - t[0]) / n_blocks
+        if k:
+            ax.axvline(start, color="k", ls=":", lw=0.8)
+        ax.text(start + 0.5 * (t[-1] - t[0]) / n_blocks, 1.0, str(k % diag.folds + 1), transform=ax.get_xaxis_transform(),
+                ha="center", va="bottom", fontsize=7)
     ax.axhspan(-diag.noise_floor_v, diag.noise_floor_v, color="grey", alpha=0.3, label="noise floor (+-1 sigma)")
     ax.set(xlabel="time [s]", ylabel="residual, measured - simulated [V]", title="Out-of-sample residual over time")
     ax.legend(fontsize=8)
@@ -82,7 +88,7 @@ def write_report(diag, rec, out_dir, bag_name=""):
     lines += ["", "## Evidence", ""]
     lines += [f"- {e}" for e in diag.evidence]
     lines += ["", "## Candidates (forward selection)", "",
-              "| step | effect | variant | out-of-sample RMSE [V] (fit rate) | fitting RMSE [V] | blocks improved | "
+              "| step | effect | variant | out-of-sample RMSE [V] (fit rate) | fitting RMSE [V] | folds improved | "
               "share of excess removed | BIC | accepted |", "|---|---|---|---|---|---|---|---|---|"]
     for c in data["candidates"]:
         lines.append(f"| {c['step']} | {c['effect']} | {c['variant']} | {c['rmse']:.3e} | {c['rmse_fit']:.3e} | "

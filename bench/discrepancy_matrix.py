@@ -98,7 +98,7 @@ def main():
     if args.only:
         todo = [c for c in todo if set(c[0]) & set(args.only) or (not c[0] and "none" in args.only)]
     todo = todo[::args.stride]
-    seed0 = SPLITS[args.split].start
+    seed0 = SPLITS[args.split]
     jobs = [(i, hidden, fams, mag, seed0 + 97 * i + s, args.split, args.duration)
             for i, (hidden, fams, mag, s) in enumerate(todo)]
     results = []

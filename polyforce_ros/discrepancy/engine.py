@@ -655,8 +655,9 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
     def acceptable(c: Candidate) -> bool:
         return c.confidence >= min_confidence and c.excess_share >= min_excess_share
 
-    def addition(to: Fit, name: str) -> Fit | None:
-        """The best fit of ``to``'s structure with ``name`` added (every variant and grid value), None if it does not apply."""
+    def addition(to: Fit, name: str, polish: bool = True) -> Fit | None:
+        """The best fit of ``to``'s structure with ``name`` added (every variant and grid value), None if it does not apply;
+        ``polish``: the promising ones also with their time constants refitted."""
         structs = _candidates_for(to.structure, name, has_temp, fitter.sig)
         if not structs:
             return None
@@ -671,7 +672,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
         # ones let the folds trade the effect against the core); the grid fits compete too, because a polish fits in
         # sample and can predict the left-out blocks worse
         polished = [fitter.evaluate(_polish(fitter, f.structure)) for f in best_of.values()
-                    if (to.fit_mse - f.fit_mse) / excess >= min_excess_share]
+                    if polish and (to.fit_mse - f.fit_mse) / excess >= min_excess_share]
         return min([*polished, *fits], key=lambda f: f.cv_mse)
 
     def rebuild(rival: Candidate, name: str) -> Fit | None:
@@ -698,7 +699,10 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
             if other == skip or fit.structure.term(other) is None or REGISTRY[other].core_change:
                 continue
             without = _without(fit.structure, other)
-            again = addition(fitter.evaluate(without), other) if without is not None else None
+            # every shape on its grid, and the best of them polished (the polished shape it has is in ``fit``)
+            again = addition(fitter.evaluate(without), other, polish=False) if without is not None else None
+            if again is not None and again.structure.term(other) != fit.structure.term(other):
+                again = min(again, fitter.evaluate(_polish(fitter, again.structure)), key=lambda f: f.cv_mse)
             if again is not None and again.cv_mse < fit.cv_mse:
                 fit = again
         return fit

@@ -6,8 +6,8 @@ viscoelastic model with random parameters (+-30 % around the base's) plus
 any number of hidden effects. Each effect is drawn from one of its
 *families* in the effect registry (:mod:`polyforce_ros.discrepancy.effects`)
 with random parameters; none is the element the engine fits. Families marked
-``held_out`` and the seeds of ``SPLITS["held_out"]`` are never used while
-tuning the engine. Out-of-catalogue effects (:data:`OUT_OF_CATALOGUE`) have no
+``held_out`` and the seeds of the held-out split (``SPLITS``) are never used
+while tuning the engine. Out-of-catalogue effects (:data:`OUT_OF_CATALOGUE`) have no
 element in the catalogue at all. Temperature always varies (independently of
 the load), so its mere presence gives nothing away; :func:`bench_record`
 adds real recording conditions (rate, stamp jitter, dropped blocks, no

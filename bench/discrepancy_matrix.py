@@ -76,7 +76,13 @@ def run_case(i, hidden, fams, mag, seed, split, duration_s):
     base = default_base(hidden)
     rec, case = bench_record(list(hidden) or "none", mag, base, duration_s, rate, seed, split=split,
                              families=fams, jitter=jitter, drops=drops, temperature=temperature)
-    d = diagnose(rec, base=base)
+    try:
+        d = diagnose(rec, base=base)
+    except Exception as exc:  # noqa: BLE001 - one failing case is reported, the others still run
+        return {"index": i, "hidden": list(hidden), "families": case.families, "magnitude": mag, "seed": seed,
+                "base": base, "conditions": label, "named": [], "answer": f"error: {exc!r}", "verdict": "error",
+                "confidence": {}, "rmse_before": float("nan"), "rmse_after": float("nan"),
+                "noise_floor_v": float("nan"), "unexplained_rms_v": float("nan")}
     return {"index": i, "hidden": list(hidden), "families": case.families, "magnitude": mag, "seed": seed,
             "base": base, "conditions": label, "named": d.missing_effects, "answer": d.missing_effect,
             "verdict": verdict(hidden, d, temperature), "confidence": d.confidences, "rmse_before": d.rmse_before,
@@ -94,13 +100,15 @@ def main():
     ap.add_argument("--workers", type=int, default=1, help="cases diagnosed at once (processes)")
     ap.add_argument("--stride", type=int, default=1, help="run every n-th case only (a spread subset)")
     args = ap.parse_args()
-    todo = cases(args.split, args.seeds)
-    if args.only:
-        todo = [c for c in todo if set(c[0]) & set(args.only) or (not c[0] and "none" in args.only)]
-    todo = todo[::args.stride]
+    if not 1 <= args.seeds <= 53:  # tune seeds are 0..seeds-1 modulo 97, held-out ones 53.. : never the same
+        ap.error("--seeds must be 1..53")
     seed0 = SPLITS[args.split]
+    # seed and condition follow the case's index in the full list, so a filtered run repeats the full run's cases
     jobs = [(i, hidden, fams, mag, seed0 + 97 * i + s, args.split, args.duration)
-            for i, (hidden, fams, mag, s) in enumerate(todo)]
+            for i, (hidden, fams, mag, s) in enumerate(cases(args.split, args.seeds))]
+    if args.only:
+        jobs = [j for j in jobs if set(j[1]) & set(args.only) or (not j[1] and "none" in args.only)]
+    jobs = jobs[::args.stride]
     results = []
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:

@@ -18,7 +18,7 @@ import pytest
 
 from conftest import REPO
 from polyforce_ros.discrepancy.effects import EFFECTS, NAMES
-from polyforce_ros.discrepancy.engine import diagnose, fold_of
+from polyforce_ros.discrepancy.engine import Fitter, Signals, diagnose, fold_of
 from polyforce_ros.model_file import load_model
 from polyforce_ros.physics.viscoelastic import MODEL_TYPES
 from polyforce_ros.sim.bench import OUT_OF_CATALOGUE, bench_record, default_base, write_bench_bag
@@ -107,6 +107,13 @@ def test_folds_are_interleaved_blocks_of_equal_length():
     assert [int(fold[i]) for i in np.r_[0, runs]] == [j % 5 for j in range(15)]  # block j in fold j mod 5
     assert np.allclose(np.bincount(fold), np.bincount(fold_of(t, 0.0, 600.0, 5, blocks_per_fold=1)), atol=2)
     assert np.array_equal(np.unique(fold_of(t, 0.0, 600.0, 5, blocks_per_fold=1)[:12000]), [0])  # one block: contiguous
+    # the fitter's row slices of each fold cover every row once, each row in its own fold
+    sig = Signals(t, np.zeros_like(t), np.zeros_like(t), None, t0=0.0, duration_s=600.0, temp_ref=0.0)
+    fitter = Fitter(sig, 5, blocks_per_fold=3)
+    covered = np.concatenate([np.arange(t.size)[r] for runs in fitter.rows for r in runs])
+    assert np.array_equal(np.sort(covered), np.arange(t.size))
+    for k, runs in enumerate(fitter.rows):
+        assert len(runs) == 3 and all(np.all(fold[r] == k) for r in runs)
 
 
 def test_a_drift_with_sharp_steps_is_named_offset_drift():
@@ -129,9 +136,12 @@ def test_dropping_an_effect_rechooses_the_shape_of_the_others():
     rec, case = bench_record(["viscous_flow", "offset_drift"], 0.5, "zener", 600.0, 1000.0, 4462, split="tune",
                              families={"viscous_flow": "eta_two_decades", "offset_drift": "exp_approach"},
                              jitter=0.3, drops=4)
-    d = diagnose(rec, base=case.base)
+    steps = []
+    d = diagnose(rec, base=case.base, progress=steps.append)
     assert sorted(d.missing_effects) == ["offset_drift", "viscous_flow"], [c.summary() for c in d.candidates]
+    assert "drop delayed_elasticity" in steps, steps  # named, then found redundant beside the re-chosen drift
     variant = d.variants["offset_drift"]
+    assert {c.variant for c in d.candidates if c.accepted and c.effect == "offset_drift"} == {variant}
     assert not variant.startswith("spline"), variant
     saved = {e.kind for e in d.chain.elements} & {"polynomial_drift", "exponential_drift", "spline_drift"}
     assert saved == {"polynomial": {"polynomial_drift"}, "settling": {"polynomial_drift", "exponential_drift"}}[variant]

@@ -10,8 +10,9 @@ Procedure (:func:`diagnose`):
    ``n_folds * blocks_per_fold`` contiguous blocks, dealt to ``n_folds``
    folds in turn. Every model is fitted with each fold left out in turn and
    predicts it; its score is the out-of-sample mean squared error over all
-   folds. No single split decides, and a left-out block lies between fitted
-   ones, so a drift-like term cannot win or lose on how it extrapolates alone
+   folds. No single split decides, and every left-out block but the first and
+   the last lies between fitted ones, so a drift-like term cannot win or lose
+   on how it extrapolates alone
    (with one block per fold, a step of the drift inside a left-out block
    could not be predicted from the others, and what it left was taken by
    another effect that follows time).
@@ -66,8 +67,9 @@ from .effects import EFFECTS as REGISTRY, NAMES, PLAY_RIDGE, lag_columns, lag_st
 
 EFFECTS = NAMES
 BASES = tuple(MODEL_TYPES)  # every core type the fitting stack knows
-#: Contiguous time blocks dealt to each cross-validation fold (interleaved): a left-out block lies between
-#: blocks that are fitted, so a term that follows time is judged on how it interpolates, not extrapolates.
+#: Contiguous time blocks dealt to each cross-validation fold (interleaved): a left-out block (but the record's
+#: first and last) lies between blocks that are fitted, so a term that follows time is judged on how it
+#: interpolates, not extrapolates.
 BLOCKS_PER_FOLD = 3
 #: Number of retardation times of each core type, and whether it has instantaneous compliance / flow.
 _CORE_SHAPE = {kind: cls.shape for kind, cls in MODEL_TYPES.items()}  # declared by the model types
@@ -100,10 +102,11 @@ class Signals:
 def uniform_blocks(t_s, force_n, voltage_v, temperature_c, rate_hz):
     """Block means on a uniform time grid of step 1/rate_hz (the record's own step when slower).
 
-    Returns ``(t, force, voltage, temperature, valid)``: bins without samples (dropped blocks)
+    Returns ``(t, force, voltage, temperature, valid, bin_of_sample)``: bins without samples (dropped blocks)
     get force and temperature interpolated (the model needs its input everywhere) and are
     marked invalid (never fitted, never scored). A uniform grid keeps every exponential
-    convolution on its fast path whatever the stamp jitter.
+    convolution on its fast path whatever the stamp jitter. ``bin_of_sample``: the bin each sample
+    was averaged into (its cross-validation fold is the bin's).
     """
     t = np.asarray(t_s, dtype=float)
     step = max(1.0 / rate_hz, float(np.median(np.diff(t))))
@@ -117,7 +120,7 @@ def uniform_blocks(t_s, force_n, voltage_v, temperature_c, rate_hz):
         m = np.bincount(k, weights=np.asarray(x, dtype=float), minlength=n)[valid] / counts[valid]
         return np.interp(grid, grid[valid], m)
 
-    return grid, mean(force_n), mean(voltage_v), mean(temperature_c), valid
+    return grid, mean(force_n), mean(voltage_v), mean(temperature_c), valid, k
 
 
 def noise_std(x):
@@ -260,7 +263,7 @@ class Fitter:
 
     def __init__(self, sig: Signals, n_folds, blocks_per_fold=BLOCKS_PER_FOLD):
         self.sig = sig
-        fold = fold_of(sig.t, sig.t0, sig.duration_s, n_folds, blocks_per_fold)
+        self.fold = fold = fold_of(sig.t, sig.t0, sig.duration_s, n_folds, blocks_per_fold)
         self.k, self.blocks_per_fold = n_folds, blocks_per_fold
         # each fold is a few contiguous runs of rows: slices (no copies)
         edges = np.flatnonzero(np.diff(fold)) + 1
@@ -616,7 +619,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
     has_temp = rec.temperature_c is not None
     t = np.asarray(rec.t_s, dtype=float)
     temp_full = np.asarray(rec.temperature_c, dtype=float) if has_temp else np.zeros_like(t)
-    td, fd, vd, tempd, valid = uniform_blocks(t, rec.force_n, rec.voltage_v, temp_full, fit_rate_hz)
+    td, fd, vd, tempd, valid, bin_of_sample = uniform_blocks(t, rec.force_n, rec.voltage_v, temp_full, fit_rate_hz)
     t_ref = float(np.mean(temp_full)) if has_temp else 0.0
     span_f = max(float(np.max(fd) - min(float(np.min(fd)), 0.0)), 1e-9)
     common = dict(t0=float(t[0]), duration_s=float(t[-1] - t[0]), temp_ref=t_ref, span_f=span_f)
@@ -699,7 +702,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
             if other == skip or fit.structure.term(other) is None or REGISTRY[other].core_change:
                 continue
             without = _without(fit.structure, other)
-            # every shape on its grid, and the best of them polished (the polished shape it has is in ``fit``)
+            # every shape on its grid, and the best of them polished unless it is the very term ``fit`` has
             again = addition(fitter.evaluate(without), other, polish=False) if without is not None else None
             if again is not None and again.structure.term(other) != fit.structure.term(other):
                 again = min(again, fitter.evaluate(_polish(fitter, again.structure)), key=lambda f: f.cv_mse)
@@ -792,24 +795,23 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                                             confidences[rival.effect],
                                             float((reduced_fit.cv_mse - fit.cv_mse) / excess), step, accepted=True))
                 current = _refine(fitter, fit.structure)
-                for other in accepted:  # a rebuild may have re-chosen their shapes: report what is saved
-                    term = current.structure.term(other)
-                    if term is not None:
-                        variants[other] = term.variant
                 break
         if frozenset(accepted) in seen:
             break
         seen.add(frozenset(accepted))
-    # the shapes saved are those of the final fit (a backward check or a swap may have re-chosen them)
-    variants = {e: (current.structure.term(e).variant if current.structure.term(e) else variants.get(e, ""))
-                for e in accepted}
+    # the shapes saved are those of the final fit (a backward check or a swap may have re-chosen them); the
+    # candidates that named them say so too (the evidence and the report's table)
+    variants = {e: getattr(current.structure.term(e), "variant", "") for e in accepted}
+    for c in candidates:
+        if c.accepted and c.effect in variants:
+            c.variant = variants[c.effect]
     say("unexplained residual")
     # 5. out-of-sample residual at the record's rate, whiteness of the slow part
     sig_full_base = _refresh_ref(sig_full, base_core, fitter.sig.span_x)
-    rmse_before, _, sim_before = _oos_full(sig_full_base, base_fit, fitter, n_folds)
+    rmse_before, _, sim_before = _oos_full(sig_full_base, base_fit, fitter, n_folds, bin_of_sample)
     sig = fitter.sig
     sig_full = _refresh_ref(sig_full, sig.core_ref, sig.span_x)  # the core the columns of the fit were made with
-    rmse_after, resid_after, sim_after = _oos_full(sig_full, current, fitter, n_folds)
+    rmse_after, resid_after, sim_after = _oos_full(sig_full, current, fitter, n_folds, bin_of_sample)
     slow = block_average(t, resid_after, rate_hz=1.0)[1]
     q, p_value = ljung_box(slow, lags=20)
     m_slow = t.size / max(slow.size, 1)
@@ -855,10 +857,13 @@ def _where(loc):
             "follows": {k: round(v, 3) for k, v in corr}}
 
 
-def _oos_full(sig_full, fit: Fit, fitter: Fitter, n_folds):
-    """Out-of-sample RMSE at the record's rate: each block predicted by the fit that left it out."""
+def _oos_full(sig_full, fit: Fit, fitter: Fitter, n_folds, bin_of_sample):
+    """Out-of-sample RMSE at the record's rate: each sample predicted by the fit that left its fold out.
+
+    A sample's fold is that of the fit-rate bin it was averaged into (a fold of its own, from its own time,
+    would put the few samples of a bin that straddles a block boundary in a fold whose fit used them)."""
     names, a, lo, hi, ridge = design(sig_full, fit.structure)
-    block = fold_of(sig_full.t, sig_full.t0, sig_full.duration_s, n_folds, fitter.blocks_per_fold)
+    block = fitter.fold[bin_of_sample]
     pred = np.empty_like(sig_full.v)
     for b in range(n_folds):
         rows = block == b

@@ -76,17 +76,17 @@ def run_case(i, hidden, fams, mag, seed, split, duration_s):
     base = default_base(hidden)
     rec, case = bench_record(list(hidden) or "none", mag, base, duration_s, rate, seed, split=split,
                              families=fams, jitter=jitter, drops=drops, temperature=temperature)
+    case_info = {"index": i, "hidden": list(hidden), "families": case.families, "magnitude": mag, "seed": seed,
+                 "base": base, "conditions": label}
     try:
         d = diagnose(rec, base=base)
     except Exception as exc:  # noqa: BLE001 - one failing case is reported, the others still run
-        return {"index": i, "hidden": list(hidden), "families": case.families, "magnitude": mag, "seed": seed,
-                "base": base, "conditions": label, "named": [], "answer": f"error: {exc!r}", "verdict": "error",
-                "confidence": {}, "rmse_before": float("nan"), "rmse_after": float("nan"),
-                "noise_floor_v": float("nan"), "unexplained_rms_v": float("nan")}
-    return {"index": i, "hidden": list(hidden), "families": case.families, "magnitude": mag, "seed": seed,
-            "base": base, "conditions": label, "named": d.missing_effects, "answer": d.missing_effect,
-            "verdict": verdict(hidden, d, temperature), "confidence": d.confidences, "rmse_before": d.rmse_before,
-            "rmse_after": d.rmse_after, "noise_floor_v": d.noise_floor_v, "unexplained_rms_v": d.unexplained["rms_v"]}
+        nan = float("nan")
+        return {**case_info, "named": [], "answer": f"error: {exc!r}", "verdict": "error", "confidence": {},
+                "rmse_before": nan, "rmse_after": nan, "noise_floor_v": nan, "unexplained_rms_v": nan}
+    return {**case_info, "named": d.missing_effects, "answer": d.missing_effect, "verdict": verdict(hidden, d, temperature),
+            "confidence": d.confidences, "rmse_before": d.rmse_before, "rmse_after": d.rmse_after,
+            "noise_floor_v": d.noise_floor_v, "unexplained_rms_v": d.unexplained["rms_v"]}
 
 
 def main():

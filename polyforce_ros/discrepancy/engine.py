@@ -808,10 +808,10 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
     say("unexplained residual")
     # 5. out-of-sample residual at the record's rate, whiteness of the slow part
     sig_full_base = _refresh_ref(sig_full, base_core, fitter.sig.span_x)
-    rmse_before, _, sim_before = _oos_full(sig_full_base, base_fit, fitter, n_folds, bin_of_sample)
+    rmse_before, _, sim_before = _oos_full(sig_full_base, base_fit, fitter, bin_of_sample)
     sig = fitter.sig
     sig_full = _refresh_ref(sig_full, sig.core_ref, sig.span_x)  # the core the columns of the fit were made with
-    rmse_after, resid_after, sim_after = _oos_full(sig_full, current, fitter, n_folds, bin_of_sample)
+    rmse_after, resid_after, sim_after = _oos_full(sig_full, current, fitter, bin_of_sample)
     slow = block_average(t, resid_after, rate_hz=1.0)[1]
     q, p_value = ljung_box(slow, lags=20)
     m_slow = t.size / max(slow.size, 1)
@@ -857,7 +857,7 @@ def _where(loc):
             "follows": {k: round(v, 3) for k, v in corr}}
 
 
-def _oos_full(sig_full, fit: Fit, fitter: Fitter, n_folds, bin_of_sample):
+def _oos_full(sig_full, fit: Fit, fitter: Fitter, bin_of_sample):
     """Out-of-sample RMSE at the record's rate: each sample predicted by the fit that left its fold out.
 
     A sample's fold is that of the fit-rate bin it was averaged into (a fold of its own, from its own time,
@@ -865,7 +865,7 @@ def _oos_full(sig_full, fit: Fit, fitter: Fitter, n_folds, bin_of_sample):
     names, a, lo, hi, ridge = design(sig_full, fit.structure)
     block = fitter.fold[bin_of_sample]
     pred = np.empty_like(sig_full.v)
-    for b in range(n_folds):
+    for b in range(fitter.k):
         rows = block == b
         pred[rows] = a[rows] @ fit.coef_folds[b]
     resid = sig_full.v - pred

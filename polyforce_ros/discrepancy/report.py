@@ -4,9 +4,11 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
+
 from ..model_file import SensorModel, now_iso, save_model
 from ..record import load_record
-from .engine import diagnose
+from .engine import diagnose, fold_of
 
 
 def write_report(diag, rec, out_dir, bag_name=""):
@@ -45,13 +47,14 @@ def write_report(diag, rec, out_dir, bag_name=""):
                         label=f"{top.replace('_', ' ')} (residual x{conc[top]['rms_ratio']:.2f})")
     ax.plot(t, before, "r", lw=0.6, label=f"base {diag.base}")
     ax.plot(t, after, "b", lw=0.6, label=f"with {named}")
-    n_blocks = diag.folds * diag.blocks_per_fold
-    for k in range(n_blocks):  # block boundaries, each block labelled with its fold
-        start = t[0] + k * (t[-1] - t[0]) / n_blocks
-        if k:
-            ax.axvline(start, color="k", ls=":", lw=0.8)
-        ax.text(start + 0.5 * (t[-1] - t[0]) / n_blocks, 1.0, str(k % diag.folds + 1), transform=ax.get_xaxis_transform(),
-                ha="center", va="bottom", fontsize=7)
+    # block boundaries as the diagnosis cut them, each block labelled with its fold
+    fold = fold_of(t, t[0], t[-1] - t[0], diag.folds, diag.blocks_per_fold)
+    starts = np.r_[0, np.flatnonzero(np.diff(fold)) + 1]
+    for a, b in zip(starts, np.r_[starts[1:], t.size]):
+        if a:
+            ax.axvline(t[a], color="k", ls=":", lw=0.8)
+        ax.text(0.5 * (t[a] + t[b - 1]), 1.0, str(fold[a] + 1), transform=ax.get_xaxis_transform(), ha="center",
+                va="bottom", fontsize=7)
     ax.axhspan(-diag.noise_floor_v, diag.noise_floor_v, color="grey", alpha=0.3, label="noise floor (+-1 sigma)")
     ax.set(xlabel="time [s]", ylabel="residual, measured - simulated [V]", title="Out-of-sample residual over time")
     ax.legend(fontsize=8)

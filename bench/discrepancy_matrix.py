@@ -19,6 +19,8 @@ never tuned on; ``--split tune`` the tuning split.
 """
 import argparse
 import json
+import multiprocessing
+import os
 import time
 from collections import Counter, defaultdict
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -111,7 +113,12 @@ def main():
     jobs = jobs[::args.stride]
     results = []
     t0 = time.perf_counter()
-    with ProcessPoolExecutor(args.workers) as pool:
+    # each worker gets its share of the cores for BLAS: workers x default threads oversubscribe the machine. The
+    # variables are read when numpy loads, so the workers are spawned (a forked one keeps the parent's BLAS)
+    threads = str(max(1, (os.cpu_count() or 1) // args.workers))
+    for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ[var] = threads
+    with ProcessPoolExecutor(args.workers, mp_context=multiprocessing.get_context("spawn")) as pool:
         # at most ``workers`` cases in flight: the budget is checked before each new case starts
         pending, queue = set(), list(jobs)
         with tqdm(total=len(jobs), desc="diagnoses") as bar:

@@ -80,6 +80,19 @@ def test_backward_undoes_forward_and_streaming_equals_batch(seed):
         np.testing.assert_allclose(again, per_sample, atol=1e-12, err_msg=element.kind)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_spline_drift_basis_is_the_element_linear_in_its_values(seed):
+    # the fitter's design columns and the saved element are one rule: basis @ values == the element's drift
+    rng = np.random.default_rng(seed)
+    t, x, aux = _signals(seed)
+    knots = np.cumsum(rng.uniform(1.0, 10.0, int(rng.integers(2, 9))))
+    values = rng.uniform(-0.1, 0.1, knots.size)
+    element = SplineDriftElement(knots_s=knots, values_v=values)
+    drift = element.forward(t, x, aux) - x
+    assert np.abs(drift).max() > 1e-3
+    np.testing.assert_allclose(SplineDriftElement.basis(t - t[0], knots) @ values, drift, atol=1e-12)
+
+
 def test_play_hysteresis_is_a_loop_and_history_starts_at_rest():
     e = PlayHysteresisElement(1.0, [0.2, 0.5], [0.3, 0.2], history_max=2.0)
     t = np.linspace(0, 4, 401)

@@ -437,18 +437,15 @@ def _thermal_elements(coef, variant, param, sig):
 SPLINE_INTERVALS = (4, 6, 8)
 
 
-def _spline_basis(s, intervals):
-    """Natural cubic spline basis on [0, 1] with ``intervals`` equal intervals, zero at 0: one column per knot after 0."""
-    from scipy.interpolate import CubicSpline
-
-    knots = np.linspace(0.0, 1.0, intervals + 1)
-    return CubicSpline(knots, np.eye(intervals + 1)[:, 1:], bc_type="natural")(np.clip(s, 0.0, 1.0))
+def _spline_knots_s(duration_s, intervals):
+    """Knot times (s after the first sample) of a spline drift of ``intervals`` equal intervals over the record."""
+    return np.linspace(0.0, duration_s, intervals + 1)[1:]
 
 
 def _drift_columns(sig, variant, param):
     s = (sig.t - sig.t0) / sig.duration_s
     if variant.startswith("spline"):  # ridge on the knot values: small where the data say little
-        basis = _spline_basis(s, int(variant[6:]))
+        basis = SplineDriftElement.basis(sig.t - sig.t0, _spline_knots_s(sig.duration_s, int(variant[6:])))
         return [(f"knot{j}", basis[:, j], -np.inf, np.inf, "additive", "spline") for j in range(basis.shape[1])]
     if variant == "settling":  # a linear part and an exponential approach of time constant param (s)
         return [("drift1", s, -np.inf, np.inf, "additive", None),
@@ -461,7 +458,7 @@ def _drift_elements(coef, variant, param, sig):
     if variant.startswith("spline"):
         m = int(variant[6:])
         values = [float(np.clip(coef.get(f"knot{j}", 0.0), -1e3, 1e3)) for j in range(m)]
-        return [("late", SplineDriftElement(knots_s=list(np.linspace(0.0, d, m + 1)[1:]), values_v=values))]
+        return [("late", SplineDriftElement(knots_s=list(_spline_knots_s(d, m)), values_v=values))]
     c = [float(np.clip(coef.get(f"drift{p}", 0.0) / d ** p, -1e3, 1e3)) for p in (1, 2, 3)]
     out = [("late", PolynomialDriftElement(rate_v_per_s=c[0], curvature_v_per_s2=c[1], cubic_v_per_s3=c[2]))]
     if variant == "settling":

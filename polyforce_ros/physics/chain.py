@@ -1855,6 +1855,14 @@ class PolynomialDriftElement(_TimeDriftElement):
         return s * (self.rate_v_per_s + s * (self.curvature_v_per_s2 + s * self.cubic_v_per_s3))
 
 
+def _spline_from_zero(knots_s: _FloatArray, values: _FloatArray) -> Any:
+    """The natural cubic spline through (0, 0) and (knots_s[i], values[i]) (values may have trailing columns)."""
+    from scipy.interpolate import CubicSpline
+
+    values = np.asarray(values, dtype=float)
+    return CubicSpline(np.concatenate([[0.0], knots_s]), np.concatenate([np.zeros((1, *values.shape[1:])), values]),
+                       bc_type="natural")
+
 
 class SplineDriftElement(_TimeDriftElement):
     """Load-independent baseline drift of a wandering shape (a slow random walk, humidity events):
@@ -1879,15 +1887,20 @@ class SplineDriftElement(_TimeDriftElement):
     _spline: CubicSpline
 
     def __init__(self, knots_s: _Numbers, values_v: _Numbers) -> None:
-        from scipy.interpolate import CubicSpline
-
         knots, values = _abscissae_and_values(self.kind, "knots_s", knots_s, "values_v", values_v)
-        self._freeze(knots_s=knots, values_v=values,
-                     _spline=CubicSpline(np.concatenate([[0.0], knots]), np.concatenate([[0.0], values]), bc_type="natural"))
+        self._freeze(knots_s=knots, values_v=values, _spline=_spline_from_zero(knots, values))
 
     def _term(self, s: _FloatOrArray) -> _FloatOrArray:
         s = np.asarray(s, dtype=float)
         return self._spline(np.clip(s, 0.0, self.knots_s[-1]))
+
+    @staticmethod
+    def basis(s: _Numbers, knots_s: _Numbers) -> _FloatArray:
+        """The drift as a linear map of its knot values: column i is the drift, s (s) after the first sample, of
+        unit value at knot i and zero at the others (a fitter's design columns; the drift is ``basis @ values_v``)."""
+        knots = np.asarray(knots_s, dtype=float)
+        spline = _spline_from_zero(knots, np.eye(knots.size))
+        return np.asarray(spline(np.clip(np.asarray(s, dtype=float), 0.0, knots[-1])), dtype=float)
 
     def to_dict(self) -> dict[str, Any]:
         """The element as a model-file mapping.

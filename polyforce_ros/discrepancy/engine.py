@@ -186,15 +186,27 @@ def _integral(t, f):
 
 
 def _cached(sig, key, make):
+    """Design columns ``make()`` (tuples of name, column, ...), made once per signals and kept contiguous (a column
+    of a 2-D basis is a strided view, slow to copy at every evaluation)."""
     if key not in sig.cache:
-        sig.cache[key] = make()
+        sig.cache[key] = [(c[0], np.ascontiguousarray(c[1], dtype=float), *c[2:]) for c in make()]
     return sig.cache[key]
 
 
 def design(sig, st: Structure):
     """(names, A, lower, upper, ridge group mask) of a structure on these signals."""
     names, mats, lo, hi, ridge = design_columns(sig, st)
-    return names, np.column_stack(mats), lo, hi, ridge
+    return names, _stack(mats), lo, hi, ridge
+
+
+def _stack(columns, rows=slice(None)):
+    """The columns (rows ``rows`` of each) as one column-major matrix: each column is one contiguous copy
+    (``np.column_stack`` writes row-major, a strided store per element, and was a fifth of a diagnosis)."""
+    first = columns[0][rows]
+    a = np.empty((first.size, len(columns)), order="F")
+    for j, c in enumerate(columns):
+        a[:, j] = c[rows]
+    return a
 
 
 def design_columns(sig, st: Structure):
@@ -455,6 +467,8 @@ def _polish(fitter: Fitter, st: Structure) -> Structure:
 
     sig = fitter.sig
     sub = slice(None, None, max(1, sig.t.size // 10000))  # at most ~10000 rows for the polish
+    w = np.ones(sig.t.size) if sig.valid is None else sig.valid.astype(float)
+    target = (sig.v * w)[sub]
 
     def residual(theta):
         s = make(theta)
@@ -463,20 +477,31 @@ def _polish(fitter: Fitter, st: Structure) -> Structure:
         # evaluation had been a third of a diagnosis
         scale = np.array([math.sqrt(float(m @ m) / m.size) for m in mats])
         scale[scale <= 0] = 1.0
-        w = np.ones(sig.t.size) if sig.valid is None else sig.valid.astype(float)
-        a = np.column_stack([m[sub] for m in mats]) / scale * w[sub, None]
-        g, h = a.T @ a, a.T @ (sig.v * w)[sub]
+        a = _stack(mats, sub) / scale * w[sub, None]
+        g, h = a.T @ a, a.T @ target
         reg = PLAY_RIDGE * float(np.trace(g)) / g.shape[0] * ridge.astype(float)
         c = _bounded_solve(g, h, lo * scale, hi * scale, reg)
-        return a @ c - (sig.v * w)[sub]
+        return a @ c - target
 
-    lower = np.array([_TAU_BOUNDS[0]] * len(idx))
     # a retardation time longer than the record cannot be told from flow within it (its creep is still a
     # straight line at the end): bounded by the record, so that a missing dashpot is not fitted as a slow Kelvin
     longest = min(_TAU_BOUNDS[1], math.log(max(fitter.sig.duration_s, 1.0)))
-    upper = np.array([longest if kind == "core" else _TAU_BOUNDS[1] for kind, _ in idx])
+    bounds = [(_TAU_BOUNDS[0], longest) if kind == "core" else _param_log_bounds(st.terms[i], sig) for kind, i in idx]
+    lower, upper = np.array(bounds).T
+    x0 = np.clip(x0, lower, upper)
     sol = multistart_least_squares(residual, [x0], lower, upper, max_nfev=8 * len(idx))
     return make(sol.x)
+
+
+def _param_log_bounds(term: Term, sig: Signals):
+    """Log bounds of a term's nonlinear parameter in the polish: the span of the effect's grid, which is where the
+    parameter can be told apart in this record (a settling drift faster than a twentieth of the record is an offset
+    step in the first block, one slower than the record its linear part; either left the split with the collinear
+    column undetermined), or the time-constant bounds when the grid is a single value."""
+    grid = [g for g in REGISTRY[term.effect].grid(term.variant, sig) if g is not None]
+    if len(grid) < 2:
+        return _TAU_BOUNDS
+    return math.log(min(grid)), math.log(max(grid))
 
 
 def _settle(fitter: Fitter, st: Structure, rounds=2) -> Fit:

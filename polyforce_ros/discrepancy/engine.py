@@ -199,7 +199,10 @@ def design(sig, st: Structure):
     return names, _stack(mats), lo, hi, ridge
 
 
-def _stack(columns, rows=slice(None)):
+_ALL_ROWS = slice(None)
+
+
+def _stack(columns, rows=_ALL_ROWS):
     """The columns (rows ``rows`` of each) as one column-major matrix: each column is one contiguous copy
     (``np.column_stack`` writes row-major, a strided store per element, and was a fifth of a diagnosis)."""
     first = columns[0][rows]

@@ -39,7 +39,7 @@ from ..physics.chain import (
     SensorLagElement,
     SplineDriftElement, ThermalDriftElement, ThermalLagElement, play_operator,
 )
-from ..physics.expconv import exp_convolve
+from ..physics.expconv import exp_convolve, exp_convolve_columns
 from ..physics.viscoelastic import Burgers, Burgers2, Maxwell, Zener, Zener2, simulate_deformation_columns
 
 #: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
@@ -60,7 +60,7 @@ def lag_columns(t, x, tau_s):
     x = np.asarray(x, dtype=float)
     if x.ndim == 1:  # the design's columns, one by one: no stacking
         return exp_convolve(t, x, [1.0 / tau_s])[:, 0] / tau_s
-    return np.column_stack([exp_convolve(t, x[:, k], [1.0 / tau_s])[:, 0] / tau_s for k in range(x.shape[1])])
+    return exp_convolve_columns(t, x, 1.0 / tau_s) / tau_s  # one filter over all columns (column_stack was row-major)
 
 
 # --------------------------------------------------------------------------- simulate-only elements

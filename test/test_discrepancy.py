@@ -140,6 +140,18 @@ def test_a_large_voltage_path_hysteresis_is_named_alone_and_settling_keeps_its_f
     assert d.rmse_after <= 1.1 * d.noise_floor_v  # was 1.29 x: the settled model, not the one named, is saved
 
 
+def test_a_large_stop_hysteresis_at_1khz_is_validated_at_the_floor_with_nothing_unexplained():
+    """Stop hysteresis on the voltage path, 1 kHz with jitter and gaps (tune case). Driven by the raw reference force
+    at the record's rate, the plays of small radius followed its noise (which the fit-rate block means do not
+    carry): the validation RMSE was 2.5x the floor and the residual was reported unexplained."""
+    rec, case = bench_record(["hysteresis"], 1.0, "burgers", 600.0, 1000.0, 3298, split="tune",
+                             families={"hysteresis": "stop_voltage"}, jitter=0.3, drops=4)
+    d = diagnose(rec, base="burgers")
+    assert d.missing_effects == ["hysteresis"], [c.summary() for c in d.candidates]
+    assert d.rmse_after <= 1.1 * d.noise_floor_v, (d.rmse_after, d.noise_floor_v)
+    assert not d.unexplained["present"], d.unexplained
+
+
 def test_dropping_an_effect_rechooses_the_shape_of_the_others():
     """A zener that flows, with a settling drift (tune case, 1 kHz): the interleaved folds let a spline drift take
     the creep first, then a delayed elasticity and the flow were named beside it. Without the delayed elasticity the

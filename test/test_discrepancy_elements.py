@@ -42,13 +42,16 @@ def _monotone_gain(rng, x_max=10.0):
 def test_play_operator_equals_the_sample_by_sample_definition(seed):
     rng = np.random.default_rng(seed)
     x = np.cumsum(rng.normal(size=3000))
-    radii = np.sort(rng.uniform(0.1, 3.0, 5))
-    y0 = rng.uniform(-1, 1, 5)
+    m = int(rng.integers(1, 60))  # the default chunk shrinks with the number of plays: several chunks for many
+    radii = np.sort(rng.uniform(0.1, 3.0, m))
+    y0 = rng.uniform(-1, 1, m)
     y, expected = y0.copy(), []
     for v in x:
         y = np.minimum(np.maximum(y, v - radii), v + radii)
         expected.append(y.copy())
     np.testing.assert_allclose(play_operator(x, radii, y0, chunk=int(rng.integers(7, 1000))), expected, atol=1e-12)
+    np.testing.assert_allclose(play_operator(x, radii, y0), expected, atol=1e-12)
+    assert play_operator(x[:0], radii, y0).shape == (0, m)
 
 
 def _elements(seed):

@@ -369,15 +369,14 @@ def _hyst_columns(sig, variant, param):
         span = sig.span_f if force else sig.span_x
         radii = PLAY_FRACTIONS * span
         start = _hyst_start(radii, variant)
-        if force:  # the force's plays do not change with the reference core: computed once per record
-            plays_key = ("force plays", variant.endswith("descending"))
-            plays = sig.record_cache.get(plays_key)
-            if plays is None:
-                plays = sig.record_cache[plays_key] = play_operator(sig.f, radii, start) - start
-            cols = plays
-        else:
-            cols = play_operator(sig.x_ref, radii, start) - start
-        u = sig.f if force else sig.x_ref
+        # the plays of the play and the stop type are the same: made once per path and start (the force's once per
+        # record, the core output's once per reference core)
+        plays_key = ("force plays" if force else "voltage plays", variant.endswith("descending"))
+        store = sig.record_cache if force else sig.cache
+        u = (sig.f if sig.f_smooth is None else sig.f_smooth) if force else sig.x_ref
+        cols = store.get(plays_key)
+        if cols is None:
+            cols = store[plays_key] = play_operator(u, radii, start) - start
         if stop:
             cols = u[:, None] - cols
         sig.cache[key] = simulate_deformation_columns(sig.core_ref, sig.t, cols) if force else cols

@@ -10,6 +10,7 @@ floor it estimates from the data, and write every named effect to JSON, the
 report and the saved model.
 """
 import json
+import math
 import subprocess
 import sys
 
@@ -20,7 +21,7 @@ from conftest import REPO
 from polyforce_ros.discrepancy.effects import EFFECTS, NAMES
 from polyforce_ros.discrepancy.engine import Fitter, Signals, diagnose, fold_of
 from polyforce_ros.model_file import load_model
-from polyforce_ros.physics.viscoelastic import MODEL_TYPES
+from polyforce_ros.physics.viscoelastic import MODEL_TYPES, simulate_deformation
 from polyforce_ros.sim.bench import OUT_OF_CATALOGUE, bench_record, default_base, write_bench_bag
 
 DURATION_S, RATE_HZ = 420.0, 100.0
@@ -66,11 +67,16 @@ def test_hidden_effect_of_a_random_family_is_named_and_the_error_reaches_the_noi
                                         ("kelvin", 3105), ("zener2", 3106), ("burgers2", 3107)])
 def test_clean_data_is_none_and_nothing_is_unexplained(base, seed):
     """Every core type of the fitting stack is a base the diagnosis can run against (BASES = MODEL_TYPES)."""
-    rec, _ = bench_record("none", 0.0, base, DURATION_S, RATE_HZ, seed)
+    rec, case = bench_record("none", 0.0, base, DURATION_S, RATE_HZ, seed)
     d = diagnose(rec, base=base)
     assert d.missing_effects == [] and d.missing_effect == "none", [c.summary() for c in d.candidates]
     assert not d.unexplained["present"]
     assert d.rmse_after == d.rmse_before <= 1.3 * d.noise_floor_v
+    # the floor is the truth's: 2 mV of bridge noise, and 5 mN of reference noise through the core's instantaneous
+    # compliance (through the static gain it was 24 % high for a burgers)
+    core = next(e.model for e in case.truth.elements if hasattr(e, "model"))
+    j0_v_per_n = float(simulate_deformation(core, np.array([0.0, 1e-3]), np.array([0.0, 1.0]))[1])
+    assert d.noise_floor_v == pytest.approx(math.hypot(0.002, 0.005 * j0_v_per_n), rel=0.08)
 
 
 @pytest.mark.parametrize("pair, seed", [

@@ -37,7 +37,7 @@ Procedure (:func:`diagnose`):
    until nothing more is justified or a set of effects recurs.
 5. **Unexplained residual.** The out-of-sample residual of the final model
    at the record's rate (its nonlinear columns driven by the reference force
-   they were fitted on, the fit rate's block means interpolated) is averaged
+   as smooth as they were fitted on: a centred mean over a fit bin) is averaged
    to ~1 s and tested for whiteness (Ljung-Box); structure whose RMS is at
    least ``unexplained_ratio`` of the noise floor is reported as
    ``unexplained``. When no effect was justified but structure remains, the
@@ -58,7 +58,7 @@ import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy import linalg, optimize, stats
+from scipy import linalg, ndimage, optimize, stats
 
 from ..physics.chain import OffsetElement, SensorChain, ViscoelasticElement
 from ..physics.fitting import (LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors,
@@ -662,12 +662,16 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
     common = dict(t0=float(t[0]), duration_s=float(t[-1] - t[0]), temp_ref=t_ref, span_f=span_f)
     sig = Signals(td, fd, vd, tempd if has_temp else None, **common, valid=valid)
     # at the record's rate the nonlinear columns (plays, powers of the core output) are driven by the reference force
-    # they were fitted on: the fit rate's block means, interpolated. The raw reference carries its own noise, which
-    # plays of small radii follow and block means do not: driven by it, a stop hysteresis fitted to 0.0013 V at the
-    # fit rate predicted the record to 0.0065 V, 2.5x the floor, reported unexplained (tune split, 1 kHz). The linear
-    # columns keep the raw force: its fast content (at 200 Hz, half a fit bin) is worth more than its noise there.
+    # as smooth as they were fitted on: a centred moving mean over a fit bin's samples (the raw force when a bin
+    # holds one sample). The raw reference carries its own noise, which plays of small radii follow and block means
+    # do not: driven by it, a stop hysteresis fitted to 0.0013 V at the fit rate predicted the record to 0.0065 V,
+    # 2.5x the floor, reported unexplained (tune split, 1 kHz); each sample's own block mean (a staircase) left
+    # 1.25x. The linear columns keep the raw force: its fast content is worth more than its noise there. (The saved
+    # chain, run on a raw reference, still moves its small plays with that noise.)
+    per_bin = int(round(t.size / max(int(valid.sum()), 1)))
+    f_smooth = ndimage.uniform_filter1d(np.asarray(rec.force_n, float), per_bin, mode="nearest") if per_bin > 1 else None
     sig_full = Signals(t, np.asarray(rec.force_n, float), np.asarray(rec.voltage_v, float),
-                       temp_full if has_temp else None, **common, f_smooth=np.interp(t, td, fd))
+                       temp_full if has_temp else None, **common, f_smooth=f_smooth)
     fitter = Fitter(sig, n_folds, blocks_per_fold)
     say(f"base {base}")
     st = _base_structure(fitter, base)
@@ -790,29 +794,31 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
         variants[best.effect] = best.variant
         say(f"refit with {best.effect}")
         current = _refine(fitter, best.fit.structure)
-        # backward check: an effect named earlier that the newer ones make redundant is dropped
-        dropped = False
-        for name in list(accepted[:-1]):
-            fit = without(current, name)
-            if fit is None:
-                continue
-            if not justified(current, fit):
-                say(f"drop {name}")
-                dropped = True
-                accepted.remove(name)
-                confidences.pop(name)
-                variants.pop(name)
-                for c in candidates:
-                    if c.effect == name and c.accepted:
-                        c.accepted = False
-                current = _refine(fitter, fit.structure, rounds=1)
-            else:
-                confidences[name] = float(np.mean(current.sse_folds < fit.sse_folds))
-        if dropped:  # the confidences taken so far were against a model that still held what is now dropped
-            for name in accepted:
+        # backward check: an effect named earlier that the newer ones make redundant is dropped. After a drop every
+        # effect is checked again, the newest too: the test each had passed was against a model that still held the
+        # dropped one
+        to_check = list(accepted[:-1])
+        while to_check:
+            dropped = False
+            for name in to_check:
+                if name not in accepted:
+                    continue
                 fit = without(current, name)
-                if fit is not None:
+                if fit is None:
+                    continue
+                if not justified(current, fit):
+                    say(f"drop {name}")
+                    dropped = True
+                    accepted.remove(name)
+                    confidences.pop(name)
+                    variants.pop(name)
+                    for c in candidates:
+                        if c.effect == name and c.accepted:
+                            c.accepted = False
+                    current = _refine(fitter, fit.structure, rounds=1)
+                else:
                     confidences[name] = float(np.mean(current.sse_folds < fit.sse_folds))
+            to_check = list(accepted) if dropped else []
         # swap check: an effect named earlier, when a rival of its own step describes the data as well now that
         # the newer ones are in (greedy selection can name a stand-in first, e.g. a slow delayed elasticity for a
         # viscous flow plus a drift), gives way to the rival that is smaller or better by the acceptance test

@@ -373,7 +373,7 @@ def _hyst_columns(sig, variant, param):
         # record, the core output's once per reference core)
         plays_key = ("force plays" if force else "voltage plays", variant.endswith("descending"))
         store = sig.record_cache if force else sig.cache
-        u = (sig.f if sig.f_smooth is None else sig.f_smooth) if force else sig.x_ref
+        u = sig.f_nonlinear if force else sig.x_ref
         cols = store.get(plays_key)
         if cols is None:
             cols = store[plays_key] = play_operator(u, radii, start) - start

@@ -102,6 +102,11 @@ class Signals:
     # what depends on the record alone (force, time), not on the reference core: kept by every refresh
     record_cache: dict = field(default_factory=dict, repr=False)
 
+    @property
+    def f_nonlinear(self) -> np.ndarray:
+        """The force that drives the nonlinear columns (x_ref, the force plays), N."""
+        return self.f if self.f_smooth is None else self.f_smooth
+
 
 def uniform_blocks(t_s, force_n, voltage_v, temperature_c, rate_hz):
     """Block means on a uniform time grid of step 1/rate_hz (the record's own step when slower).
@@ -456,7 +461,7 @@ def _refresh_ref(sig: Signals, core, span_x=None):
     against the signal when a voltage-path hysteresis took part of the core's gain (a play of small radius is
     nearly the input itself), and each settling round fitted worse (tune split: 0.0023 -> 0.0033 V, and the
     loss was named as a drift)."""
-    x = simulate_deformation(core, sig.t, sig.f if sig.f_smooth is None else sig.f_smooth)
+    x = simulate_deformation(core, sig.t, sig.f_nonlinear)
     return replace(sig, core_ref=core, x_ref=x, span_x=span_x if span_x is not None else max(float(np.ptp(x)), 1e-9))
 
 
@@ -801,8 +806,6 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
         while to_check:
             dropped = False
             for name in to_check:
-                if name not in accepted:
-                    continue
                 fit = without(current, name)
                 if fit is None:
                     continue

@@ -72,6 +72,7 @@ def test_clean_data_is_none_and_nothing_is_unexplained(base, seed):
     assert d.missing_effects == [] and d.missing_effect == "none", [c.summary() for c in d.candidates]
     assert not d.unexplained["present"]
     assert d.rmse_after == d.rmse_before <= 1.3 * d.noise_floor_v
+    assert d.unexplained["explained_share"] == 1.0  # nothing to explain: a share, not a ratio over ~0 (was ~1e300)
     # the floor is the truth's: 2 mV of bridge noise, and 5 mN of reference noise through the core's instantaneous
     # compliance (through the static gain it was 9 % high here for a burgers, 17 % for a kelvin)
     core = next(e.model for e in case.truth.elements if hasattr(e, "model"))
@@ -134,6 +135,29 @@ def test_a_drift_with_sharp_steps_is_named_offset_drift():
     assert "3 interleaved blocks" in d.to_json()["validation"]
 
 
+def test_drift_events_shorter_than_a_coarse_spline_interval_are_named_offset_drift_alone():
+    """Drift events of 3-15 % of the record (tune case, 200 Hz, jitter, gaps, no temperature). A spline of at most 8
+    intervals could not follow them; what it left rang, and a slow delayed elasticity was named for it. A finer
+    spline variant follows them, and the cross-validation chose it."""
+    rec, case = bench_record(["offset_drift"], 0.5, "burgers", 600.0, 200.0, 7760, split="tune",
+                             families={"offset_drift": "events"}, jitter=0.3, drops=4, temperature=False)
+    d = diagnose(rec, base="burgers")
+    assert d.missing_effects == ["offset_drift"], [c.summary() for c in d.candidates]
+    assert d.variants["offset_drift"] in ("spline12", "spline16"), d.variants
+    assert d.rmse_after <= 1.2 * d.noise_floor_v, (d.rmse_after, d.noise_floor_v)
+
+
+def test_a_flow_that_a_fine_spline_drift_stood_in_for_is_named_once_the_drift_is_rechosen_beside_it():
+    """A zener that flows, with a settling drift (tune case, 200 Hz). A spline drift is named first (it follows the
+    flow's creep under a slow load); beside it the flow lowered the out-of-sample error by 60 % of its excess, but
+    in only 3 of 5 folds, and was not named. With the drift's shape re-chosen beside the flow, it is."""
+    rec, case = bench_record(["viscous_flow", "offset_drift"], 0.5, "zener", 600.0, 200.0, 9022, split="tune",
+                             families={"viscous_flow": "eta_two_decades", "offset_drift": "exp_approach"})
+    d = diagnose(rec, base=case.base)
+    assert sorted(d.missing_effects) == ["offset_drift", "viscous_flow"], [c.summary() for c in d.candidates]
+    assert d.rmse_after <= 1.2 * d.noise_floor_v, (d.rmse_after, d.noise_floor_v)
+
+
 def test_a_large_voltage_path_hysteresis_is_named_alone_and_settling_keeps_its_fit():
     """A large play hysteresis on the voltage path (tune case, 200 Hz, jitter, gaps, no temperature). Its small plays
     take part of the core's gain, so the refitted core's output is smaller than the base's; play radii that kept
@@ -158,18 +182,17 @@ def test_a_large_stop_hysteresis_at_1khz_is_validated_at_the_floor_with_nothing_
     assert not d.unexplained["present"], d.unexplained
 
 
-def test_dropping_an_effect_rechooses_the_shape_of_the_others():
-    """A zener that flows, with a settling drift (tune case, 1 kHz): the interleaved folds let a spline drift take
-    the creep first, then a delayed elasticity and the flow were named beside it. Without the delayed elasticity the
-    drift beside the flow takes another shape than the spline chosen when it stood alone: the backward check
-    re-chooses it, drops the stand-in, and the variant reported is the one saved."""
+def test_a_flow_with_a_settling_drift_is_named_with_the_drift_in_the_shape_saved():
+    """A zener that flows, with a settling drift (tune case, 1 kHz). With splines of at most 8 intervals, a spline drift
+    took the creep first, then a delayed elasticity and the flow were named beside it, and the backward check had to
+    re-choose the drift's shape to drop the stand-in. With the finer splines (and the variants of each size group
+    polished), the flow is named first and the drift beside it in a settling shape; whatever the path, no stand-in
+    is left and the variant reported is the one saved."""
     rec, case = bench_record(["viscous_flow", "offset_drift"], 0.5, "zener", 600.0, 1000.0, 4462, split="tune",
                              families={"viscous_flow": "eta_two_decades", "offset_drift": "exp_approach"},
                              jitter=0.3, drops=4)
-    steps = []
-    d = diagnose(rec, base=case.base, progress=steps.append)
+    d = diagnose(rec, base=case.base)
     assert sorted(d.missing_effects) == ["offset_drift", "viscous_flow"], [c.summary() for c in d.candidates]
-    assert "drop delayed_elasticity" in steps, steps  # named, then found redundant beside the re-chosen drift
     variant = d.variants["offset_drift"]
     assert {c.variant for c in d.candidates if c.accepted and c.effect == "offset_drift"} == {variant}
     assert not variant.startswith("spline"), variant

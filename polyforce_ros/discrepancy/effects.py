@@ -432,8 +432,15 @@ def _thermal_elements(coef, variant, param, sig):
     return [("late", ThermalDriftElement(coefficient_v_per_c=c, reference_c=ref))]
 
 
-#: Knot intervals over the record of the spline variants of offset_drift (a wandering drift).
-SPLINE_INTERVALS = (4, 6, 8)
+#: Knot intervals over the record of the spline variants of offset_drift (a wandering drift). 12 and 16 follow drift
+#: events of 3-15 % of the record (with 8 at most, the ringing they left was taken by a lagged thermal drift or a
+#: slow delayed elasticity); the cross-validation keeps the finer ones from fitting what the coarse ones need not.
+SPLINE_INTERVALS = (4, 6, 8, 12, 16)
+
+
+def variant_group(variant: str) -> str:
+    """The group of variants that differ only in their number of columns (``spline12`` -> ``spline``)."""
+    return variant.rstrip("0123456789") if variant.startswith("spline") else variant
 
 
 def _spline_knots_s(duration_s, intervals):

@@ -35,8 +35,8 @@ def _polyforce(*args):
                           timeout=600)
 
 
-def _read_through(truth, t, f, path, seed):
-    sim = BridgeSimulator(noise_std_v=1e-3, seed=seed)
+def _read_through(truth, t, f, path, seed, noise_std_v=1e-3):
+    sim = BridgeSimulator(noise_std_v=noise_std_v, seed=seed)
     sim.chain, sim._states = truth, truth.forward_states()
     write_bench_bag(path, t, f, sim.simulate(t, f, temperature_c=24.0), temperature_c=24.0)
 
@@ -82,3 +82,32 @@ def test_diagnose_save_model_then_compensate_removes_hidden_hysteresis(family, t
     tc, comp = _compensated(tmp_path / "needle.mcap", tmp_path / "needle_out.mcap", model)
     r2 = r_squared(np.interp(tc, tn, fn), comp)
     assert r2 >= 0.99, r2
+
+
+@pytest.mark.parametrize("family", ["play_voltage", "stop_force"])
+def test_the_pipeline_holds_at_1khz_where_bridge_noise_reaches_the_small_plays(family, tmp_path):
+    """The saved chain runs its hysteresis on the raw signal: on the voltage path the inverse's plays of small radius
+    (0.3 % of the span, 3-5 standard deviations of 2 mV) see every sample's bridge noise, on the force path the core's
+    noise-driven input does. At 1 kHz, with 2 mV of noise on the bench record and on the readings, the whole
+    pipeline still meets the issue's bounds (measured for all six families: <= 0.52 % and R^2 >= 0.990)."""
+    seed = 3600 + FAMILIES.index(family)
+    magnitude = float(np.random.default_rng(seed).uniform(0.4, 0.8))
+    t, f, v, temp, case = simulate_bench(["hysteresis"], magnitude, "burgers", duration_s=420.0, rate_hz=1000.0,
+                                         seed=seed, split="held_out", families={"hysteresis": family})
+    bench = tmp_path / "bench.mcap"
+    write_bench_bag(bench, t, f, v, temperature_c=temp, temperature_every=10)
+    model = tmp_path / "M.yaml"
+    proc = _polyforce("diagnose", str(bench), "--base", "burgers", "--save-model", str(model), "--json",
+                      str(tmp_path / "d.json"))
+    assert proc.returncode == 0, proc.stderr
+    assert "hysteresis" in json.loads((tmp_path / "d.json").read_text())["missing_effects"]
+    ts, fs = profiles.sawtooth(peak_n=10.0, cycles=4, ramp_rate_n_per_s=1.0, rate_hz=1000.0)
+    _read_through(case.truth, ts, fs, tmp_path / "saw.mcap", seed, noise_std_v=2e-3)
+    tc, comp = _compensated(tmp_path / "saw.mcap", tmp_path / "saw_out.mcap", model)
+    first = (tc >= 2.0) & (tc < 22.0)
+    assert hysteresis_percent(np.interp(tc, ts, fs)[first], comp[first]) <= 1.0
+    name = "okamura" if profiles.okamura_csv_path() is not None else "needle_insertion"
+    tn, fn = profiles.make_profile(name, rate_hz=1000.0, seed=seed)
+    _read_through(case.truth, tn, fn, tmp_path / "needle.mcap", seed + 1, noise_std_v=2e-3)
+    tc, comp = _compensated(tmp_path / "needle.mcap", tmp_path / "needle_out.mcap", model)
+    assert r_squared(np.interp(tc, tn, fn), comp) >= 0.99

@@ -19,7 +19,7 @@ import pytest
 
 from conftest import REPO
 from polyforce_ros.discrepancy.effects import EFFECTS, NAMES
-from polyforce_ros.discrepancy.engine import Fitter, Signals, diagnose, fold_of
+from polyforce_ros.discrepancy.engine import Fitter, Signals, Structure, Term, _polish, _without, diagnose, fold_of
 from polyforce_ros.model_file import load_model
 from polyforce_ros.physics.viscoelastic import MODEL_TYPES, simulate_deformation
 from polyforce_ros.sim.bench import OUT_OF_CATALOGUE, bench_record, default_base, write_bench_bag
@@ -121,6 +121,23 @@ def test_folds_are_interleaved_blocks_of_equal_length():
     assert np.array_equal(np.sort(covered), np.arange(t.size))
     for k, runs in enumerate(fitter.rows):
         assert len(runs) == 3 and all(np.all(fold[r] == k) for r in runs)
+
+
+def test_the_polish_moves_a_delayed_elasticitys_time_with_the_core_time_it_names():
+    """A burgers with a second Kelvin element (true times 8 s and 60 s) fitted from grid times 20 s and 150 s: the
+    delayed elasticity's time is one of the core's, and after the polish the term names the polished core time (it
+    had stayed at its grid value, and dropping the effect removes the core time nearest to it)."""
+    t = np.arange(0.0, 600.0, 0.1)
+    f = 5.0 + 4.0 * np.sign(np.sin(2 * np.pi * t / 97.0)) + 2.0 * np.sin(2 * np.pi * t / 23.0)
+    core = MODEL_TYPES["burgers2"](30.0, 60.0, 5e4, 60.0 * 8.0, 40.0, 40.0 * 60.0)
+    v = simulate_deformation(core, t, f)
+    sig = Signals(t, f, v, None, t0=0.0, duration_s=600.0, temp_ref=0.0)
+    fitter = Fitter(sig, 5)
+    st = Structure("burgers2", (20.0, 150.0), (Term("delayed_elasticity", "", 150.0),))
+    polished = _polish(fitter, st)
+    assert polished.term("delayed_elasticity").param in polished.taus
+    assert sorted(polished.taus) == pytest.approx([8.0, 60.0], rel=0.05)
+    assert _without(polished, "delayed_elasticity").taus == (polished.taus[0],)
 
 
 def test_a_drift_with_sharp_steps_is_named_offset_drift():

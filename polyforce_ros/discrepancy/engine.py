@@ -472,7 +472,13 @@ def _refresh_ref(sig: Signals, core, span_x=None):
 def _polish(fitter: Fitter, st: Structure) -> Structure:
     """Polish the nonlinear time constants (core, lag, thermal lag) by multi-start least squares in log space."""
     idx = [("core", i) for i in range(len(st.taus))]
-    idx += [("term", k) for k, t in enumerate(st.terms) if t.param is not None]
+    # a core effect's parameter (a delayed elasticity's time) is one of the core's times, not a column's: it is not
+    # polished on its own (it had stayed at its grid value while the core's time moved, e.g. 150 s against 561 s,
+    # and _without drops the core time nearest to it) but follows the core time it names
+    own_tau = {k: int(np.argmin([abs(math.log(tau / t.param)) for tau in st.taus]))
+               for k, t in enumerate(st.terms) if t.param is not None and REGISTRY[t.effect].core_change and st.taus}
+    idx += [("term", k) for k, t in enumerate(st.terms)
+            if t.param is not None and not REGISTRY[t.effect].core_change]
     if not idx:
         return st
     x0 = np.log([st.taus[i] if kind == "core" else st.terms[i].param for kind, i in idx])
@@ -484,6 +490,8 @@ def _polish(fitter: Fitter, st: Structure) -> Structure:
                 taus[i] = float(math.exp(th))
             else:
                 terms[i] = replace(terms[i], param=float(math.exp(th)))
+        for k, i in own_tau.items():
+            terms[k] = replace(terms[k], param=taus[i])
         return Structure(st.core, tuple(taus), tuple(terms))
 
     sig = fitter.sig

@@ -469,6 +469,13 @@ def _refresh_ref(sig: Signals, core, span_x=None):
     return replace(sig, core_ref=core, x_ref=x, span_x=span_x if span_x is not None else max(float(np.ptp(x)), 1e-9))
 
 
+def _excess(mse, floor_mse):
+    """A mean square error's excess over the noise floor's, counted as at least a quarter of the floor's own: the
+    denominator of every share of the excess (acceptance, candidates' report, explained share), which a model at or
+    below the floor would otherwise make a ratio over ~0."""
+    return max(mse - floor_mse, 0.25 * floor_mse)
+
+
 def _polish(fitter: Fitter, st: Structure) -> Structure:
     """Polish the nonlinear time constants (core, lag, thermal lag) by multi-start least squares in log space."""
     idx = [("core", i) for i in range(len(st.taus))]
@@ -715,7 +722,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
     def justified(fit: Fit, than: Fit) -> bool:
         """The acceptance test: ``fit`` lowers the out-of-sample error of ``than`` in ``min_confidence`` of the
         blocks and removes ``min_excess_share`` of its error above the floor (at least a quarter of the floor's own)."""
-        excess = max(than.cv_mse - floor_d2, 0.25 * floor_d2)
+        excess = _excess(than.cv_mse, floor_d2)
         return (float(np.mean(fit.sse_folds < than.sse_folds)) >= min_confidence
                 and (than.cv_mse - fit.cv_mse) / excess >= min_excess_share)
 
@@ -730,7 +737,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
         if not structs:
             return None
         fits = [fitter.evaluate(s) for s in structs]
-        excess = max(to.cv_mse - floor_d2, 0.25 * floor_d2)
+        excess = _excess(to.cv_mse, floor_d2)
         best_of = {}
         for f in fits:  # the best in sample of each variant
             v = f.structure.term(name).variant if f.structure.term(name) else ""
@@ -810,7 +817,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
             fit = addition(current, name)
             if fit is None:
                 continue
-            excess = max(current.cv_mse - floor_d2, 0.25 * floor_d2)
+            excess = _excess(current.cv_mse, floor_d2)
             if accepted and not justified(fit, current) and (current.cv_mse - fit.cv_mse) / excess >= min_excess_share:
                 # large but not consistent over the folds: the shapes named before it were chosen without it (a
                 # fine spline drift standing in for a flow's creep) and may be what its folds trade against. The
@@ -891,7 +898,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                         c.accepted = False
                 # the report shows the fit that was taken (the rival added to the reduced model), not the
                 # rival's own step, whose model still held the effect it replaces
-                excess = max(reduced_fit.cv_mse - floor_d2, 0.25 * floor_d2)
+                excess = _excess(reduced_fit.cv_mse, floor_d2)
                 candidates.append(Candidate(rival.effect, variants[rival.effect], fit, math.sqrt(fit.cv_mse),
                                             confidences[rival.effect],
                                             float((reduced_fit.cv_mse - fit.cv_mse) / excess), step, accepted=True))
@@ -922,11 +929,9 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
     # sample; when structure remains and they explain little of it, they are partial fits of something the
     # catalogue does not hold, and naming them would be worse than saying so (tune split: correctly named effects
     # explain >= 96 % of it; a time drift following the mean of a sensitivity that drifts, 62-65 %)
-    # the base's excess counted as at least a quarter of the floor's own mean square, as in the acceptance test: a
-    # base at or just above the floor had made the share a ratio over ~0 (~1e300 or ~-1e11 in the JSON), flipping
-    # on the noise of the floor's estimate
-    excess_before = max(rmse_before ** 2 - floor ** 2, 0.25 * floor ** 2)
-    explained = float(np.clip(1.0 - (rmse_after ** 2 - floor ** 2) / excess_before, 0.0, 1.0))
+    # the base's excess as the acceptance test counts it: a base at or just above the floor had made the share a
+    # ratio over ~0 (~1e300 or ~-1e11 in the JSON), flipping on the noise of the floor's estimate
+    explained = float(np.clip(1.0 - (rmse_after ** 2 - floor ** 2) / _excess(rmse_before ** 2, floor ** 2), 0.0, 1.0))
     partial = []
     if accepted and (rmse_after >= rmse_before or (present and explained < min_explained)):
         partial = list(accepted)

@@ -155,11 +155,38 @@ uint32_t pfw_ring_count(const pfw_ring_t *ring)
     return ring_used(head, tail);
 }
 
+/* ------------------------------------------------------------------ division */
+uint32_t pfw_divmod_u32(uint32_t n, uint32_t d, uint32_t *rem)
+{
+#if PFW_SOFT_DIVIDE
+    /* restoring division, one quotient bit per step; `carry` holds the 33rd bit of r << 1 */
+    uint32_t q = 0u;
+    uint32_t r = 0u;
+    uint32_t bit = 32u;
+    while (bit > 0u) {
+        uint32_t carry;
+        bit--;
+        carry = r >> 31u;
+        r = (r << 1u) | ((n >> bit) & 1u);
+        if ((carry != 0u) || (r >= d)) {
+            r -= d; /* modulo 2^32: exact, the true value r + carry * 2^32 is >= d */
+            q |= ((uint32_t)1u << bit);
+        }
+    }
+    *rem = r;
+    return q;
+#else
+    *rem = n % d;
+    return n / d;
+#endif
+}
+
 /* ------------------------------------------------------------------ clock */
 static uint32_t gcd_u32(uint32_t a, uint32_t b)
 {
     while (b != 0u) {
-        const uint32_t r = a % b;
+        uint32_t r;
+        (void)pfw_divmod_u32(a, b, &r);
         a = b;
         b = r;
     }
@@ -170,16 +197,20 @@ int pfw_clock_init(pfw_clock_t *clock, uint32_t tick_hz, uint32_t counter_bits, 
 {
     int status = -1;
     if ((tick_hz != 0u) && (counter_bits >= 1u) && (counter_bits <= 32u)) {
+        uint32_t unused;
         const uint32_t g = gcd_u32(PFW_US_PER_S, tick_hz);
-        clock->num = PFW_US_PER_S / g;
-        clock->den = tick_hz / g;
-        clock->mask = (counter_bits == 32u) ? 0xFFFFFFFFu : (((uint32_t)1u << counter_bits) - 1u);
-        /* rem + step * num must fit: rem <= den - 1 */
-        clock->max_chunk = (0xFFFFFFFFu - (clock->den - 1u)) / clock->num;
-        clock->last_ticks = ticks_now & clock->mask;
-        clock->rem = 0u;
-        clock->us = us_start;
-        status = 0;
+        const uint32_t num = pfw_divmod_u32(PFW_US_PER_S, g, &unused);
+        const uint32_t den = pfw_divmod_u32(tick_hz, g, &unused);
+        /* rem + r * num with rem, r <= den - 1 must fit in 32 bits; num + 1 <= 1e6 + 1 */
+        if ((den - 1u) <= pfw_divmod_u32(0xFFFFFFFFu, num + 1u, &unused)) {
+            clock->num = num;
+            clock->den = den;
+            clock->mask = (counter_bits == 32u) ? 0xFFFFFFFFu : (((uint32_t)1u << counter_bits) - 1u);
+            clock->last_ticks = ticks_now & clock->mask;
+            clock->rem = 0u;
+            clock->us = us_start;
+            status = 0;
+        }
     }
     return status;
 }
@@ -187,14 +218,16 @@ int pfw_clock_init(pfw_clock_t *clock, uint32_t tick_hz, uint32_t counter_bits, 
 uint32_t pfw_clock_update(pfw_clock_t *clock, uint32_t ticks_now)
 {
     const uint32_t now = ticks_now & clock->mask;
-    uint32_t delta = (now - clock->last_ticks) & clock->mask; /* one counter wrap at most */
+    const uint32_t delta = (now - clock->last_ticks) & clock->mask; /* one counter wrap at most */
     clock->last_ticks = now;
-    while (delta != 0u) {
-        const uint32_t step = (delta > clock->max_chunk) ? clock->max_chunk : delta;
-        const uint32_t acc = clock->rem + (step * clock->num); /* <= UINT32_MAX by max_chunk */
-        clock->us += acc / clock->den;                          /* wraps at 2^32 by design */
-        clock->rem = acc % clock->den;
-        delta -= step;
+    if (clock->den == 1u) {
+        clock->us += delta * clock->num; /* whole microseconds per tick; wraps at 2^32 by design */
+    } else {
+        /* delta = q * den + r: q * den ticks are exactly q * num us; the rest carries the remainder */
+        uint32_t r;
+        const uint32_t q = pfw_divmod_u32(delta, clock->den, &r);
+        const uint32_t acc = clock->rem + (r * clock->num); /* <= (den - 1) * (num + 1): fits, by init */
+        clock->us += (q * clock->num) + pfw_divmod_u32(acc, clock->den, &clock->rem); /* modulo 2^32 */
     }
     return clock->us;
 }
@@ -202,7 +235,8 @@ uint32_t pfw_clock_update(pfw_clock_t *clock, uint32_t ticks_now)
 /* ------------------------------------------------------------------ rate */
 uint32_t pfw_period_us(uint32_t rate_hz)
 {
-    return ((rate_hz == 0u) || (rate_hz > PFW_MAX_RATE_HZ)) ? 0u : (PFW_US_PER_S / rate_hz);
+    uint32_t unused;
+    return ((rate_hz == 0u) || (rate_hz > PFW_MAX_RATE_HZ)) ? 0u : pfw_divmod_u32(PFW_US_PER_S, rate_hz, &unused);
 }
 
 int pfw_pacer_init(pfw_pacer_t *pacer, uint32_t rate_hz, uint32_t first_us)
@@ -210,8 +244,7 @@ int pfw_pacer_init(pfw_pacer_t *pacer, uint32_t rate_hz, uint32_t first_us)
     int status = -1;
     if ((rate_hz != 0u) && (rate_hz <= PFW_MAX_RATE_HZ)) {
         pacer->rate_hz = rate_hz;
-        pacer->period_us = PFW_US_PER_S / rate_hz;
-        pacer->frac = PFW_US_PER_S % rate_hz;
+        pacer->period_us = pfw_divmod_u32(PFW_US_PER_S, rate_hz, &pacer->frac);
         pacer->acc = 0u;
         pacer->next_us = first_us;
         status = 0;

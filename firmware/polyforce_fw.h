@@ -24,7 +24,8 @@
  * Coding rules (MISRA-minded): fixed-width types only; all arithmetic on
  * unsigned types (wrap-around is defined) or on values proven in range; no
  * signed shifts, no conversion of out-of-range values to signed types; no
- * recursion, no dynamic memory, no library calls.
+ * recursion, no dynamic memory, no library calls (on 8-bit AVR the compiler
+ * itself calls libgcc for 32-bit multiply and divide).
  *
  * Concurrency rules of the ring (pfw_ring_t):
  *   - exactly one producer context (the ADC/DRDY interrupt) calls
@@ -87,8 +88,16 @@ int32_t pfw_time_diff_us(uint32_t a, uint32_t b);
 int32_t pfw_counts_from_be24(uint8_t msb, uint8_t mid, uint8_t lsb);
 
 /* ------------------------------------------------------------------ ring */
+/*
+ * Ring capacity (a power of two): 256 samples on 32-bit cores; 64 on AVR,
+ * whose 8-bit indices allow at most 128 and whose RAM is 2 KB on an Uno.
+ */
 #ifndef PFW_RING_CAPACITY
+#if defined(__AVR__)
+#define PFW_RING_CAPACITY 64u
+#else
 #define PFW_RING_CAPACITY 256u
+#endif
 #endif
 
 #ifndef PFW_RING_INDEX_T
@@ -159,12 +168,38 @@ bool pfw_ring_pop_frame(pfw_ring_t *ring, uint8_t out[PFW_FRAME_SIZE]);
 /** Number of unread samples (a snapshot; exact from either side's point of view). */
 uint32_t pfw_ring_count(const pfw_ring_t *ring);
 
+/* ------------------------------------------------------------------ division */
+/*
+ * Cores without a divide instruction (Cortex-M0/M0+, ARMv6-M) would call the
+ * compiler's runtime (__aeabi_uidiv) for every `/` and `%`. There the core
+ * divides with its own shift-and-subtract routine instead (32 steps, constant
+ * time), so it links no library function on any ARM core. Define
+ * PFW_SOFT_DIVIDE to 0 or 1 to override the choice.
+ */
+#ifndef PFW_SOFT_DIVIDE
+#if defined(__arm__) && !defined(__ARM_FEATURE_IDIV)
+#define PFW_SOFT_DIVIDE 1
+#else
+#define PFW_SOFT_DIVIDE 0
+#endif
+#endif
+
+/** n / d, with n % d in *rem (d != 0); the routine every division of the core goes through. */
+uint32_t pfw_divmod_u32(uint32_t n, uint32_t d, uint32_t *rem);
+
 /* ------------------------------------------------------------------ clock */
 /**
  * Device microsecond clock from a free-running hardware counter of
  * `counter_bits` bits counting at `tick_hz`. The conversion carries the
  * remainder, so it never drifts from the counter (no rounding accumulates),
  * and the result wraps at 2^32 like the frame's t_us.
+ *
+ * With 1e6 / tick_hz reduced to num / den, pfw_clock_update costs two
+ * divisions and no loop, for any tick step. That needs (den - 1) * (num + 1)
+ * < 2^32, and pfw_clock_init refuses tick rates that break it. Every multiple
+ * of 1 kHz below 4 GHz qualifies, as do the divisors of 1 MHz, 32768 Hz and the
+ * UART crystals (11.0592, 14.7456 MHz); refused are rates such as 999999 Hz or
+ * 4294967291 Hz, whose reduced fraction has both terms large.
  *
  * pfw_clock_update must see every counter wrap: call it at least once per
  * 2^counter_bits ticks, from one context only (or with interrupts masked).
@@ -173,16 +208,19 @@ typedef struct {
     uint32_t num;        /* 1e6 / gcd(1e6, tick_hz) */
     uint32_t den;        /* tick_hz / gcd(1e6, tick_hz) */
     uint32_t mask;       /* counter width */
-    uint32_t max_chunk;  /* largest tick step whose product with num cannot overflow */
     uint32_t last_ticks; /* counter value at the last update */
     uint32_t rem;        /* fraction of a microsecond carried, in 1/den us; < den */
     uint32_t us;         /* the clock */
 } pfw_clock_t;
 
-/** Returns 0, or -1 when tick_hz is 0 or counter_bits is not in 1..32. */
+/**
+ * Returns 0, or -1 (and leaves `clock` untouched) when tick_hz is 0,
+ * counter_bits is not in 1..32, or the tick rate's reduced fraction is too
+ * large for an exact loop-free update (see above).
+ */
 int pfw_clock_init(pfw_clock_t *clock, uint32_t tick_hz, uint32_t counter_bits, uint32_t ticks_now, uint32_t us_start);
 
-/** Advances the clock to the counter value `ticks_now` and returns it (us). */
+/** Advances the clock to the counter value `ticks_now` and returns it (us). Constant time. */
 uint32_t pfw_clock_update(pfw_clock_t *clock, uint32_t ticks_now);
 
 /* ------------------------------------------------------------------ rate */

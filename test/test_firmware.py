@@ -1,8 +1,13 @@
 """Reference firmware (firmware/): the other end of the serial cable, tested on the host.
 
+* the whole firmware (core, host programs, the sketch on stubs) builds and passes its C
+  self-checks with gcc and with clang, under -Werror and ASan + UBSan, wherever each exists;
+* the core cross-compiles for the claimed cores (Cortex-M0+, Cortex-M4, RV32IMAC, AVR) with
+  whatever cross compiler exists, and needs no library function where the README says so;
 * the portable C core builds under strict flags and links no library; its frames equal
   serial_protocol.encode_frame byte for byte (edge cases and random samples); the ring
   buffer, the device clock and the pacer against exact references (ASan + UBSan builds);
+  the device clock refuses counters it could not serve in constant time;
 * the ADS1220 board sketch, compiled for the PC against stub Arduino headers and run with a
   scripted ADC: register bytes, SPI reads, frames, overflow and the DRDY watchdog;
 * the virtual device (same core) streaming into a pty read by a running DriverNode (serial
@@ -12,6 +17,7 @@
   each counted while no sample of a corrupt frame is ever published.
 """
 import bisect
+import math
 import os
 import queue
 import random
@@ -34,18 +40,22 @@ from polyforce_ros.serial_protocol import FRAME_SIZE, FrameParser, encode_frame
 from ros_harness import ros
 
 FIRMWARE = REPO / "firmware"
-CC, CXX = shutil.which("gcc"), shutil.which("g++")
+#: the host compilers the firmware is built with: C and C++ driver of each, where installed
+COMPILERS = {"gcc": (shutil.which("gcc"), shutil.which("g++")), "clang": (shutil.which("clang"), shutil.which("clang++"))}
+# the programs the other tests run are built with gcc, or clang where gcc is missing
+CC, CXX = COMPILERS["gcc"] if COMPILERS["gcc"][0] else COMPILERS["clang"]
 pytestmark = pytest.mark.skipif(CC is None or shutil.which("make") is None,
-                                reason="gcc and make are needed to build the firmware")
+                                reason="gcc or clang, and make, are needed to build the firmware")
 SAN_ENV = dict(os.environ, ASAN_OPTIONS="detect_leaks=1:halt_on_error=1:abort_on_error=0",
                UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1")
 SCALE, OFFSET = 2.0**-20, 0.25  # exact in binary: published volts map back to counts exactly
 
 
-def make(build_dir, *targets, timeout=300):
-    args = ["make", "-C", str(FIRMWARE), f"BUILD={build_dir}", f"CC={CC}"]
-    if CXX:
-        args.append(f"CXX={CXX}")
+def make(build_dir, *targets, timeout=300, cc=None, cxx=None, variables=()):
+    cc, cxx = (cc, cxx) if cc else (CC, CXX)
+    args = ["make", "-C", str(FIRMWARE), f"BUILD={build_dir}", f"CC={cc}", *variables]
+    if cxx:
+        args.append(f"CXX={cxx}")
     proc = subprocess.run([*args, *targets], capture_output=True, text=True, timeout=timeout)
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-6000:]
     return proc
@@ -58,11 +68,73 @@ def build(tmp_path_factory):
     return out
 
 
-def run(build, program, *args, stdin=None, timeout=120):
+def run(build, program, *args, stdin=None, timeout=120):  # a hang fails the test by its timeout
     proc = subprocess.run([str(build / program), *map(str, args)], input=stdin, capture_output=True, text=True,
                           timeout=timeout, env=SAN_ENV)
     assert proc.returncode == 0 and "FAIL" not in proc.stdout, proc.stdout[-3000:] + proc.stderr[-6000:]
     return proc.stdout
+
+
+# ---------------------------------------------------------------------------------------- builds
+@pytest.mark.parametrize("compiler", sorted(COMPILERS))
+def test_everything_builds_and_self_checks_with_each_compiler(tmp_path, compiler):
+    cc, cxx = COMPILERS[compiler]
+    if cc is None or cxx is None:
+        pytest.skip(f"{compiler} (C and C++) is not installed")
+    # `make check`: strict core objects, the core as C++, the host programs, the ASan + UBSan builds,
+    # the sketch on stubs, then the C self-checks (ring, threads, soft division, sketch smoke run)
+    proc = make(tmp_path, "check", cc=cc, cxx=cxx)
+    assert f"{cc} -std=c99 -Wall -Wextra -Werror" in proc.stdout and "-fsanitize=address,undefined" in proc.stdout
+    assert "ok threads" in proc.stdout and "4294967295 4294967295 1 0" in proc.stdout
+    for program in ("virtual_device", "fw_test", "fw_test_san", "fw_test_softdiv_san", "arduino_sim"):
+        assert (tmp_path / program).is_file(), program
+
+
+def _first_tool(*candidates):
+    """The first of (command..., nm) whose program exists, or None."""
+    for command, nm in candidates:
+        if shutil.which(command[0]):
+            return command, next((t for t in (nm, "llvm-nm", "nm") if shutil.which(t)), None)
+    return None
+
+
+_CLANG = shutil.which("clang")
+#: claimed core -> (make target, make variable, [(compiler command, its nm)], library helpers it may need)
+CROSS = {
+    # ARMv6-M has no divide instruction: the core divides by itself (PFW_SOFT_DIVIDE), so nothing is needed
+    "cortex-m0plus": ("cross-m0plus", "ARM_CC", [(["arm-none-eabi-gcc"], "arm-none-eabi-nm"),
+                                                 ([_CLANG or "clang", "--target=arm-none-eabi", "-ffreestanding"],
+                                                  "llvm-nm")], set()),
+    "cortex-m4": ("cross-m4", "ARM_CC", [(["arm-none-eabi-gcc"], "arm-none-eabi-nm"),
+                                         ([_CLANG or "clang", "--target=arm-none-eabi", "-ffreestanding"], "llvm-nm")],
+                  set()),
+    "rv32imac": ("cross-rv32", "RV_CC", [([_CLANG or "clang", "--target=riscv32-unknown-elf", "-ffreestanding"],
+                                          "llvm-nm")], set()),
+    # 8-bit AVR: 32-bit multiply and divide are libgcc helpers that avr-gcc always links (README)
+    "avr": ("cross-avr", "AVR_CC", [(["avr-gcc"], "avr-nm")], {"__mulsi3", "__udivmodsi4"}),
+}
+
+
+@pytest.mark.parametrize("core", sorted(CROSS))
+def test_core_cross_compiles_for_each_claimed_core(tmp_path, core):
+    target, variable, candidates, allowed = CROSS[core]
+    tool = _first_tool(*candidates)
+    if tool is None:
+        pytest.skip(f"no cross compiler for {core}: install one of " + ", ".join(c[0][0] for c in candidates))
+    command, nm = tool
+    proc = subprocess.run(["make", "-C", str(FIRMWARE), f"BUILD={tmp_path}", f"{variable}={' '.join(command)}", target],
+                          capture_output=True, text=True, timeout=300)
+    if proc.returncode != 0 and command[0] == _CLANG and "unknown target" in proc.stderr.lower():
+        pytest.skip(f"this clang has no {core} backend: {proc.stderr.strip()[-300:]}")
+    # the default configuration builds: on AVR that is 8-bit ring indices and a ring of 64
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-3000:]
+    objects = list(tmp_path.glob("cross_*.o"))
+    assert len(objects) == 1
+    if nm is None:
+        pytest.skip("no nm to list the object's undefined symbols")
+    undefined = set(subprocess.run([nm, "-u", str(objects[0])], capture_output=True, text=True,
+                                   check=True).stdout.split()) - {"U"}
+    assert undefined <= allowed, (core, sorted(undefined - allowed))
 
 
 # ---------------------------------------------------------------------------------------- the core
@@ -70,7 +142,8 @@ def test_core_builds_with_strict_flags_and_links_no_library(tmp_path):
     proc = make(tmp_path, "strict", *(["strict-cxx"] if CXX else []))
     assert "-std=c99 -Wall -Wextra -Werror -pedantic" in proc.stdout
     objects = sorted(tmp_path.glob("core_*.o"))
-    assert len(objects) == (4 if CXX else 3)  # -O0, -O2, -Os with 8-bit ring indices (, and as C++)
+    # -O0, -O2, -Os with 8-bit ring indices, -O2 with the core's own division (, and as C++)
+    assert len(objects) == (5 if CXX else 4)
     if shutil.which("nm"):
         for obj in objects:
             undefined = subprocess.run(["nm", "-u", str(obj)], capture_output=True, text=True, check=True).stdout.split()
@@ -82,14 +155,14 @@ def test_core_builds_with_strict_flags_and_links_no_library(tmp_path):
 
 
 def _check_frame_lines(lines):
-    stream = b""
+    decoded = []
     for line in lines:
         seq, t_us, counts, hexframe = line.split()
         frame = bytes.fromhex(hexframe)
         assert frame == encode_frame(int(seq), int(t_us), int(counts)), line
-        stream += frame
-    frames = FrameParser().feed(stream)
-    assert [(f.seq, f.t_us, f.counts) for f in frames] == [tuple(map(int, line.split()[:3])) for line in lines]
+        # one parser per frame: these frames repeat and reorder sequence numbers, which a stream drops
+        decoded += FrameParser().feed(frame)
+    assert [(f.seq, f.t_us, f.counts) for f in decoded] == [tuple(map(int, line.split()[:3])) for line in lines]
     return len(lines)
 
 
@@ -138,9 +211,52 @@ def test_ring_between_two_threads(build):
     assert received + overflows == 200000 and received >= 100000  # lossless half, then overflowing half
 
 
+def test_soft_division_is_exact(build):
+    rnd = random.Random(17)
+    pairs = [(n, d) for n in (0, 1, 2**31 - 1, 2**31, 2**32 - 1) for d in (1, 2, 3, 2**31 - 1, 2**31, 2**31 + 1, 2**32 - 1)]
+    pairs += [(rnd.randrange(2**32), rnd.choice([rnd.randrange(1, 2**32), rnd.randrange(1, 1 << rnd.randrange(1, 33))]))
+              for _ in range(3000)]
+    out = run(build, "fw_test_softdiv_san", "divmod", stdin="".join(f"{n} {d}\n" for n, d in pairs)).splitlines()
+    assert [tuple(map(int, line.split())) for line in out] == [(n, d, n // d, n % d) for n, d in pairs]
+
+
+def _clock_accepts(tick_hz):
+    """The documented rule: 1e6 / tick_hz reduced to num / den with (den - 1) * (num + 1) < 2^32."""
+    g = math.gcd(1_000_000, tick_hz)
+    return (tick_hz // g - 1) * (1_000_000 // g + 1) < 2**32
+
+
+@pytest.mark.parametrize("tick_hz", [4_294_967_291, 999_999, 14_318_180, 4_294_967_000])
+def test_device_clock_refuses_a_counter_it_cannot_serve(build, tick_hz):
+    # 4294967291 Hz used to be accepted with a zero step, and the update then never returned
+    assert not _clock_accepts(tick_hz)
+    for program in ("fw_test_san", "fw_test_softdiv_san"):
+        assert run(build, program, "clock", tick_hz, 32, 0, stdin="0\n1\n", timeout=20).split() == ["invalid"]
+
+
+def test_device_clock_accepts_what_its_header_promises(build):
+    promised = [1_000_000, 1, 3, 125, 32_768, 11_059_200, 14_745_600, 16_000_000, 133_000_000, 3_999_999_000]
+    rnd = random.Random(8)
+    promised += [1000 * rnd.randrange(1, 4_000_000) for _ in range(40)]
+    promised += [d for d in range(1, 1_000_001) if 1_000_000 % d == 0]
+    for tick_hz in promised:
+        assert _clock_accepts(tick_hz), tick_hz
+    others = [rnd.randrange(1, 2**32) for _ in range(60)]
+    stdin = "".join(f"{t}\n" for t in (0, 2**32 - 1, 5))
+    for tick_hz in promised[:12] + others:
+        out = run(build, "fw_test_san", "clock", tick_hz, 32, 0, stdin=stdin, timeout=20).split()
+        if _clock_accepts(tick_hz):
+            total = 2**32 - 1 + 6  # two updates: 2^32 - 1 ticks, then one wrap to 5
+            assert out == [str((2**32 - 1) * 1_000_000 // tick_hz % 2**32), str(total * 1_000_000 // tick_hz % 2**32)]
+        else:
+            assert out == ["invalid"], tick_hz
+
+
+@pytest.mark.parametrize("program", ["fw_test_san", "fw_test_softdiv_san"])
 @pytest.mark.parametrize("tick_hz,bits", [(1_000_000, 32), (32_768, 16), (250_000, 8), (48_000_000, 24),
-                                          (600_000_000, 32), (1_000_000_000, 32), (3, 2)])
-def test_device_clock_is_exact_for_any_counter(build, tick_hz, bits):
+                                          (600_000_000, 32), (1_000_000_000, 32), (3, 2), (32_768, 24),
+                                          (11_059_200, 32), (14_745_600, 16)])
+def test_device_clock_is_exact_for_any_counter(build, tick_hz, bits, program):
     rnd = random.Random(tick_hz + bits)
     us0 = 2**32 - 1_000_000  # the microsecond clock wraps during the run
     total, readings = rnd.randrange(2**bits), []
@@ -150,16 +266,17 @@ def test_device_clock_is_exact_for_any_counter(build, tick_hz, bits):
         readings.append(total)
     mask = 2**bits - 1
     stdin = "".join(f"{t & mask}\n" for t in [first, *readings])
-    out = [int(x) for x in run(build, "fw_test_san", "clock", tick_hz, bits, us0, stdin=stdin).split()]
+    out = [int(x) for x in run(build, program, "clock", tick_hz, bits, us0, stdin=stdin).split()]
     expected = [(us0 + (t - first) * 1_000_000 // tick_hz) % 2**32 for t in readings]
     assert out == expected  # floor of the exact elapsed time: no drift, however long it runs
     assert (readings[-1] - first) * 1_000_000 // tick_hz > 1_000_000  # and it did wrap
 
 
+@pytest.mark.parametrize("program", ["fw_test_san", "fw_test_softdiv_san"])
 @pytest.mark.parametrize("rate_hz", [1000, 2000, 3000, 7, 999_983, 1_000_000])
-def test_pacer_is_drift_free(build, rate_hz):
+def test_pacer_is_drift_free(build, rate_hz, program):
     first, n = 2**32 - 5000, 5000
-    out = run(build, "fw_test_san", "pacer", rate_hz, first, n).split("\n")
+    out = run(build, program, "pacer", rate_hz, first, n).split("\n")
     assert out[0] == f"period {1_000_000 // rate_hz}"
     assert [int(x) for x in out[1:] if x] == [(first + k * 1_000_000 // rate_hz) % 2**32 for k in range(n)]
     for bad in (0, 1_000_001):
@@ -383,13 +500,13 @@ def test_live_stream_matches_device_through_wraps_and_follows_fast_clock(build, 
     args = ["--rate", 1000, "--ppm", 100, "--seq0", 65536 - 1500, "--t0-us", 2**32 - 2_500_000]
     with live(tmp_path, build, args, expected_rate_hz=1000.0, rate_window_s=1.0) as (h, node, lis, dev):
         arrival_ns = {}  # device time -> host instant the driver read its frame (the clock's only evidence)
-        stamp_ns = node.clock.stamp_ns
+        stamp_batch = node.clock.stamp_batch
 
-        def spy(t_us, arrival):
-            arrival_ns[t_us] = arrival
-            return stamp_ns(t_us, arrival)
+        def spy(t_us_seq, arrival):
+            arrival_ns.update(dict.fromkeys(t_us_seq, arrival))
+            return stamp_batch(t_us_seq, arrival)
 
-        node.clock.stamp_ns = spy
+        node.clock.stamp_batch = spy
         n0, crc0, lost0 = len(lis.raw), node.parser.crc_errors, node.parser.lost_frames
         assert h.spin_until(lambda: len(lis.raw) >= n0 + 8000, 120.0)
         assert h.spin_until(lambda: received_rate(lis) is not None, 20.0)
@@ -462,7 +579,7 @@ def test_live_faults_are_counted_and_never_publish_a_corrupt_sample(build, tmp_p
         assert h.spin_until(lambda: node.connected, 20.0)
         flowing()
         # device reset: sequence and clock restart at 0; the stamps re-anchor after 0.2 s of agreement
-        implausible, reanchored, lost = node.clock.implausible, node.clock.reanchored, p.lost_frames
+        implausible, reanchored, lost, jumps = node.clock.implausible, node.clock.reanchored, p.lost_frames, p.seq_jumps
         dev.command(h, "reset")
         assert h.spin_until(lambda: node.clock.reanchored == reanchored + 1, 20.0)
         flowing(500)
@@ -470,7 +587,7 @@ def test_live_faults_are_counted_and_never_publish_a_corrupt_sample(build, tmp_p
         assert h.spin_until(lambda: last_diag(lis)[2].get("reanchored") == "1", 10.0)
         level, message, values = last_diag(lis)
         raw = list(lis.raw)
-        lost_at_reset = p.lost_frames - lost
+        lost_at_reset, jumps_at_reset = p.lost_frames - lost, p.seq_jumps - jumps
     dev.assert_clean_exit()
     valid, corrupt, events = dev.records()
     assert len(corrupt) == 1 and [e for e, _ in events if e in ("N", "unplug", "plug", "reset")] == [
@@ -479,9 +596,14 @@ def test_live_faults_are_counted_and_never_publish_a_corrupt_sample(build, tmp_p
     assert level == DiagnosticStatus.WARN and "corrupt or lost" in message
     assert int(values["crc_errors"]) >= 2 and values["outages"] == "1" and values["connected"] == "True"
     assert int(values["implausible_stamp"]) > 0 and values["reanchored"] == "1"
-    # a reset looks like a sequence jump to 0 to the parser: counted as lost frames
+    # a reset restarts the sequence at 0: modulo 2**16 that is a jump back (a sequence jump, nothing lost) or,
+    # after 32768 frames or more, ahead (counted as lost frames: the parser cannot tell)
     last_seq_before_reset = valid[dict((e, n) for e, n in events)["reset"] - 1][0]
-    assert lost_at_reset == (0 - last_seq_before_reset - 1) % 2**16
+    ahead = (0 - last_seq_before_reset) % 2**16
+    if ahead < 2**15:
+        assert (lost_at_reset, jumps_at_reset) == (ahead - 1, 0)
+    else:
+        assert (lost_at_reset, jumps_at_reset) == (0, 1)
     # never a corrupt sample: the published samples are the device's valid frames, in order
     idx = match_sent(published_counts(raw), valid)
     # and frames go missing only where the cable was out or while the reset re-anchored the stamps

@@ -6,7 +6,9 @@
  *   fw_test seqwrap           pfw_seq_next from 0xFFFD, five steps
  *   fw_test be24              stdin "HEX6" lines -> "HEX6 counts" (24-bit two's complement)
  *   fw_test timediff          stdin "a b" lines -> "a b diff"
- *   fw_test clock HZ BITS US0 stdin counter readings (first = at init) -> clock value after each
+ *   fw_test divmod            stdin "n d" lines -> "n d quotient remainder" (pfw_divmod_u32)
+ *   fw_test clock HZ BITS US0 stdin counter readings (first = at init) -> clock value after each,
+ *                             or "invalid" when pfw_clock_init refuses the counter
  *   fw_test pacer RATE FIRST N the first N due times
  *   fw_test ring              fill / overflow / wrap / interleaving checks (exit status 0 = pass)
  *   fw_test threads N         the ring between two threads, N samples (exit status 0 = pass)
@@ -114,6 +116,17 @@ static int cmd_timediff(void)
     unsigned long a, b;
     while (scanf("%lu %lu", &a, &b) == 2) {
         printf("%lu %lu %" PRId32 "\n", a, b, pfw_time_diff_us((uint32_t)a, (uint32_t)b));
+    }
+    return 0;
+}
+
+static int cmd_divmod(void)
+{
+    unsigned long n, d;
+    while (scanf("%lu %lu", &n, &d) == 2) {
+        uint32_t r = 0u;
+        const uint32_t q = pfw_divmod_u32((uint32_t)n, (uint32_t)d, &r);
+        printf("%lu %lu %" PRIu32 " %" PRIu32 "\n", n, d, q, r);
     }
     return 0;
 }
@@ -308,6 +321,9 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "timediff") == 0) {
         return cmd_timediff();
     }
+    if (strcmp(cmd, "divmod") == 0) {
+        return cmd_divmod();
+    }
     if (strcmp(cmd, "clock") == 0 && argc == 5) {
         return cmd_clock(strtoul(argv[2], NULL, 0), strtoul(argv[3], NULL, 0), strtoul(argv[4], NULL, 0));
     }
@@ -320,6 +336,6 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "threads") == 0 && argc == 3) {
         return cmd_threads(strtoul(argv[2], NULL, 0));
     }
-    fprintf(stderr, "usage: fw_test encode|edge SEED N|seqwrap|be24|timediff|clock HZ BITS US0|pacer RATE FIRST N|ring|threads N\n");
+    fprintf(stderr, "usage: fw_test encode|edge SEED N|seqwrap|be24|timediff|divmod|clock HZ BITS US0|pacer RATE FIRST N|ring|threads N\n");
     return 2;
 }

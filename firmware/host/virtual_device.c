@@ -572,7 +572,7 @@ int main(int argc, char **argv)
     d->freq = 1.7;
     d->rng = 1u;
     d->master = -1;
-    for (i = 1; i < argc; ++i) {
+    for (i = 1; i < argc; i += 2) { /* options come in pairs: --name value */
         const char *a = argv[i];
         const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
         if (v == NULL) {
@@ -612,7 +612,6 @@ int main(int argc, char **argv)
         } else {
             usage();
         }
-        ++i;
     }
     if (d->rate_hz == 0u || d->rate_hz > PFW_MAX_RATE_HZ || fabs(d->ppm) > 100000.0) {
         usage();

@@ -1,5 +1,8 @@
 """The serial frame format: round trip, resync after garbage, CRC, lost frames, clock mapping."""
 import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from polyforce_ros.serial_protocol import FRAME_SIZE, DeviceClock, FrameParser, crc16_ccitt, encode_frame
 
@@ -84,3 +87,117 @@ def test_device_clock_follows_a_fast_device_crystal_through_random_latency():
     # latency floor plus the drift between two of the many least-delayed frames
     assert err_us[-1000:].max() < 80 + 400 + 100, err_us[-1000:].max()
     assert np.median(err_us[-1000:]) < 300
+
+
+# ---------------------------------------------------------------------- one read, many frames
+MS = 1_000_000
+
+
+def test_frames_of_one_read_get_their_own_stamps():
+    from polyforce_ros.runtime.sources import SerialSource
+
+    got = SerialSource(1.0).feed(b"".join(encode_frame(i, 1000 * i, i) for i in range(5)), 10**18)
+    stamps = [s for s, _ in got]
+    assert [v for _, v in got] == [0.0, 1.0, 2.0, 3.0, 4.0]
+    assert stamps == [10**18 - (4 - i) * MS for i in range(5)]  # the newest, least delayed, at the arrival
+
+
+def test_a_backlog_after_a_connect_keeps_distinct_increasing_stamps_and_settles_on_the_least_delay():
+    from polyforce_ros.runtime.sources import SerialSource
+
+    source, host0 = SerialSource(1.0), 3_000_000_000_000
+    for connect in range(2):  # the first connection and a reconnect (the source forgets its mapping)
+        source.reset()
+        base = connect * 10_000
+        acq = [host0 + (base + k) * MS for k in range(400)]
+
+        def frames(ks, base=base):
+            return b"".join(encode_frame(base + k, (base + k) * 1000, k) for k in ks)
+
+        # 80 frames waited in the port's buffer; the read came 3 ms after the newest; then 1 kHz reads
+        # of one or two frames, 150-250 us after the newest's conversion
+        out = source.feed(frames(range(80)), acq[79] + 3 * MS)
+        first_read = [s for s, _ in out]
+        k = 80
+        while k < 400:
+            n = min(1 + (k % 3 == 0), 400 - k)
+            out += source.feed(frames(range(k, k + n)), acq[k + n - 1] + 150_000 + 100_000 * (k % 2))
+            k += n
+        stamps = np.array([s for s, _ in out])
+        assert [v for _, v in out] == list(range(400))
+        assert np.all(np.diff(first_read) == MS)  # the backlog keeps the device's spacing
+        assert np.all(np.diff(stamps) >= MS // 2)  # distinct and increasing, also when the offset falls 3 ms
+        err = stamps - np.array(acq)
+        assert err.min() >= 0  # never before the conversion
+        assert err[-100:].max() <= 250_000 and err[-100:].min() == 150_000  # settled on the least delayed reads
+
+
+def test_a_device_reset_read_in_bursts_re_anchors_with_distinct_stamps():
+    clock, host0 = DeviceClock(reanchor_after_s=0.2), 9_000_000_000_000
+    _stream(clock, 50_000_000, host0, 100)
+    # the device restarted its clock at 0; the host reads 50 frames at a time, every 50 ms
+    reads = [clock.stamp_batch([(50 * r + k) * 1000 for k in range(50)], host0 + 200 * MS + (50 * r + 49) * MS)
+             for r in range(8)]
+    healed = next(r for r, stamps in enumerate(reads) if stamps[0] is not None)
+    assert clock.reanchored == 1 and all(s is None for read in reads[:healed] for s in read)
+    stamps = [s for read in reads[healed:] for s in read]
+    assert None not in stamps and np.all(np.diff(stamps) == MS)
+    assert stamps[49] == host0 + 200 * MS + (50 * healed + 49) * MS  # the newest frame of that read at its arrival
+
+
+
+# ---------------------------------------------------------------------- sequence numbers
+def parse(seqs):
+    parser = FrameParser()
+    got = parser.feed(b"".join(encode_frame(s, 1000 * i, i) for i, s in enumerate(seqs)))
+    return parser, [f.seq for f in got]
+
+
+def counts(parser):
+    return dict(lost=parser.lost_frames, duplicates=parser.duplicates, reordered=parser.reordered,
+                jumps=parser.seq_jumps, frames=parser.frames)
+
+
+@pytest.mark.parametrize("seqs, delivered, expected", [
+    ([0, 1, 2, 2, 3], [0, 1, 2, 3], dict(duplicates=1)),                      # the same frame twice
+    ([0, 1, 2, 3, 1], [0, 1, 2, 3], dict(duplicates=1)),                      # an old frame again
+    ([0, 1, 3, 2, 4], [0, 1, 3, 4], dict(reordered=1)),                       # a swapped pair
+    ([65534, 65535, 1, 0, 2], [65534, 65535, 1, 2], dict(reordered=1)),       # swapped across the wrap
+    ([0, 1, 5, 6], [0, 1, 5, 6], dict(lost=3)),                               # real losses
+    ([0, 4, 2, 2, 5], [0, 4, 5], dict(lost=2, reordered=1, duplicates=1)),    # a loss, one late, then again
+    ([65535, 0, 0, 1], [65535, 0, 1], dict(duplicates=1)),                    # a duplicate at the wrap
+    ([10_000, 10_001, 0, 1], [10_000, 10_001, 0, 1], dict(jumps=1)),          # a device that restarted its count
+])
+def test_sequence_arithmetic_tells_duplicates_reorders_losses_and_jumps_apart(seqs, delivered, expected):
+    parser, got = parse(seqs)
+    assert got == delivered
+    assert counts(parser) == dict(dict(lost=0, duplicates=0, reordered=0, jumps=0), frames=len(seqs), **expected)
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(0, 65535), st.lists(st.sampled_from(["next", "skip", "dup", "swap"]), max_size=300))
+def test_sequence_counts_add_up_on_any_mix_of_losses_duplicates_and_swaps(seq0, ops):
+    seqs, k = [], seq0  # numbers as sent (unwrapped); the wire carries them modulo 2**16
+    for op in ops:
+        if op == "skip":
+            k += 1
+        elif op == "dup" and seqs:
+            seqs.append(seqs[-1])
+            continue
+        elif op == "swap" and len(seqs) >= 2 and seqs[-1] == k - 1:  # (a connection starts at its first frame)
+            seqs.insert(len(seqs) - 1, k)  # k overtakes its predecessor
+            k += 1
+            continue
+        seqs.append(k)
+        k += 1
+    parser, got = parse([s % 65536 for s in seqs])
+    firsts, late = [], 0  # each number at its first arrival; late: arrived after a newer one
+    for s in seqs:
+        if s not in firsts:
+            late += bool(firsts) and s < max(firsts)
+            firsts.append(s)
+    delivered = [s for i, s in enumerate(firsts) if s == max(firsts[:i + 1])]
+    assert got == [s % 65536 for s in delivered]
+    span = max(seqs) - min(seqs) + 1 if seqs else 0
+    assert counts(parser) == dict(lost=span - len(firsts), duplicates=len(seqs) - len(firsts), reordered=late,
+                                  jumps=0, frames=len(seqs))

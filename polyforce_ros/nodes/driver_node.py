@@ -266,11 +266,15 @@ class _DriverLogic(PolyforceNode):
             rate = rates[-1] if rates else None
             values.update(port=self._param("port"), connected=self.connected, frames=self.parser.frames,
                           crc_errors=self.parser.crc_errors, lost_frames=self.parser.lost_frames, outages=self.outages,
+                          duplicate_frames=self.parser.duplicates, reordered_frames=self.parser.reordered,
+                          seq_jumps=self.parser.seq_jumps,
                           implausible_stamp=self.clock.implausible, reanchored=self.clock.reanchored,
                           received_rate_hz="n/a" if rate is None else round(rate, 1), expected_rate_hz=expected)
             problems = []
             if self.parser.crc_errors or self.parser.lost_frames or self.clock.implausible:
                 problems.append("corrupt or lost frames or implausible device times seen")
+            if self.parser.duplicates or self.parser.reordered or self.parser.seq_jumps:
+                problems.append("duplicate or late frames or sequence jumps seen")
             if expected > 0 and len(rates) == 2 and max(rates) < RATE_WARN_FRACTION * expected:
                 problems.append(f"receiving {rate:.0f} frames/s, expected {expected:g} (device or link too slow)")
             if not self.connected:

@@ -6,7 +6,7 @@
 * :class:`SerialSource`: bytes from the ADC link in, stamped volts out (frames parsed
   and checked by :class:`~polyforce_ros.serial_protocol.FrameParser`, device time mapped
   onto host time by :class:`~polyforce_ros.serial_protocol.DeviceClock`, which drops
-  implausible device times).
+  implausible device times; every frame of one read gets its own stamp).
 
 ``driver_node`` (both variants) owns one of them and only publishes what it returns.
 """
@@ -119,9 +119,9 @@ class SimulatedSource:
 class SerialSource:
     """Bytes of the ADC link in, ``(stamp_ns, voltage_v)`` samples out.
 
-    Volts = counts x ``volts_per_count`` + ``volts_offset``. Corrupt frames, sequence
-    jumps (``parser``) and implausible device times (``clock``) are counted there and
-    give no sample.
+    Volts = counts x ``volts_per_count`` + ``volts_offset``. Corrupt, duplicate and late
+    frames (``parser``) and implausible device times (``clock``) are counted there and
+    give no sample; lost frames and sequence jumps are counted in ``parser``.
     """
 
     def __init__(self, volts_per_count: float, volts_offset: float = 0.0) -> None:
@@ -135,10 +135,13 @@ class SerialSource:
         self.clock.reset()
 
     def feed(self, data: bytes, arrival_ns: int) -> list:
-        """Samples of the complete, valid frames in ``data`` (received at ``arrival_ns``)."""
-        out = []
-        for frame in self.parser.feed(data):
-            stamp = self.clock.stamp_ns(frame.t_us, arrival_ns)
-            if stamp is not None:  # an implausible device time gives no sample with a made-up stamp
-                out.append((stamp, frame.counts * self.volts_per_count + self.volts_offset))
-        return out
+        """Samples of the complete, valid frames in ``data`` (received at ``arrival_ns``).
+
+        The frames of one call are stamped together (:meth:`DeviceClock.stamp_batch`): each keeps its
+        own device-time stamp, however many arrive at once (a backlog after a (re)connect or a stall).
+        """
+        frames = self.parser.feed(data)
+        stamps = self.clock.stamp_batch([frame.t_us for frame in frames], arrival_ns)
+        # an implausible device time (stamp None) gives no sample with a made-up stamp
+        return [(stamp, frame.counts * self.volts_per_count + self.volts_offset)
+                for frame, stamp in zip(frames, stamps) if stamp is not None]

@@ -139,6 +139,12 @@ def parse_model_yaml(text):
     """The YAML of a model file as Python data, within the limits above; ModelError otherwise."""
     if len(text) > MAX_FILE_BYTES:
         raise ModelError(f"larger than {MAX_FILE_BYTES} bytes; a model file is a few hundred")
+    bad = yaml.reader.Reader.NON_PRINTABLE.search(text)  # YAML's own rule, which its reader applies on construction
+    if bad:
+        line = text.count("\n", 0, bad.start()) + 1
+        column = bad.start() - (text.rfind("\n", 0, bad.start()) + 1) + 1
+        raise ModelError(f"not valid YAML: non-printable character U+{ord(bad.group()):04X} at line {line}, "
+                         f"column {column} (a model file is plain text)")
     loader = _ModelLoader(text)
     try:
         return loader.get_single_data()

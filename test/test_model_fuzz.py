@@ -197,6 +197,27 @@ def test_yaml_surprises_are_refused(tmp_path):
     assert parse_model_yaml(PAPER_TEXT) == paper()
 
 
+@pytest.mark.parametrize("char", ["\x00", "\x07", "\x1b", "\x7f", "\x80", "\ufffe"])
+@pytest.mark.parametrize("where", ["value", "comment", "key"])
+def test_non_printable_characters_are_refused_with_their_place(tmp_path, char, where):
+    lines = PAPER_TEXT.splitlines(keepends=True)
+    row = next(i for i, line in enumerate(lines) if "k1_n_per_v: 4.8" in line)
+    line = lines[row]
+    edited = {"value": line.replace("4.8", "4" + char + ".8"), "comment": line.rstrip("\n") + " # a" + char + "\n",
+              "key": line.replace("k1_n", "k1" + char + "_n")}[where]
+    column = edited.index(char) + 1
+    lines[row] = edited
+    text = "".join(lines)
+    with pytest.raises(ModelError, match=rf"non-printable character U\+{ord(char):04X} at line {row + 1}, "
+                                         rf"column {column} "):
+        load_text(tmp_path, text)
+    with pytest.raises(ModelError, match="non-printable"):
+        parse_model_yaml(text)
+    # what YAML allows stays allowed: tabs, CR LF line ends, a byte-order mark, non-ASCII text
+    allowed = "\ufeff" + PAPER_TEXT.replace("\n", "\r\n").replace("provenance:", "provenance:\r\n  note: \"\t\u00b5m\"", 1)
+    assert parse_model_yaml(allowed)["provenance"]["note"] == "\t\u00b5m"
+
+
 # -- bounds: wide enough for every fit, and fitted extremes stay loadable -----------------------------
 
 def test_bounds_hold_the_identification_search_boxes():
@@ -442,6 +463,8 @@ CLI_CASES = {
                                             "nested deeper"),
     "type: [burgers] (was a TypeError)": (lambda: dump((d := paper(), d["elements"][0].update(type=["burgers"]))[0]),
                                           "type must be a string"),
+    "a NUL byte in a value": (lambda: PAPER_TEXT.replace("k1_n_per_v: 4.8", "k1_n_per_v: 4\x00.8"),
+                              "non-printable character U+0000"),
 }
 
 

@@ -53,6 +53,9 @@ def _nodes(context):
                           parameters=[_params(arg("bridge_params"))]))
     nodes.append(Node(package=PACKAGE, executable="compensation_node", namespace=namespace, output="screen",
                       parameters=[compensation]))
+    # the simulated profile starts once the compensation node (and the recorder) listen: a late compensation
+    # node would see a moving sensor and could not zero
+    driver = dict(driver, wait_for_subscribers=1 + bool(arg("record")))
     nodes.append(Node(package=PACKAGE, executable="driver_node", namespace=namespace, output="screen",
                       parameters=[driver]))
     return nodes

@@ -116,6 +116,9 @@ def plan(workdir, backend=None, port=None, model=None, with_bridge=False, record
              + ["compensation_node", "driver_node"])
     if record:
         overrides["recorder_node"]["bag_path"] = str(Path(record).expanduser().resolve())
+    # the simulated profile starts once every node that reads bridge_voltage listens: a compensation node that
+    # joined late would see a moving sensor and could not zero (the recorder would miss its first samples)
+    overrides["driver_node"]["wait_for_subscribers"] = sum(n in ("compensation_node", "recorder_node") for n in names)
     specs = []
     for name in names:
         source = config / PARAM_FILES[name] if name in PARAM_FILES else None

@@ -7,7 +7,7 @@ spells a topic, a type or a default frame. ROS-free (type names are strings;
 from __future__ import annotations
 
 __all__ = [
-    "NAMESPACE", "Rel", "RECORDED", "JOINT_STATE", "WRENCH_STAMPED", "TEMPERATURE_MSG", "FLOAT64", "TOPICS", "full_name",
+    "NAMESPACE", "Rel", "RECORDED", "JOINT_STATE", "WRENCH_STAMPED", "TEMPERATURE_MSG", "FLOAT64", "HEADER", "TOPICS", "full_name",
     "BRIDGE_VOLTAGE", "BRIDGE_VOLTAGE_SCALAR", "REFERENCE_FORCE", "WRENCH", "TEMPERATURE", "CONTRACT",
     "SCALAR_FIELD", "FRAME_ID", "JOINT_NAME", "QOS_RELIABLE", "QOS_DEPTH", "DIAGNOSTICS",
 ]
@@ -19,6 +19,7 @@ JOINT_STATE = "sensor_msgs/msg/JointState"
 WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
 TEMPERATURE_MSG = "sensor_msgs/msg/Temperature"
 FLOAT64 = "std_msgs/msg/Float64"
+HEADER = "std_msgs/msg/Header"
 
 
 class Rel:
@@ -30,6 +31,7 @@ class Rel:
     WRENCH = "wrench"                                 # force.z = compensated axial force, N; stamp of the raw sample
     TEMPERATURE = "temperature"                       # degC
     HAPTIC_COMMAND = "haptic_command"                 # haptic_bridge_node: force for the haptic master, device frame
+    SENSOR_RESET = "sensor_reset"                     # the sensor restarted relaxed at header.stamp (driver -> compensation)
 
 
 #: Relative topic name -> message type.
@@ -40,6 +42,7 @@ TOPICS = {
     Rel.WRENCH: WRENCH_STAMPED,
     Rel.TEMPERATURE: TEMPERATURE_MSG,
     Rel.HAPTIC_COMMAND: WRENCH_STAMPED,
+    Rel.SENSOR_RESET: HEADER,
 }
 
 

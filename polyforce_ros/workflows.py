@@ -135,15 +135,19 @@ def compensate_record(chain: SensorChain, t_s: npt.ArrayLike, voltage_v: npt.Arr
     stamp_ns = np.round((t - t[0]) * 1e9).astype(np.int64) if t.size else np.zeros(0, dtype=np.int64)
     zeroing = Compensator(chain, config)
     for i in range(stamp_ns.size):  # until the auto-tare rule has decided (at once when it is off)
-        if zeroing.auto_tare_status != "pending":
+        if not zeroing.auto_tare_pending:
             break
         zeroing.step(int(stamp_ns[i]), float(volts[i]))
+    zeroed_how = zeroing.auto_tare_status
+    if zeroing.auto_tare_pending:
+        zeroed_how = (f"not zeroed: the sensor did not rest for {config.auto_tare_s} s in the record "
+                      f"({zeroing.auto_tare_reason or 'too short'}); the model's offset is used")
     offset_v = zeroing.offset_v
     compensator = Compensator(chain.with_offset(offset_v), replace(config, auto_tare=False))
     used, force = compensator.run(stamp_ns, volts, temperature_c=temperature_c)
     static = static_force_n(chain, volts, offset_v)
     return RecordCompensation(used, np.where(used, static, np.nan), np.where(used, force, np.nan), offset_v,
-                              zeroing.auto_tare_status)
+                              zeroed_how)
 
 
 @dataclass

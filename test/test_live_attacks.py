@@ -7,6 +7,7 @@ from diagnostic_msgs.msg import DiagnosticStatus
 from polyforce_ros import bags
 from polyforce_ros.model_file import default_model_path, load_model
 from polyforce_ros.nodes.common import stamp_to_ns
+from polyforce_ros.runtime import CompensatorConfig
 from polyforce_ros.workflows import compensate_bag
 from ros_harness import ros
 from node_support import T0_NS, start
@@ -66,7 +67,8 @@ def test_offline_compensation_of_a_bag_with_a_spike_equals_the_node_bit_for_bit(
     with bags.BagWriter(src) as w:
         w.write_series(bags.BRIDGE_VOLTAGE, bags.JOINT_STATE, stamps, volts)
     out = tmp_path / "out.mcap"
-    written, warnings = compensate_bag(src, out, load_model(default_model_path()))
+    # the sensor is loaded from 0.1 s: no rest to zero on; both sides compensate with the model's offset
+    written, warnings = compensate_bag(src, out, load_model(default_model_path()), CompensatorConfig(auto_tare=False))
     assert written == n - 3 and any("out of range" in w for w in warnings)
     wrench = bags.read_bag(out)[bags.WRENCH]
     offline = dict(zip(wrench.stamp_ns.tolist(), wrench.fields["force_z"].tolist()))
@@ -157,3 +159,56 @@ def test_a_random_attack_of_every_class_never_poisons_the_output_and_the_node_re
     assert set(after) <= set(got)  # flowing after the attack, without a service call
     c = node.counts
     assert c["nonfinite"] and c["out_of_range"] and c["implausible_stamp"] and c["backwards"] and c["bad_joint"]
+
+
+def _chain_sink(h):
+    from geometry_msgs.msg import WrenchStamped
+    from rclpy.node import Node
+    from rclpy.qos import QoSProfile, ReliabilityPolicy
+
+    sink = h.add(Node("sink", namespace="/polyforce", context=h.context))
+    qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE)
+    wrench, ref = {}, {}
+    sink.create_subscription(WrenchStamped, "wrench",
+                             lambda m: wrench.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+    sink.create_subscription(WrenchStamped, "reference_force",
+                             lambda m: ref.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+    return wrench, ref
+
+
+def test_a_compensation_node_started_3_s_after_the_driver_zeroes_before_any_force_and_follows_a_restart():
+    """The start-up race as bringup runs it: the driver waits for its reader, the late node zeroes on the
+    profile's first rest and publishes exactly zero until then; a restarted profile is followed (sensor_reset)."""
+    from rclpy.parameter import Parameter
+    from std_srvs.srv import Trigger
+
+    from polyforce_ros.nodes.compensation_node import CompensationNode
+    from polyforce_ros.nodes.driver_node import DriverNode
+    from polyforce_ros.physics.metrics import error_summary
+
+    with ros() as h:
+        wrench, ref = _chain_sink(h)
+        driver = h.add(DriverNode(context=h.context, parameter_overrides=[Parameter("wait_for_subscribers", value=1)]))
+        h.spin_for(3.0)
+        assert not ref and not driver.source.started  # nobody reads bridge_voltage yet: the profile waits
+        comp = h.add(CompensationNode(context=h.context))
+        assert h.spin_until(lambda: len(set(wrench) & set(ref)) > 0, 30.0)
+        first = min(set(wrench) & set(ref))
+        assert h.spin_until(lambda: max(set(wrench) & set(ref)) - first > 3_000_000_000, 60.0)
+        zeroed_at = sorted(wrench)[comp.counts["zero_before_tare"]]
+        before = [wrench[s] for s in sorted(wrench) if s < zeroed_at]
+        assert comp.counts["auto_tares"] == 1 and before and all(f == 0.0 for f in before)
+        stamps = sorted(s for s in set(wrench) & set(ref) if s >= zeroed_at)
+        summary = error_summary(np.array([ref[s] for s in stamps]), np.array([wrench[s] for s in stamps]))
+        assert summary["r2"] >= 0.99, summary
+        # restart the simulated sensor while it is loaded: the compensation clears its history and zeroes again
+        client = h.add(__import__("rclpy.node", fromlist=["Node"]).Node("caller", context=h.context))
+        restart = client.create_client(Trigger, "/polyforce/driver_node/restart_profile")
+        assert restart.wait_for_service(timeout_sec=10.0)
+        future = restart.call_async(Trigger.Request())
+        assert h.spin_until(future.done, 10.0) and future.result().success
+        assert h.spin_until(lambda: driver.source.started and max(wrench) - driver.source.start_ns > 1_000_000_000, 30.0)
+        restarted_ns = driver.source.start_ns
+        assert h.spin_until(lambda: comp.counts["auto_tares"] == 2, 10.0), comp.compensator.auto_tare_status
+    after = [s for s in sorted(set(wrench) & set(ref)) if restarted_ns <= s < restarted_ns + 1_000_000_000]
+    assert after and max(abs(wrench[s] - ref[s]) for s in after) <= 0.05

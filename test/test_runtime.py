@@ -34,7 +34,7 @@ def volts_of(stamps):
 def test_one_glitched_stamp_is_dropped_and_never_blinds_the_stream(glitch_ns, counter):
     stamps, receive = stream_1khz(400)
     volts = volts_of(stamps)
-    comp = Compensator(CHAIN)
+    comp = Compensator(CHAIN, CompensatorConfig(auto_tare=False))
     forces = []
     for i in range(400):
         if i == 200:
@@ -47,7 +47,7 @@ def test_one_glitched_stamp_is_dropped_and_never_blinds_the_stream(glitch_ns, co
 
 
 def test_a_glitch_accepted_first_heals_by_itself_within_reanchor_after_s():
-    config = CompensatorConfig(reanchor_after_s=0.2)
+    config = CompensatorConfig(reanchor_after_s=0.2, auto_tare=False)
     comp = Compensator(CHAIN, config)
     stamps, receive = stream_1khz(1000)
     volts = volts_of(stamps)
@@ -227,10 +227,16 @@ def test_auto_tare_zeroes_a_resting_sensor_at_start():
     (0.05 + 0.02 * np.sin(np.arange(800) * 0.05), "spread"),  # moving
 ])
 def test_auto_tare_refuses_a_loaded_or_moving_sensor(volts, why):
-    comp = Compensator(CHAIN)
-    _feed(comp, volts)
+    comp = Compensator(CHAIN, CompensatorConfig(auto_tare_timeout_s=0.6))
+    out = _feed(comp, volts)
     assert comp.counts["auto_tare_refused"] == 1 and comp.tare_offset_v is None
     assert comp.auto_tare_status.startswith("not zeroed") and why in comp.auto_tare_status
+    assert comp.auto_tare_failed and comp.counts["auto_tare_retries"] >= 1
+    decided = comp.counts["zero_before_tare"]
+    assert decided > 600 and not any(out[:decided])  # zero until the decision, then the model's offset
+    assert all(abs(f) > 0.1 for f in out[decided:] if why == "offset shift")
+    comp.tare()
+    assert not comp.auto_tare_failed
 
 
 def test_auto_tare_rearms_after_reset_and_can_be_off():
@@ -428,3 +434,47 @@ def test_the_last_finite_temperature_is_used_and_a_log_is_taken_in_order_of_arri
     used, force = comp.run(stamps, np.full(stamps.size, 0.1), temperature_log=(log_ns, log_c))
     assert used.all() and force.tolist() == expected
     assert comp.temperature_c == 20.0 and abs(force[-1] - 0.0) > 1e-3  # at reference: 0.1 V is force again
+
+
+def test_zero_before_force_no_phantom_load_while_the_auto_tare_decides():
+    rng = np.random.default_rng(3)
+    comp = Compensator(CHAIN)  # model offset 0 V; the sensor rests at 0.05 V, which reads as ~0.24 N untared
+    out = np.array(_feed(comp, 0.05 + rng.normal(0, 1e-3, 1500)))
+    decided = comp.counts["zero_before_tare"]
+    assert decided == 500 and comp.counts["auto_tares"] == 1  # one window of auto_tare_s at 1 kHz
+    assert np.all(out[:decided] == 0.0)
+    assert np.abs(out[decided:]).max() < 0.03  # noise only after it
+    quiet = Compensator(CHAIN, CompensatorConfig(publish_zero_before_tare=False))
+    out = _feed(quiet, 0.05 + rng.normal(0, 1e-3, 1500))
+    assert all(f is None for f in out[:500]) and all(f is not None for f in out[500:])
+
+
+@pytest.mark.parametrize("moving_s", [0.3, 1.7, 4.2])
+def test_a_late_compensator_zeroes_at_the_first_rest_after_a_moving_start(moving_s):
+    # the node joined while the profile was already running: a ramp up and down, then the sensor rests
+    n_move = int(moving_s * 1000)
+    ramp = 0.05 + 0.3 * np.sin(np.linspace(0, np.pi, n_move))
+    rest = 0.05 + np.random.default_rng(1).normal(0, 1e-3, 1500)
+    comp = Compensator(CHAIN)
+    out = np.array(_feed(comp, np.concatenate([ramp, rest])))
+    assert comp.counts["auto_tares"] == 1 and comp.counts["auto_tare_retries"] >= 1 and not comp.auto_tare_failed
+    assert comp.tare_offset_v == pytest.approx(0.05, abs=5e-4)
+    decided = comp.counts["zero_before_tare"]
+    assert decided <= n_move + 1000  # a rest of 1.5 windows is always found
+    assert np.all(out[:decided] == 0.0) and np.abs(out[decided:]).max() < 0.03
+
+
+def test_a_sensor_restart_clears_the_history_rezeroes_and_drops_older_samples():
+    t = np.arange(3000) * 1e-3
+    force = np.clip((t - 0.8) * 4.0, 0.0, 2.0)  # loaded to 2 N: the history holds creep
+    volts = SensorChain.from_model(PAPER_BURGERS, offset_v=0.05).forward(t, force)
+    comp = Compensator(CHAIN)
+    _feed(comp, volts)
+    restart_ns = T0 + 4 * 10**9
+    comp.reset(from_stamp_ns=restart_ns)
+    assert comp.auto_tare_pending and comp.step(restart_ns - MS, 0.05, restart_ns) is None  # the old sensor's sample
+    assert comp.counts["backwards"] == 1
+    rest = 0.051 + np.random.default_rng(2).normal(0, 1e-3, 1500)  # relaxed sensor, its zero moved by 1 mV
+    out = np.array(_feed(comp, rest, t0=restart_ns))
+    assert comp.counts["auto_tares"] == 2 and comp.tare_offset_v == pytest.approx(0.051, abs=3e-4)
+    assert np.abs(out).max() < 0.03  # no pull on the master in the unloaded second after the restart

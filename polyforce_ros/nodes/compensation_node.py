@@ -5,7 +5,10 @@ at acquisition), ``bridge_voltage_scalar`` (std_msgs/Float64, stamped on
 arrival) and ``temperature`` (for models with a thermal_drift element; the
 latest value is used); publishes ``wrench`` (geometry_msgs/WrenchStamped, force.z in N,
 compression positive, stamped like the raw sample). Services ``~/tare`` and
-``~/reset`` (std_srvs/Trigger). Diagnostics on /diagnostics.
+``~/reset`` (std_srvs/Trigger). ``sensor_reset`` (std_msgs/Header, stamp = acquisition
+time from which the sensor restarted relaxed, sent by the driver when its device or
+simulator restarts) clears the history and re-arms the zeroing, like ``~/reset``.
+Diagnostics on /diagnostics.
 
 A thin shell: every rule about samples (bad values, implausible and backwards
 stamps and their healing, gaps, tare, drift, clamp, staleness) lives in
@@ -65,6 +68,16 @@ class _CompensationLogic(PolyforceNode):
                 1e-6, 1.0)
         declare(self, "auto_tare_max_shift_v", 0.1,
                 "At rest: mean output within this of the model's offset (V); a load shifts it further", 1e-4, 10.0)
+        declare(self, "auto_tare_timeout_s", 10.0,
+                "Retry the zeroing at the first rest within this long after start or reset; then use the model's "
+                "offset, WARN, and diagnostics ERROR until ~/tare (s)", 0.01, 3600.0)
+        declare(self, "publish_zero_before_tare", True,
+                "Until the zeroing decided: publish zero force (true) or nothing (false)")
+        declare(self, "max_noise_gain", 10.0,
+                "Refuse a model whose inverse turns white bridge noise into more than this force (N per V rms); "
+                "10: 2 mV of noise reaches the master as at most 0.02 N", 0.1, 1e6, read_only=True)
+        declare(self, "noise_gain_rate_hz", 1000.0, "Sample rate at which max_noise_gain is judged (Hz)", 1.0, 1e6,
+                read_only=True)
         declare(self, "drift_tracking", False,
                 "Re-zero the bridge offset whenever the force rests inside +-drift_band_n for drift_window_s "
                 "(tracks slow baseline drift; off by default: it would also zero a real steady load that small)")
@@ -97,6 +110,7 @@ class _CompensationLogic(PolyforceNode):
             self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, self._on_joint_state, qos),
             self.create_subscription(Float64, contract.Rel.BRIDGE_VOLTAGE_SCALAR, self._on_scalar, qos),
             self.create_subscription(Temperature, contract.Rel.TEMPERATURE, self._on_temperature, 10),
+            self.create_subscription(Header, contract.Rel.SENSOR_RESET, self._on_sensor_reset, 10),
             self.create_service(Trigger, "~/tare", self._on_tare),
             self.create_service(Trigger, "~/reset", self._on_reset),
             self._watchdog,
@@ -105,6 +119,7 @@ class _CompensationLogic(PolyforceNode):
         ]
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.get_logger().info(f"compensating with {self._model_path} ({self.model.chain.viscoelastic})")
+        self._log_tare_decision()
 
     # ------------------------------------------------------------------ model
     def _load_model(self, path_param):
@@ -118,6 +133,9 @@ class _CompensationLogic(PolyforceNode):
             self.compensator = Compensator(model.chain, config)
         else:
             self.compensator.set_chain(model.chain)  # a tare is kept; the history belongs to the old model
+        gain = self.compensator.noise_gain
+        self.get_logger().info(f"model noise gain {gain.gain_n_per_v:.3g} N/V rms at {gain.rate_hz:g} Hz "
+                               f"(max_noise_gain {self.compensator.config.max_noise_gain:g}; most from {gain.element})")
 
     @property
     def counts(self):
@@ -186,6 +204,8 @@ class _CompensationLogic(PolyforceNode):
             return
         # The receive clock is the system clock, as the driver's stamps are (ROS time without sim time).
         force = self.compensator.step(stamp_ns, voltage_v, time.time_ns())
+        if self.compensator.auto_tare_status is not self._tare_logged:
+            self._log_tare_decision()
         if force is None:
             return
         self._stale = False
@@ -209,6 +229,23 @@ class _CompensationLogic(PolyforceNode):
         msg.wrench.force.z = float(force_n)
         self.pub.publish(msg)
         self.node_counts["published"] += 1
+
+    def _log_tare_decision(self):
+        """Log each change of the zeroing: INFO when zeroed or waiting, WARN when it fell back to the model's offset."""
+        comp = self.compensator
+        self._tare_logged = status = comp.auto_tare_status
+        if comp.auto_tare_failed:
+            self.get_logger().warn(f"{status}; call ~/tare with the sensor unloaded")
+        elif status == "pending":
+            self.get_logger().info("zero force until the sensor rests for the start-up zeroing")
+        elif status != "off":
+            self.get_logger().info(status)
+
+    def _on_sensor_reset(self, msg: Header):
+        """The sensor restarted relaxed at ``msg.stamp``: forget the history, zero again before force."""
+        self.compensator.reset(from_stamp_ns=stamp_to_ns(msg.stamp))
+        self.get_logger().info("sensor restarted: history cleared, zeroing again")
+        self._log_tare_decision()
 
     # ------------------------------------------------------------------ safety
     def _check_stale(self):
@@ -267,8 +304,10 @@ class _CompensationLogic(PolyforceNode):
             level, message = ERROR, "no valid input: publishing zero force"
         elif self._needs_temperature and self.compensator.temperature_c is None:
             level, message = WARN, "model follows temperature but no temperature received: not corrected"
-        elif self.compensator.counts["auto_tare_refused"] and self.compensator.auto_tare_status.startswith("not"):
-            level, message = WARN, self.compensator.auto_tare_status
+        elif self.compensator.auto_tare_failed:
+            level, message = ERROR, f"{self.compensator.auto_tare_status}: call ~/tare with the sensor unloaded"
+        elif self.compensator.auto_tare_pending:
+            level, message = WARN, "publishing zero force until the sensor rests (start-up zeroing pending)"
         elif self._model_error:
             level, message = WARN, f"model file invalid, previous model kept: {self._model_error}"
         elif any(c[k] for k in WARN_COUNTERS):
@@ -277,7 +316,8 @@ class _CompensationLogic(PolyforceNode):
             level, message = OK, "running"
         values = dict(c, active=self._active, model_file=self._model_path, model=self.model.chain.viscoelastic,
                       offset_v=self.compensator.offset_v, tared=self.compensator.tare_offset_v is not None,
-                      auto_tare=self.compensator.auto_tare_status)
+                      auto_tare=self.compensator.auto_tare_status,
+                      noise_gain_n_per_v=self.compensator.noise_gain.gain_n_per_v)
         return self.diag.publish(level, message, values)
 
     def destroy_node(self):

@@ -28,6 +28,7 @@ from geometry_msgs.msg import WrenchStamped
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
+from std_msgs.msg import Header
 from std_srvs.srv import Trigger
 
 from ..model_file import default_model_path, load_model
@@ -120,6 +121,8 @@ class _DriverLogic(PolyforceNode):
     def _init_sim(self, qos):
         self.pub_ref = self._make_publisher(WrenchStamped, contract.Rel.REFERENCE_FORCE, qos)
         self.pub_temp = self._make_publisher(Temperature, contract.Rel.TEMPERATURE, 10)
+        # each (re)start of the profile: the sensor is relaxed again from this stamp on (compensation_node follows)
+        self.pub_reset = self._make_publisher(Header, contract.Rel.SENSOR_RESET, 10)
         path = self._param("truth_model_file") or str(default_model_path())
         chain = load_model(path).chain.with_offset(self._param("offset_v"))  # the bridge zero is a property of this sensor
         self.rate_hz = float(self._param("rate_hz"))
@@ -162,6 +165,9 @@ class _DriverLogic(PolyforceNode):
             if self.pub_raw.get_subscription_count() < self._param("wait_for_subscribers"):
                 return  # matched readers are counted by DDS itself: what is published next reaches them
             self.source.start(now)
+            reset = Header(frame_id=self._frame)
+            ns_to_stamp(now, reset.stamp)
+            self.pub_reset.publish(reset)
         block = self.source.due(now)
         if block is None:
             return

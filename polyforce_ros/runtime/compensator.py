@@ -30,14 +30,22 @@ Rules, in the order they are applied:
 9. temperature (thermal elements): the last finite reading received is used
    (:meth:`Compensator.temperature`); a non-finite reading is ignored; none
    before the first;
-10. zero at start: over the first ``auto_tare_s`` of used samples after start or
-   :meth:`reset`, the bridge output is tested for rest (its spread and its drift
-   across the window below ``auto_tare_max_std_v``, and its mean within
-   ``auto_tare_max_shift_v`` of the model's offset, which a load would exceed);
-   at rest it becomes the bridge offset (counted ``auto_tares``), otherwise the
-   model's offset is kept and the refusal is counted (``auto_tare_refused``) and
-   explained in :attr:`Compensator.auto_tare_status`. Off with ``auto_tare=False``
-   (a sensor that starts under load).
+10. zero before force: after start or :meth:`reset` the bridge output is tested for
+   rest over windows of ``auto_tare_s`` (its spread and its drift across the window
+   below ``auto_tare_max_std_v``, and its mean within ``auto_tare_max_shift_v`` of
+   the model's offset, which a load would exceed); the first window at rest becomes
+   the bridge offset (counted ``auto_tares``). A window that is not at rest is
+   slid on by half its length and tried again, for up to ``auto_tare_timeout_s``.
+   Until that decision the output is zero (``zero_before_tare``, counted) or,
+   with ``publish_zero_before_tare=False``, nothing. When no rest came in time
+   the model's offset is used, counted (``auto_tare_refused``) and flagged
+   (:attr:`Compensator.auto_tare_failed`, cleared by a tare); the reason is in
+   :attr:`Compensator.auto_tare_status`. Off with ``auto_tare=False`` (a sensor
+   that starts under load);
+11. the model itself: a chain whose inverse amplifies white bridge noise more
+   than ``max_noise_gain`` (N/V, RMS over RMS, judged at ``noise_gain_rate_hz``)
+   is refused with a :class:`~polyforce_ros.physics.chain.ModelError` naming the
+   element that amplifies most (:func:`~polyforce_ros.physics.noise_gain.backward_noise_gain`).
 
 Tare and drift tracking change a bridge offset held here, never the model: the
 model chain is an immutable description (see :meth:`SensorChain.with_offset`).
@@ -52,9 +60,10 @@ from typing import Any, Mapping, Optional
 import numpy as np
 import numpy.typing as npt
 
-from ..physics.chain import SensorChain
+from ..physics.chain import ModelError, SensorChain
+from ..physics.noise_gain import NoiseGain, backward_noise_gain
 
-__all__ = ["CompensatorConfig", "SampleGate", "Compensator", "GATE_COUNTERS", "COMPENSATOR_COUNTERS", "WARN_COUNTERS",
+__all__ = ["CompensatorConfig", "SampleGate", "Compensator", "check_noise_gain", "GATE_COUNTERS", "COMPENSATOR_COUNTERS", "WARN_COUNTERS",
            "ACCEPT", "ACCEPT_FRESH"]
 
 #: :meth:`SampleGate.admit` results that use the sample (FRESH: the history restarts with it).
@@ -62,7 +71,7 @@ ACCEPT, ACCEPT_FRESH = 0, 1
 _DROPS = ("nonfinite", "out_of_range", "implausible_stamp", "backwards", "duplicate")
 GATE_COUNTERS = ("samples",) + _DROPS + ("gaps", "reanchored")
 COMPENSATOR_COUNTERS = GATE_COUNTERS + ("nonfinite_output", "clamped", "drift_corrections", "tares", "auto_tares",
-                                        "auto_tare_refused")
+                                        "auto_tare_retries", "auto_tare_refused", "zero_before_tare")
 #: Counters that mean the stream was not clean: a sample dropped, altered or after an irregularity. The node's
 #: diagnostics WARN on them and the offline tools list them; one list, so both tell the same story.
 WARN_COUNTERS = _DROPS + ("gaps", "reanchored", "nonfinite_output", "clamped")
@@ -88,6 +97,13 @@ class CompensatorConfig:
     auto_tare_s: float = 0.5          #: length of that window, s
     auto_tare_max_std_v: float = 0.005   #: rest: spread and drift of the output below this, V (~5x bridge noise)
     auto_tare_max_shift_v: float = 0.1   #: rest: mean within this of the model's offset, V (0.5 N at 4.8 N/V)
+    #: no rest window within this long after start or reset -> the model's offset, flagged until a tare, s
+    auto_tare_timeout_s: float = 10.0
+    publish_zero_before_tare: bool = True  #: until the auto-tare decided: zero force (True) or no output (False)
+    #: a model whose inverse amplifies white bridge noise more than this is refused, N/V (RMS/RMS): 2 mV of bridge
+    #: noise (twice the simulated amplifier's) then reaches the master as at most 0.02 N, the haptic bridge's deadband
+    max_noise_gain: float = 10.0
+    noise_gain_rate_hz: float = 1000.0   #: sample rate the noise gain is judged at, Hz (the driver's rate)
 
     @classmethod
     def names(cls) -> tuple[str, ...]:
@@ -236,7 +252,11 @@ class Compensator(_Configured):
         self.drift_v = 0.0                           # drift corrections since then, V
         self.last_valid_receive_ns: Optional[int] = None
         self.auto_tare_status = "pending" if config.auto_tare else "off"
+        self.auto_tare_failed = False                # no rest within auto_tare_timeout_s: the model's offset in use
+        self.auto_tare_reason = ""                   # why the last window was not at rest
         self._auto: Optional[list] = [] if config.auto_tare else None   # (stamp_ns, V) of the window
+        self._auto_since_ns: Optional[int] = None    # stamp of the first sample since the auto-tare was armed
+        self.noise_gain: Optional[NoiseGain] = None  # of the chain in use, at noise_gain_rate_hz
         self._aux: dict[str, Optional[float]] = {"temperature_c": None}  # auxiliary signals for the chain
         self.set_chain(chain)
 
@@ -250,10 +270,18 @@ class Compensator(_Configured):
         if self._recent_v.maxlen != int(config.tare_window):
             self._recent_v = deque(self._recent_v, maxlen=int(config.tare_window))
         if not config.auto_tare and self.auto_tare_status != "off":
-            self._auto, self.auto_tare_status = None, "off"
+            self._auto, self.auto_tare_status, self.auto_tare_failed = None, "off", False
 
     def set_chain(self, chain: SensorChain) -> None:
-        """Use another model; the history restarts (it belongs to the old model), a tare is kept."""
+        """Use another model; the history restarts (it belongs to the old model), a tare is kept.
+
+        Raises
+        ------
+        ModelError
+            The chain's inverse amplifies white bridge noise more than ``max_noise_gain`` (the
+            model in use, if any, is kept).
+        """
+        self.noise_gain = check_noise_gain(chain, self.config.noise_gain_rate_hz, self.config.max_noise_gain)
         self.chain = chain
         self._stream = chain.streaming()
         core = chain.viscoelastic
@@ -316,8 +344,9 @@ class Compensator(_Configured):
         elif verdict != ACCEPT:
             return None
         self._recent_v.append(voltage_v)
-        if self._auto is not None:
-            self._collect_auto_tare(stamp_ns, voltage_v)
+        pending = self._auto is not None
+        if pending:
+            pending = not self._collect_auto_tare(stamp_ns, voltage_v)
         self.last_valid_receive_ns = stamp_ns if receive_ns is None else receive_ns
         force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v - self._shift_v,
                                   self._aux if aux is None else aux)
@@ -325,6 +354,9 @@ class Compensator(_Configured):
             self.counts["nonfinite_output"] += 1
             self._restart()
             return None
+        if pending:  # zero before force: an untared bridge offset reads as a phantom load
+            self.counts["zero_before_tare"] += 1
+            return 0.0 if self.config.publish_zero_before_tare else None
         if self._drift_tracking:
             force = self._track_drift(stamp_ns, force)
         limit = self._force_limit_n
@@ -396,40 +428,67 @@ class Compensator(_Configured):
         self.tare_offset_v, self.drift_v = offset, 0.0
         self._update_shift()
         self.counts["tares"] += 1
+        self.auto_tare_failed = False
+        if self._auto is not None:  # a tare by hand decides what the auto-tare was waiting for
+            self._auto, self.auto_tare_status = None, f"tared by hand: bridge offset {offset:.6f} V"
         self._restart()
         return True, f"tared: bridge offset {offset:.6f} V from {len(self._recent_v)} samples; history cleared"
 
-    def reset(self) -> None:
-        """Forget the deformation and stamp history (sensor assumed relaxed); re-arm the auto-tare."""
-        self._restart()
-        if self.config.auto_tare:
-            self._auto, self.auto_tare_status = [], "pending"
+    @property
+    def auto_tare_pending(self) -> bool:
+        """Whether the auto-tare is still waiting for a rest (the output is held at zero meanwhile)."""
+        return self._auto is not None
 
-    def _collect_auto_tare(self, stamp_ns: int, voltage_v: float) -> None:
+    def reset(self, from_stamp_ns: Optional[int] = None) -> None:
+        """Forget the deformation and stamp history (sensor assumed relaxed); re-arm the auto-tare.
+
+        ``from_stamp_ns``: the sensor restarted at this acquisition time (a device reset, a restarted
+        simulator); samples stamped before it belong to the old history and are dropped as ``backwards``.
+        """
+        self._restart()
+        if from_stamp_ns is not None:
+            self.gate.last_stamp_ns = int(from_stamp_ns) - 1
+        if self.config.auto_tare:
+            self._auto, self.auto_tare_status, self._auto_since_ns = [], "pending", None
+
+    def _collect_auto_tare(self, stamp_ns: int, voltage_v: float) -> bool:
+        """Add a sample to the rest window; True once the auto-tare has decided (zeroed or given up)."""
         window = self._auto
         assert window is not None  # called only while armed
+        if self._auto_since_ns is None:
+            self._auto_since_ns = stamp_ns
         if len(window) < AUTO_TARE_MAX_SAMPLES:
             window.append((stamp_ns, voltage_v))
         if (stamp_ns - window[0][0]) * 1e-9 < self.config.auto_tare_s:
-            return
-        self._auto = None
+            return False
         data = np.array(window, dtype=float)
         t, v = (data[:, 0] - data[0, 0]) * 1e-9, data[:, 1]
         cfg = self.config
         spread = float(v.std())
         drift = float(abs(np.polyfit(t, v, 1)[0]) * t[-1]) if v.size > 2 else 0.0
         shift = float(v.mean() - self.chain.offset_v)
+        waited_s = (stamp_ns - self._auto_since_ns) * 1e-9
         if spread <= cfg.auto_tare_max_std_v and drift <= cfg.auto_tare_max_std_v and abs(shift) <= cfg.auto_tare_max_shift_v:
-            self.tare_offset_v, self.drift_v = float(v.mean()), 0.0
+            self._auto = None
+            self.tare_offset_v, self.drift_v, self.auto_tare_failed = float(v.mean()), 0.0, False
             self._update_shift()
             self.counts["auto_tares"] += 1
-            self.auto_tare_status = f"zeroed at start: bridge offset {v.mean():.6f} V from {v.size} samples"
+            self.auto_tare_status = (f"zeroed: bridge offset {v.mean():.6f} V from {v.size} samples at rest "
+                                     f"({waited_s:.2f} s after start)")
             self._restart()
-        else:
-            self.counts["auto_tare_refused"] += 1
-            self.auto_tare_status = (f"not zeroed: the sensor did not rest over the first {cfg.auto_tare_s} s "
-                                     f"(spread {spread:.4f} V, drift {drift:.4f} V, offset shift {shift:+.4f} V); "
-                                     "the model's offset is used")
+            return True
+        reason = self.auto_tare_reason = f"spread {spread:.4f} V, drift {drift:.4f} V, offset shift {shift:+.4f} V"
+        if waited_s < cfg.auto_tare_timeout_s:  # slide on by half a window: a rest as long as 1.5 windows is found
+            self.counts["auto_tare_retries"] += 1
+            del window[: len(window) // 2]
+            self.auto_tare_status = f"pending: waiting for the sensor to rest ({reason})"
+            return False
+        self._auto = None
+        self.auto_tare_failed = True
+        self.counts["auto_tare_refused"] += 1
+        self.auto_tare_status = (f"not zeroed: the sensor did not rest for {cfg.auto_tare_s} s within "
+                                 f"{cfg.auto_tare_timeout_s} s ({reason}); the model's offset is used until a tare")
+        return True
 
     def _restart(self) -> None:
         self._stream.reset()
@@ -456,3 +515,18 @@ class Compensator(_Configured):
             self._rest_since_ns, self._rest_force_sum, self._rest_count = stamp_ns, 0.0, 0
             force -= mean_force
         return force
+
+
+def check_noise_gain(chain: SensorChain, rate_hz: float, max_gain: float) -> NoiseGain:
+    """The noise gain of ``chain``'s inverse at ``rate_hz``, or a ModelError when it exceeds ``max_gain`` [N/V].
+
+    The message names the element that amplifies most, by how much, and what bounds it.
+    """
+    gain = backward_noise_gain(chain, rate_hz)
+    if not gain.gain_n_per_v <= max_gain:
+        raise ModelError(
+            f"model refused: its inverse turns white bridge noise into {gain.gain_n_per_v:.4g} N per V "
+            f"at {rate_hz:g} Hz, above max_noise_gain {max_gain:g} N/V (1 mV of noise would move the master by "
+            f"{gain.force_noise_n(1e-3):.3g} N rms); the {gain.element} element multiplies it by "
+            f"{gain.element_factor:.3g}: give it a bandwidth (sensor_lag: noise_filter_tau_s) or raise max_noise_gain")
+    return gain

@@ -1,0 +1,70 @@
+"""The noise gain of a chain's inverse, and the runtime's guard against a model that shakes the master."""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from polyforce_ros.physics.chain import (ModelError, OffsetElement, PlayHysteresisElement, SensorChain,
+                                         SensorLagElement, ViscoelasticElement)
+from polyforce_ros.physics.noise_gain import backward_noise_gain
+from polyforce_ros.physics.viscoelastic import PAPER_BURGERS, Elastic
+from polyforce_ros.runtime import Compensator, CompensatorConfig
+from polyforce_ros.runtime.compensator import check_noise_gain
+
+
+def _lagged(tau_s, k=5.0, filter_tau_s=0.0):
+    return SensorChain([ViscoelasticElement(Elastic(k)), SensorLagElement(tau_s=tau_s, noise_filter_tau_s=filter_tau_s),
+                        OffsetElement(0.02)])
+
+
+@settings(max_examples=25, deadline=None)
+@given(tau_s=st.floats(1e-4, 0.3), k=st.floats(0.5, 50.0), rate_hz=st.sampled_from([100.0, 200.0, 1000.0, 2000.0]))
+def test_the_gain_of_an_exact_lag_inverse_is_its_difference_equations(tau_s, k, rate_hz):
+    # y + tau (y_n - y_{n-1}) / h on white noise: variance (1 + a)^2 + a^2 with a = tau / h, times the stiffness
+    a = tau_s * rate_hz
+    gain = backward_noise_gain(_lagged(tau_s, k), rate_hz)
+    assert gain.gain_n_per_v == pytest.approx(k * math.hypot(1 + a, a), rel=0.05)
+    if a > 0.5:
+        assert gain.element == "sensor_lag" and gain.element_factor == pytest.approx(math.hypot(1 + a, a), rel=0.05)
+    # the response rises towards Nyquist, where the difference of alternate samples is largest
+    assert gain.response_n_per_v[-1] > gain.response_n_per_v[0]
+
+
+def test_a_bandwidth_bounds_the_gain_by_tau_over_its_filter_time():
+    exact = backward_noise_gain(_lagged(0.05), 1000.0).gain_n_per_v
+    rolled = backward_noise_gain(_lagged(0.05, filter_tau_s=0.025), 1000.0).gain_n_per_v
+    assert exact > 300.0 and rolled <= 5.0 * 0.05 / 0.025 * 1.01
+
+
+def test_the_shipped_core_and_a_hysteresis_are_judged_by_the_core():
+    chain = SensorChain([PlayHysteresisElement(1.0, [0.5, 1.0], [0.1, 0.05]), ViscoelasticElement(PAPER_BURGERS),
+                         OffsetElement(0.05)])
+    gain = backward_noise_gain(chain, 1000.0)
+    g0 = PAPER_BURGERS.relaxation().g0_n_per_v  # instantaneous stiffness: white noise sees the glassy modulus
+    assert gain.gain_n_per_v == pytest.approx(g0, rel=0.1) and gain.element == "burgers"
+    assert gain.to_dict()["gain_n_per_v"] == gain.gain_n_per_v and len(gain.to_dict()["frequency_hz"]) > 10
+
+
+def test_the_runtime_refuses_a_model_that_amplifies_noise_and_names_the_element():
+    chain = _lagged(0.0117)
+    with pytest.raises(ModelError, match=r"sensor_lag element multiplies it by") as info:
+        Compensator(chain)
+    assert "max_noise_gain 10" in str(info.value)
+    comp = Compensator(SensorChain.from_model(PAPER_BURGERS, 0.05))
+    kept = comp.chain
+    with pytest.raises(ModelError):
+        comp.set_chain(chain)
+    assert comp.chain is kept  # a refused model never replaces the one in use
+    # the same model is accepted with a bandwidth, or at a rate where its inverse stays quiet, or with a wider limit
+    assert Compensator(_lagged(0.0117, filter_tau_s=0.01)).noise_gain.gain_n_per_v < 10.0
+    assert Compensator(chain, CompensatorConfig(noise_gain_rate_hz=20.0)).noise_gain.gain_n_per_v < 10.0
+    assert Compensator(chain, CompensatorConfig(max_noise_gain=1e4)).noise_gain.element == "sensor_lag"
+
+
+def test_a_degenerate_inverse_is_refused_not_raised_as_a_numerical_error():
+    gain = check_noise_gain(SensorChain.from_model(PAPER_BURGERS, 0.0), 1000.0, np.inf)
+    assert np.isfinite(gain.gain_n_per_v)
+    with pytest.raises(ValueError):
+        backward_noise_gain(SensorChain.from_model(PAPER_BURGERS, 0.0), float("nan"))

@@ -79,6 +79,112 @@ int32_t pfw_counts_from_be24(uint8_t msb, uint8_t mid, uint8_t lsb)
     return value;
 }
 
+/* --------------------------------------------------------------- messages */
+#define PFW_MSG_HEADER 4u /* type, version, len, ~len */
+
+static size_t put_stuffed(uint8_t *out, size_t n, uint8_t byte)
+{
+    out[n] = byte;
+    n++;
+    if (byte == (uint8_t)PFW_SYNC0) {
+        out[n] = (uint8_t)PFW_MSG_STUFF; /* 0xA5 is always followed by 0x00: never 0xA5 0x5A */
+        n++;
+    }
+    return n;
+}
+
+size_t pfw_encode_message(uint8_t *out, uint8_t type, uint8_t version, const uint8_t *payload, size_t len)
+{
+    uint8_t header[PFW_MSG_HEADER];
+    uint16_t crc;
+    size_t n = 0u;
+    size_t i;
+    if (len > PFW_MSG_PAYLOAD_MAX) {
+        return 0u;
+    }
+    header[0] = type;
+    header[1] = version;
+    header[2] = (uint8_t)len;
+    header[3] = (uint8_t)(~(uint32_t)len & 0xFFu);
+    crc = pfw_crc16_ccitt(header, PFW_MSG_HEADER, (uint16_t)PFW_CRC_INIT);
+    crc = pfw_crc16_ccitt(payload, len, crc);
+    out[0] = (uint8_t)PFW_SYNC0;
+    out[1] = (uint8_t)PFW_MSG_SYNC1;
+    n = 2u;
+    for (i = 0u; i < PFW_MSG_HEADER; ++i) {
+        n = put_stuffed(out, n, header[i]);
+    }
+    for (i = 0u; i < len; ++i) {
+        n = put_stuffed(out, n, payload[i]);
+    }
+    n = put_stuffed(out, n, (uint8_t)(crc & 0xFFu));
+    n = put_stuffed(out, n, (uint8_t)((uint32_t)crc >> 8u));
+    return n;
+}
+
+/* Copies a string of at most `size` chars into dst, padding with NUL (no library call). */
+static void put_text(uint8_t *dst, const char *text, size_t size)
+{
+    size_t i;
+    bool ended = false;
+    for (i = 0u; i < size; ++i) {
+        if (!ended && (text[i] == '\0')) {
+            ended = true;
+        }
+        dst[i] = ended ? 0u : (uint8_t)(unsigned char)text[i];
+    }
+}
+
+size_t pfw_encode_info(uint8_t *out, const pfw_info_t *info)
+{
+    uint8_t p[16u + PFW_INFO_ADC_LEN + PFW_INFO_BOARD_LEN + PFW_INFO_SERIAL_LEN];
+    p[0] = (uint8_t)PFW_PROTOCOL_VERSION;
+    p[1] = (uint8_t)PFW_FW_VERSION_MAJOR;
+    p[2] = (uint8_t)PFW_FW_VERSION_MINOR;
+    p[3] = (uint8_t)PFW_FW_VERSION_PATCH;
+    put_u32(&p[4], info->rate_hz);
+    put_u32(&p[8], info->vref_uv);
+    put_u16(&p[12], info->gain);
+    p[14] = info->adc_bits;
+    p[15] = info->mains_filter;
+    put_text(&p[16], info->adc, PFW_INFO_ADC_LEN);
+    put_text(&p[16u + PFW_INFO_ADC_LEN], info->board, PFW_INFO_BOARD_LEN);
+    put_text(&p[16u + PFW_INFO_ADC_LEN + PFW_INFO_BOARD_LEN], info->serial, PFW_INFO_SERIAL_LEN);
+    return pfw_encode_message(out, (uint8_t)PFW_MSG_INFO, 1u, p, sizeof p);
+}
+
+size_t pfw_encode_status(uint8_t *out, const pfw_status_t *status)
+{
+    uint8_t p[20];
+    put_u32(&p[0], status->t_us);
+    p[4] = status->reset_reason;
+    p[5] = 0u; /* reserved */
+    put_u16(&p[6], status->watchdog_resets);
+    put_u32(&p[8], status->overflows);
+    put_u32(&p[12], status->adc_reconfigs);
+    put_u32(&p[16], status->uptime_s);
+    return pfw_encode_message(out, (uint8_t)PFW_MSG_STATUS, 1u, p, sizeof p);
+}
+
+size_t pfw_encode_temperature(uint8_t *out, uint32_t t_us, int16_t temp_q5)
+{
+    uint8_t p[6];
+    put_u32(&p[0], t_us);
+    /* int16 -> uint16 is defined (modulo 2^16): the two's complement bit pattern */
+    put_u16(&p[4], (uint16_t)temp_q5);
+    return pfw_encode_message(out, (uint8_t)PFW_MSG_TEMPERATURE, 1u, p, sizeof p);
+}
+
+int16_t pfw_ads1220_temp_q5(uint8_t msb, uint8_t mid)
+{
+    const uint32_t raw = ((uint32_t)msb << 6u) | ((uint32_t)mid >> 2u); /* 14 bits */
+    int32_t value = (int32_t)raw;
+    if ((raw & 0x2000u) != 0u) {
+        value -= 16384; /* sign bit set: value - 2^14, in [-8192, -1] */
+    }
+    return (int16_t)value;
+}
+
 /* ------------------------------------------------------------------ ring */
 #define PFW_RING_MASK ((uint32_t)PFW_RING_CAPACITY - 1u)
 

@@ -87,6 +87,116 @@ int32_t pfw_time_diff_us(uint32_t a, uint32_t b);
 /** A 24-bit two's complement word, most significant byte first (ADS1220 data) -> int32. */
 int32_t pfw_counts_from_be24(uint8_t msb, uint8_t mid, uint8_t lsb);
 
+/* --------------------------------------------------------------- messages */
+/*
+ * Messages: the device's identity (info), its health (status) and the ADC's
+ * own temperature, on the same link as the sample frames, at frame boundaries.
+ *
+ *     offset size field
+ *     0      2    sync 0xA5 0xC3
+ *     2      ...  the body below, stuffed: every 0xA5 byte is followed by 0x00
+ *
+ *     body   size field
+ *     0      1    type     PFW_MSG_INFO / PFW_MSG_STATUS / PFW_MSG_TEMPERATURE
+ *     1      1    version  layout version of this type's payload (1)
+ *     2      1    len      payload length, 0..PFW_MSG_PAYLOAD_MAX
+ *     3      1    ~len     len xor 0xFF
+ *     4      len  payload  little-endian fields (pfw_encode_info/_status/_temperature)
+ *     4+len  2    crc      CRC-16/CCITT-FALSE of body bytes 0 .. 3+len
+ *
+ * The stuffing keeps the sample sync 0xA5 0x5A out of every message (and no
+ * message starts with 0x5A or ends with 0xA5), so a host that knows only the
+ * 14-byte sample frame skips messages as line noise without one CRC error.
+ * A host reads a new layout version of a known type by its length: fields are
+ * only ever appended.
+ *
+ * Requests from the host, one ASCII byte each: 'I' (PFW_REQUEST_INFO) for an
+ * info message, 'S' (PFW_REQUEST_STATUS) for a status message.
+ */
+#define PFW_MSG_SYNC1 0xC3u
+#define PFW_MSG_STUFF 0x00u
+#define PFW_MSG_PAYLOAD_MAX 64u
+#define PFW_MSG_MAX_SIZE (2u + 2u * (4u + PFW_MSG_PAYLOAD_MAX + 2u))
+#define PFW_MSG_INFO 0x01u
+#define PFW_MSG_STATUS 0x02u
+#define PFW_MSG_TEMPERATURE 0x03u
+#define PFW_REQUEST_INFO 0x49u   /* 'I' */
+#define PFW_REQUEST_STATUS 0x53u /* 'S' */
+
+/* The link protocol (sample frames and messages) and this firmware's version. */
+#define PFW_PROTOCOL_VERSION 1u
+#define PFW_FW_VERSION_MAJOR 1u
+#define PFW_FW_VERSION_MINOR 1u
+#define PFW_FW_VERSION_PATCH 0u
+
+/* Why the device last started (status message). */
+#define PFW_RESET_UNKNOWN 0u
+#define PFW_RESET_POWER_ON 1u
+#define PFW_RESET_EXTERNAL 2u /* reset pin or button */
+#define PFW_RESET_BROWN_OUT 3u
+#define PFW_RESET_WATCHDOG 4u
+#define PFW_RESET_SOFTWARE 5u /* a reset requested by software (or by the host, e.g. the bootloader) */
+
+/* mains_filter of the info message: the ADS1220's FIR filter setting (register 2, bits 5:4). */
+#define PFW_MAINS_OFF 0u
+#define PFW_MAINS_50_60 1u
+#define PFW_MAINS_50 2u
+#define PFW_MAINS_60 3u
+
+#define PFW_INFO_ADC_LEN 8u
+#define PFW_INFO_BOARD_LEN 16u
+#define PFW_INFO_SERIAL_LEN 16u
+
+/**
+ * Who the device is (info message, version 1, 56 bytes). volts_per_count
+ * follows from it: vref_uv 1e-6 / (gain 2^(adc_bits - 1)) V per count.
+ * Strings are NUL-terminated or fill their field; they are sent NUL-padded.
+ */
+typedef struct {
+    uint32_t rate_hz;                   /* conversions per second */
+    uint32_t vref_uv;                   /* ADC reference (= bridge excitation when ratiometric), uV */
+    uint16_t gain;                      /* PGA gain */
+    uint8_t adc_bits;                   /* ADC resolution (two's complement), e.g. 24 */
+    uint8_t mains_filter;               /* PFW_MAINS_* */
+    char adc[PFW_INFO_ADC_LEN];         /* e.g. "ADS1220" */
+    char board[PFW_INFO_BOARD_LEN];     /* e.g. "arduino-zero" */
+    char serial[PFW_INFO_SERIAL_LEN];   /* the sensor's serial number */
+} pfw_info_t;
+
+/** The device's health (status message, version 1, 20 bytes). */
+typedef struct {
+    uint32_t t_us;            /* device time when sent */
+    uint8_t reset_reason;     /* PFW_RESET_* of the last start */
+    uint16_t watchdog_resets; /* watchdog resets since power-on */
+    uint32_t overflows;       /* conversions refused by the full ring since start */
+    uint32_t adc_reconfigs;   /* times the ADC was configured again because DRDY fell silent */
+    uint32_t uptime_s;        /* seconds since start */
+} pfw_status_t;
+
+/**
+ * Encodes a message of `type` with `len` payload bytes into `out`
+ * (PFW_MSG_MAX_SIZE bytes suffice); returns its size, or 0 when len is too large.
+ */
+size_t pfw_encode_message(uint8_t *out, uint8_t type, uint8_t version, const uint8_t *payload, size_t len);
+
+/** Encodes an info message (protocol and firmware version from this header); returns its size. */
+size_t pfw_encode_info(uint8_t *out, const pfw_info_t *info);
+
+/** Encodes a status message; returns its size. */
+size_t pfw_encode_status(uint8_t *out, const pfw_status_t *status);
+
+/**
+ * Encodes a temperature message: device time and the temperature in 1/32 degC
+ * (the ADS1220 sensor's own resolution, 0.03125 degC); returns its size.
+ */
+size_t pfw_encode_temperature(uint8_t *out, uint32_t t_us, int16_t temp_q5);
+
+/**
+ * ADS1220 temperature-sensor word (TS = 1): the first two data bytes hold a
+ * 14-bit two's complement value, left-justified, in 1/32 degC.
+ */
+int16_t pfw_ads1220_temp_q5(uint8_t msb, uint8_t mid);
+
 /* ------------------------------------------------------------------ ring */
 /*
  * Ring capacity (a power of two): 256 samples on 32-bit cores; 64 on AVR,

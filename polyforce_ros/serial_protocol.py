@@ -283,3 +283,243 @@ class DeviceClock:
             return False
         run[1], run[2] = t_us, raw_delay
         return arrival_ns - run[0] >= self.reanchor_after_ns
+
+
+# ------------------------------------------------------------------------------------ messages
+# The device's identity, health and ADC temperature share the link with the sample frames
+# (firmware/polyforce_fw.h, "messages"):
+#
+#     sync 0xA5 0xC3, then the body stuffed (every 0xA5 byte is followed by 0x00):
+#     type u8, version u8, len u8, len ^ 0xFF u8, payload (len bytes, little-endian fields),
+#     crc u16 = CRC-16/CCITT-FALSE of type .. payload
+#
+# A message never contains the sample sync 0xA5 0x5A, never starts with 0x5A and never ends
+# with 0xA5, so FrameParser alone skips messages as line noise without counting a CRC error.
+# MessageDemux takes them out of the byte stream before FrameParser sees it.
+
+MSG_SYNC = b"\xa5\xc3"
+MSG_PAYLOAD_MAX = 64
+MSG_INFO, MSG_STATUS, MSG_TEMPERATURE = 0x01, 0x02, 0x03
+#: One ASCII byte from the host asks the device for an info / a status message.
+REQUEST_INFO, REQUEST_STATUS = b"I", b"S"
+#: Reset reasons of the status message, by code.
+RESET_REASONS = {0: "unknown", 1: "power_on", 2: "external", 3: "brown_out", 4: "watchdog", 5: "software"}
+#: mains_filter of the info message: the ADS1220's 50/60 Hz FIR setting, by code.
+MAINS_FILTERS = {0: "off", 1: "50+60 Hz", 2: "50 Hz", 3: "60 Hz"}
+_MSG_MAX_STUFFED = 2 * (4 + MSG_PAYLOAD_MAX + 2)
+_INFO = struct.Struct("<BBBBIIHBB8s16s16s")
+_STATUS = struct.Struct("<IBxHIII")
+_TEMPERATURE = struct.Struct("<Ih")
+
+
+def encode_message(msg_type: int, payload: bytes, version: int = 1) -> bytes:
+    """One message: sync 0xA5 0xC3, then type, version, length, its complement, ``payload`` and the CRC, stuffed."""
+    payload = bytes(payload)
+    if len(payload) > MSG_PAYLOAD_MAX:
+        raise ValueError(f"payload of {len(payload)} bytes, at most {MSG_PAYLOAD_MAX}")
+    body = bytes((msg_type & 0xFF, version & 0xFF, len(payload), len(payload) ^ 0xFF)) + payload
+    body += struct.pack("<H", crc16_ccitt(body))
+    return MSG_SYNC + body.replace(b"\xa5", b"\xa5\x00")
+
+
+def _text(raw: bytes) -> str:
+    """A NUL-padded field as text (Latin-1: one character per byte, both ways)."""
+    return raw.split(b"\0", 1)[0].decode("latin-1")
+
+
+@dataclass(frozen=True)
+class DeviceInfo:
+    """Who the device is (info message, version 1): sent at start and on request (``REQUEST_INFO``)."""
+    rate_hz: int          #: conversions per second
+    vref_uv: int          #: ADC reference (the bridge excitation when ratiometric), uV
+    gain: int             #: PGA gain
+    adc_bits: int         #: ADC resolution (two's complement)
+    mains_filter: int     #: code of MAINS_FILTERS
+    adc: str
+    board: str
+    sensor_serial: str    #: serial number of the sensor on this device
+    protocol: int = 1     #: link protocol version
+    firmware: str = "1.1.0"  #: firmware version, major.minor.patch
+
+    @property
+    def volts_per_count(self) -> float:
+        """vref / (gain * 2**(adc_bits - 1)): the driver's ``volts_per_count`` for this device."""
+        return self.vref_uv * 1e-6 / (self.gain * 2.0 ** (self.adc_bits - 1))
+
+    def payload(self) -> bytes:
+        major, minor, patch = (int(x) for x in self.firmware.split("."))
+        return _INFO.pack(self.protocol, major, minor, patch, self.rate_hz, self.vref_uv, self.gain, self.adc_bits,
+                          self.mains_filter, self.adc.encode("latin-1"), self.board.encode("latin-1"),
+                          self.sensor_serial.encode("latin-1"))
+
+    @classmethod
+    def from_payload(cls, payload: bytes) -> "DeviceInfo":
+        (protocol, major, minor, patch, rate, vref, gain, bits, mains, adc, board,
+         serial) = _INFO.unpack_from(payload)  # a later version only appends fields
+        return cls(rate, vref, gain, bits, mains, _text(adc), _text(board), _text(serial), protocol,
+                   f"{major}.{minor}.{patch}")
+
+    def values(self) -> dict:
+        """Key/values for diagnostics."""
+        return {"device_protocol": self.protocol, "device_firmware": self.firmware, "device_board": self.board,
+                "device_adc": self.adc, "device_rate_hz": self.rate_hz, "device_gain": self.gain,
+                "device_vref_v": self.vref_uv * 1e-6, "device_volts_per_count": repr(self.volts_per_count),
+                "device_mains_filter": MAINS_FILTERS.get(self.mains_filter, str(self.mains_filter)),
+                "sensor_serial": self.sensor_serial}
+
+
+@dataclass(frozen=True)
+class DeviceStatus:
+    """The device's health (status message, version 1): sent periodically and on request (``REQUEST_STATUS``)."""
+    t_us: int             #: device time when sent
+    reset_reason: int     #: code of RESET_REASONS: why the device last started
+    watchdog_resets: int  #: watchdog resets since power-on
+    overflows: int        #: conversions refused by the device's full ring since start
+    adc_reconfigs: int    #: times the ADC was configured again because its DRDY fell silent
+    uptime_s: int         #: seconds since start
+
+    @property
+    def reset_reason_name(self) -> str:
+        return RESET_REASONS.get(self.reset_reason, f"code {self.reset_reason}")
+
+    def payload(self) -> bytes:
+        return _STATUS.pack(self.t_us, self.reset_reason, self.watchdog_resets, self.overflows, self.adc_reconfigs,
+                            self.uptime_s)
+
+    @classmethod
+    def from_payload(cls, payload: bytes) -> "DeviceStatus":
+        return cls(*_STATUS.unpack_from(payload))
+
+    def values(self) -> dict:
+        """Key/values for diagnostics."""
+        return {"device_reset_reason": self.reset_reason_name, "device_watchdog_resets": self.watchdog_resets,
+                "device_overflows": self.overflows, "device_adc_reconfigs": self.adc_reconfigs,
+                "device_uptime_s": self.uptime_s}
+
+
+@dataclass(frozen=True)
+class DeviceTemperature:
+    """The ADC's own temperature sensor (temperature message, version 1), in 1/32 degC steps."""
+    t_us: int      #: device time of the reading
+    temp_q5: int   #: temperature in 1/32 degC
+
+    @property
+    def celsius(self) -> float:
+        return self.temp_q5 / 32.0
+
+    def payload(self) -> bytes:
+        return _TEMPERATURE.pack(self.t_us, self.temp_q5)
+
+    @classmethod
+    def from_payload(cls, payload: bytes) -> "DeviceTemperature":
+        return cls(*_TEMPERATURE.unpack_from(payload))
+
+
+@dataclass(frozen=True)
+class RawMessage:
+    """A message of a type (or a payload too short for the layout) this host does not know: kept, not decoded."""
+    msg_type: int
+    version: int
+    payload: bytes
+
+
+_DECODERS = {MSG_INFO: (DeviceInfo, _INFO.size), MSG_STATUS: (DeviceStatus, _STATUS.size),
+             MSG_TEMPERATURE: (DeviceTemperature, _TEMPERATURE.size)}
+
+
+def encode_info(info: DeviceInfo) -> bytes:
+    """The info message of ``info``."""
+    return encode_message(MSG_INFO, info.payload())
+
+
+def encode_status(status: DeviceStatus) -> bytes:
+    """The status message of ``status``."""
+    return encode_message(MSG_STATUS, status.payload())
+
+
+def encode_temperature(temperature: DeviceTemperature) -> bytes:
+    """The temperature message of ``temperature``."""
+    return encode_message(MSG_TEMPERATURE, temperature.payload())
+
+
+def decode_message(msg_type: int, version: int, payload: bytes):
+    """The dataclass of a known type (a longer payload of a later version is read by its known prefix), else RawMessage."""
+    decoder = _DECODERS.get(msg_type)
+    if decoder is None or version < 1 or len(payload) < decoder[1]:
+        return RawMessage(msg_type, version, bytes(payload))
+    return decoder[0].from_payload(payload)
+
+
+class MessageDemux:
+    """Takes the messages out of the link's byte stream; the rest goes on to :class:`FrameParser`.
+
+    ``feed(data)`` returns ``(sample_bytes, messages)``: the bytes that are not part of a valid
+    message, in order, and the decoded messages. A candidate (sync 0xA5 0xC3 at any position, also
+    inside a sample frame) becomes a message only with correct stuffing, a consistent length and
+    its CRC; anything else passes through unchanged, so no sample frame is ever taken. Bytes from a
+    candidate on are held back until it is complete or refuted (at most one message's length).
+    """
+
+    def __init__(self):
+        self.buffer = bytearray()
+        self.messages = 0  #: valid messages taken out
+
+    def reset(self):
+        """Forget partial data (after a reconnect)."""
+        self.buffer.clear()
+
+    def _parse(self, start: int):
+        """At a candidate: (end, message) when valid, None when refuted, "more" when incomplete."""
+        buf, i, body, need = self.buffer, start + 2, bytearray(), 4
+        while len(body) < need:
+            if i >= len(buf):
+                return "more"
+            byte = buf[i]
+            i += 1
+            if byte == 0xA5:
+                if i >= len(buf):
+                    return "more"
+                if buf[i] != 0x00:
+                    return None  # unstuffed 0xA5: not a message
+                i += 1
+            body.append(byte)
+            if len(body) == 4:
+                if body[2] ^ body[3] != 0xFF or body[2] > MSG_PAYLOAD_MAX:
+                    return None
+                need = 4 + body[2] + 2
+        if struct.unpack_from("<H", body, len(body) - 2)[0] != crc16_ccitt(bytes(body[:-2])):
+            return None
+        return i, decode_message(body[0], body[1], bytes(body[4:-2]))
+
+    def feed(self, data: bytes):
+        """Append received bytes; return ``(bytes for FrameParser, messages found)``."""
+        self.buffer += data
+        buf, passed, found, pos = self.buffer, bytearray(), [], 0
+        while True:
+            start = buf.find(MSG_SYNC, pos)
+            if start < 0:
+                keep = len(buf) - 1 if buf.endswith(b"\xa5") else len(buf)  # a sync may be cut in two
+                passed += buf[pos:keep]
+                del buf[:keep]
+                break
+            result = self._parse(start)
+            if result == "more":
+                passed += buf[pos:start]
+                del buf[:start]
+                break
+            if result is None:
+                passed += buf[pos:start + 1]  # not a message: its first byte belongs to the samples
+                pos = start + 1
+                continue
+            end, message = result
+            passed += buf[pos:start]
+            found.append(message)
+            self.messages += 1
+            pos = end
+        return bytes(passed), found
+
+
+__all__ += ["MSG_SYNC", "MSG_PAYLOAD_MAX", "MSG_INFO", "MSG_STATUS", "MSG_TEMPERATURE", "REQUEST_INFO",
+            "REQUEST_STATUS", "RESET_REASONS", "MAINS_FILTERS", "encode_message", "encode_info", "encode_status",
+            "encode_temperature", "decode_message", "DeviceInfo", "DeviceStatus", "DeviceTemperature", "RawMessage",
+            "MessageDemux"]

@@ -36,8 +36,10 @@ from rclpy.parameter import Parameter
 from conftest import REPO
 from polyforce_ros.nodes.common import stamp_to_ns
 from polyforce_ros.nodes.driver_node import DriverNode
-from polyforce_ros.serial_protocol import FRAME_SIZE, FrameParser, encode_frame
+from polyforce_ros.serial_protocol import (FRAME_SIZE, DeviceInfo, DeviceStatus, FrameParser, encode_frame,
+                                           encode_info, encode_message, encode_status)
 from ros_harness import ros
+from test_serial_protocol import GOLDEN_INFO, GOLDEN_INFO_STUFFED, GOLDEN_STATUS, GOLDEN_TEMPERATURE
 
 FIRMWARE = REPO / "firmware"
 #: the host compilers the firmware is built with: C and C++ driver of each, where installed
@@ -176,6 +178,40 @@ def test_golden_frames_equal_serial_protocol_byte_for_byte(build):
                 rnd.choice(extremes + [rnd.randrange(-(2**31), 2**31)] * 4)) for _ in range(3000)]
     out = run(build, "fw_test_san", "encode", stdin="".join(f"{s} {t} {c}\n" for s, t, c in samples)).splitlines()
     assert len(out) == len(samples) and _check_frame_lines(out) == len(samples)
+
+
+def test_golden_messages_equal_serial_protocol_byte_for_byte(build):
+    assert run(build, "fw_test_san", "golden").split() == [
+        m.hex() for m in (GOLDEN_INFO, GOLDEN_INFO_STUFFED, GOLDEN_STATUS, GOLDEN_TEMPERATURE)]
+    rnd = random.Random(27)
+    # any payload (0xA5 bytes to stuff), empty ones, the largest, and one too large
+    payloads = [bytes(rnd.choice([0xA5, 0x5A, 0xC3, 0, rnd.randrange(256)]) for _ in range(rnd.randrange(65)))
+                for _ in range(400)] + [b"", bytes([0xA5]) * 64, bytes(65)]
+    lines = [f"{rnd.randrange(256)} {rnd.randrange(256)} {p.hex() or '-'}\n" for p in payloads]
+    out = run(build, "fw_test_san", "message", stdin="".join(lines)).split()
+    expected = [encode_message(int(t), bytes.fromhex(p) if p != "-" else b"", int(v)).hex()
+                for t, v, p in (line.split() for line in lines[:-1])] + ["refused"]
+    assert out == expected
+    text = [rnd.choice(["-", "A", "ADS1220", "PF-0001", "0123456789abcdefXYZ"]) for _ in range(3 * 300)]
+    infos = [DeviceInfo(rnd.randrange(2**32), rnd.randrange(2**32), rnd.randrange(2**16), rnd.randrange(256),
+                        rnd.randrange(4), *(("" if t == "-" else t)[:n] for t, n in zip(text[3 * i:3 * i + 3], (8, 16, 16))))
+             for i in range(300)]
+    stdin = "".join(f"{i.rate_hz} {i.vref_uv} {i.gain} {i.adc_bits} {i.mains_filter} {' '.join(text[3 * k:3 * k + 3])}\n"
+                    for k, i in enumerate(infos))
+    assert run(build, "fw_test_san", "info", stdin=stdin).split() == [encode_info(i).hex() for i in infos]
+    statuses = [DeviceStatus(rnd.randrange(2**32), rnd.randrange(6), rnd.randrange(2**16), rnd.randrange(2**32),
+                             rnd.randrange(2**32), rnd.randrange(2**32)) for _ in range(300)]
+    stdin = "".join(f"{s.t_us} {s.reset_reason} {s.watchdog_resets} {s.overflows} {s.adc_reconfigs} {s.uptime_s}\n"
+                    for s in statuses)
+    assert run(build, "fw_test_san", "status", stdin=stdin).split() == [encode_status(s).hex() for s in statuses]
+
+
+def test_ads1220_temperature_words(build):
+    # datasheet SBAS501 table 12: 14-bit left-justified, 0.03125 degC per code
+    words = {0x0C80: 25.0, 0x0000: 0.0, 0xFFFC: -0.03125, 0xF380: -25.0, 0x1900: 50.0, 0x7FFC: 255.96875,
+             0x8000: -256.0, 0x0004: 0.03125, 0x0C83: 25.0}  # the low two bits are not data
+    out = run(build, "fw_test_san", "tempword", stdin="".join(f"{w:04x}\n" for w in words)).splitlines()
+    assert [int(line.split()[1]) / 32 for line in out] == list(words.values())
 
 
 def test_sequence_and_device_time_wrap(build):

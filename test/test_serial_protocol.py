@@ -1,10 +1,15 @@
 """The serial frame format: round trip, resync after garbage, CRC, lost frames, clock mapping."""
+import random
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from polyforce_ros.serial_protocol import FRAME_SIZE, DeviceClock, FrameParser, crc16_ccitt, encode_frame
+from polyforce_ros.serial_protocol import (MSG_INFO, MSG_PAYLOAD_MAX, MSG_STATUS, SYNC, DeviceInfo, DeviceStatus,
+                                           DeviceTemperature, MessageDemux, RawMessage, decode_message,
+                                           encode_info, encode_message, encode_status, encode_temperature)
 
 
 def test_crc_reference_value():
@@ -201,3 +206,101 @@ def test_sequence_counts_add_up_on_any_mix_of_losses_duplicates_and_swaps(seq0, 
     span = max(seqs) - min(seqs) + 1 if seqs else 0
     assert counts(parser) == dict(lost=span - len(firsts), duplicates=len(seqs) - len(firsts), reordered=late,
                                   jumps=0, frames=len(seqs))
+
+
+# ------------------------------------------------------------------------------------ messages
+#: golden messages, byte for byte; firmware/host/fw_test.c ("fw_test golden") must print the same
+GOLDEN_INFO = bytes.fromhex(
+    "a5c3010138c701010100e8030000404b4c0080001800414453313232300061726475696e6f2d7a65726f000000"
+    "0050462d323032342d303030310000000016a0")
+GOLDEN_INFO_STUFFED = bytes.fromhex(
+    "a5c3010138c701010100a500a5000000a5005aa5005a5aa500a500014142434445464748303132333435363738"
+    "39616263646566a5005aa5005aa5005aa5005aa5005aa5005aa5005aa5005a21e6")
+GOLDEN_STATUS = bytes.fromhex("a5c3020114eba500005aa500040003005a5a000002000000805101004556")
+GOLDEN_TEMPERATURE = bytes.fromhex("a5c3030106f940e20100d3fc8632")
+INFO = DeviceInfo(rate_hz=1000, vref_uv=5_000_000, gain=128, adc_bits=24, mains_filter=0, adc="ADS1220",
+                  board="arduino-zero", sensor_serial="PF-2024-0001")
+INFO_STUFFED = DeviceInfo(rate_hz=0xA5A5, vref_uv=0x5AA55AA5, gain=0xA55A, adc_bits=0xA5, mains_filter=1,
+                          adc="ABCDEFGH", board="0123456789abcdef", sensor_serial="\u00a5Z" * 8)
+STATUS = DeviceStatus(t_us=0xA55A00A5, reset_reason=4, watchdog_resets=3, overflows=0x5A5A, adc_reconfigs=2,
+                      uptime_s=86400)
+TEMPERATURE = DeviceTemperature(t_us=123456, temp_q5=-813)
+
+
+def test_golden_messages():
+    assert encode_info(INFO) == GOLDEN_INFO
+    assert encode_status(STATUS) == GOLDEN_STATUS
+    assert encode_temperature(TEMPERATURE) == GOLDEN_TEMPERATURE
+    assert encode_info(INFO_STUFFED) == GOLDEN_INFO_STUFFED  # text fields are Latin-1: one byte per character
+    assert INFO.volts_per_count == 5 / 2**30 and INFO.firmware == "1.1.0" and INFO.protocol == 1
+    assert TEMPERATURE.celsius == -25.40625 and STATUS.reset_reason_name == "watchdog"
+    for golden in (GOLDEN_INFO, GOLDEN_INFO_STUFFED, GOLDEN_STATUS, GOLDEN_TEMPERATURE):
+        assert SYNC not in golden and golden[-1] != 0xA5 and golden[2] != 0x5A
+
+
+def test_messages_round_trip_through_the_demux():
+    passed, found = MessageDemux().feed(GOLDEN_INFO + GOLDEN_STATUS + GOLDEN_TEMPERATURE + GOLDEN_INFO_STUFFED)
+    assert passed == b"" and found[:3] == [INFO, STATUS, TEMPERATURE]
+    assert found[3] == INFO_STUFFED
+
+
+def test_a_host_that_knows_only_samples_skips_messages_without_an_error():
+    frames = [encode_frame(i, 1000 * i, (-1) ** i * 0xA5C3A5 * i) for i in range(40)]
+    messages = [GOLDEN_INFO, GOLDEN_STATUS, GOLDEN_TEMPERATURE, GOLDEN_INFO_STUFFED]
+    stream = b"".join(f + (messages[i % 4] if i % 3 == 0 else b"") for i, f in enumerate(frames))
+    parser = FrameParser()
+    got = parser.feed(stream)
+    assert [f.seq for f in got] == list(range(40)) and parser.crc_errors == 0 and parser.lost_frames == 0
+
+
+def _mixed_stream(rnd, n):
+    """Sample frames with messages between them (payloads full of 0xA5, 0xC3 and sync words)."""
+    stream, frames, messages = b"", [], []
+    for i in range(n):
+        counts = rnd.choice([0xA5C3, -0x5AA5C3, rnd.randrange(-(2**31), 2**31), 0x00C3A5])
+        t_us = rnd.choice([0xC3A5C3A5, rnd.randrange(2**32)])
+        frames.append((i, t_us, counts))
+        stream += encode_frame(i, t_us, counts)
+        if rnd.random() < 0.3:
+            payload = bytes(rnd.choice([0xA5, 0xC3, 0x5A, 0x00, rnd.randrange(256)])
+                            for _ in range(rnd.randrange(MSG_PAYLOAD_MAX + 1)))
+            msg_type = rnd.choice([MSG_STATUS, 0x7E])  # a status, or a type this host does not know
+            messages.append(decode_message(msg_type, 1, payload))
+            stream += encode_message(msg_type, payload)
+    return stream, frames, messages
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), chunk=st.integers(1, 40))
+def test_demux_then_parser_split_anywhere(seed, chunk):
+    rnd = random.Random(seed)
+    stream, frames, messages = _mixed_stream(rnd, 60)
+    demux, parser, got, found = MessageDemux(), FrameParser(), [], []
+    for i in range(0, len(stream), chunk):
+        passed, new = demux.feed(stream[i : i + chunk])
+        got += parser.feed(passed)
+        found += new
+    assert [(f.seq, f.t_us, f.counts) for f in got] == frames
+    assert found == messages and parser.crc_errors == 0 and demux.messages == len(messages)
+    assert any(isinstance(m, RawMessage) for m in found) or not any(
+        getattr(m, "msg_type", None) == 0x7E for m in messages)
+
+
+def test_a_corrupt_message_is_no_message_and_costs_no_sample():
+    for flip in range(2, len(GOLDEN_STATUS)):
+        bad = bytearray(GOLDEN_STATUS)
+        bad[flip] ^= 0x10
+        stream = encode_frame(1, 10, 5) + bytes(bad) + encode_frame(2, 20, 6) + GOLDEN_TEMPERATURE
+        passed, found = MessageDemux().feed(stream)
+        assert found == [TEMPERATURE], flip
+        parser = FrameParser()
+        assert [f.seq for f in parser.feed(passed)] == [1, 2]
+
+
+def test_a_later_layout_version_is_read_by_its_known_prefix_and_unknown_types_are_kept():
+    longer = encode_message(MSG_STATUS, STATUS.payload() + b"\x01\x02\x03", version=2)
+    short = encode_message(MSG_INFO, INFO.payload()[:20])
+    _, found = MessageDemux().feed(longer + short + encode_message(0x42, b"\xa5"))
+    assert found == [STATUS, RawMessage(MSG_INFO, 1, INFO.payload()[:20]), RawMessage(0x42, 1, b"\xa5")]
+    with pytest.raises(ValueError):
+        encode_message(MSG_STATUS, bytes(MSG_PAYLOAD_MAX + 1))

@@ -6,6 +6,12 @@
  *   fw_test seqwrap           pfw_seq_next from 0xFFFD, five steps
  *   fw_test be24              stdin "HEX6" lines -> "HEX6 counts" (24-bit two's complement)
  *   fw_test timediff          stdin "a b" lines -> "a b diff"
+ *   fw_test golden            the golden messages (info, status, temperature), one hex line each
+ *   fw_test message           stdin "type version HEXPAYLOAD|-" lines -> the encoded message in hex
+ *   fw_test info              stdin "rate vref_uv gain bits mains adc board serial" ('-' = empty string)
+ *                             lines -> the encoded info message in hex
+ *   fw_test status            stdin "t_us reason wd_resets overflows reconfigs uptime" lines -> hex
+ *   fw_test tempword          stdin "HEX4" lines (ADS1220 msb, mid) -> "HEX4 q5"
  *   fw_test divmod            stdin "n d" lines -> "n d quotient remainder" (pfw_divmod_u32)
  *   fw_test clock HZ BITS US0 stdin counter readings (first = at init) -> clock value after each,
  *                             or "invalid" when pfw_clock_init refuses the counter
@@ -116,6 +122,137 @@ static int cmd_timediff(void)
     unsigned long a, b;
     while (scanf("%lu %lu", &a, &b) == 2) {
         printf("%lu %lu %" PRId32 "\n", a, b, pfw_time_diff_us((uint32_t)a, (uint32_t)b));
+    }
+    return 0;
+}
+
+static void print_hex(const uint8_t *data, size_t n)
+{
+    size_t i;
+    for (i = 0u; i < n; ++i) {
+        printf("%02x", (unsigned)data[i]);
+    }
+    printf("\n");
+}
+
+static int cmd_golden(void)
+{
+    uint8_t out[PFW_MSG_MAX_SIZE];
+    pfw_info_t info;
+    pfw_status_t status;
+    memset(&info, 0, sizeof info);
+    info.rate_hz = 1000u;
+    info.vref_uv = 5000000u;
+    info.gain = 128u;
+    info.adc_bits = 24u;
+    info.mains_filter = PFW_MAINS_OFF;
+    strcpy(info.adc, "ADS1220");
+    strcpy(info.board, "arduino-zero");
+    strcpy(info.serial, "PF-2024-0001");
+    print_hex(out, pfw_encode_info(out, &info));
+    /* every field full, and 0xA5 bytes to stuff */
+    info.rate_hz = 0xA5A5u;
+    info.vref_uv = 0x5AA55AA5u;
+    info.gain = 0xA55Au;
+    info.adc_bits = 0xA5u;
+    info.mains_filter = PFW_MAINS_50_60;
+    memcpy(info.adc, "ABCDEFGH", PFW_INFO_ADC_LEN);
+    memcpy(info.board, "0123456789abcdef", PFW_INFO_BOARD_LEN);
+    memcpy(info.serial, "\xa5Z\xa5Z\xa5Z\xa5Z\xa5Z\xa5Z\xa5Z\xa5Z", PFW_INFO_SERIAL_LEN);
+    print_hex(out, pfw_encode_info(out, &info));
+    status.t_us = 0xA55A00A5u;
+    status.reset_reason = PFW_RESET_WATCHDOG;
+    status.watchdog_resets = 3u;
+    status.overflows = 0x5A5Au;
+    status.adc_reconfigs = 2u;
+    status.uptime_s = 86400u;
+    print_hex(out, pfw_encode_status(out, &status));
+    print_hex(out, pfw_encode_temperature(out, 123456u, -813));
+    return 0;
+}
+
+static int cmd_message(void)
+{
+    unsigned type, version;
+    char hex[160];
+    while (scanf("%u %u %150s", &type, &version, hex) == 3) {
+        uint8_t payload[PFW_MSG_PAYLOAD_MAX + 2u];
+        uint8_t out[PFW_MSG_MAX_SIZE];
+        size_t len = 0u, n;
+        if (strcmp(hex, "-") != 0) {
+            while (hex[2u * len] != '\0' && len < sizeof payload) {
+                unsigned byte;
+                sscanf(&hex[2u * len], "%2x", &byte);
+                payload[len++] = (uint8_t)byte;
+            }
+        }
+        n = pfw_encode_message(out, (uint8_t)type, (uint8_t)version, payload, len);
+        if (n == 0u) {
+            printf("refused\n");
+        } else {
+            print_hex(out, n);
+        }
+    }
+    return 0;
+}
+
+/* At most `size` chars of `text` ("-" = empty); a full field has no terminating NUL. */
+static void copy_field(char *dst, const char *text, size_t size)
+{
+    size_t i;
+    if (strcmp(text, "-") == 0) {
+        return;
+    }
+    for (i = 0u; i < size && text[i] != '\0'; ++i) {
+        dst[i] = text[i];
+    }
+}
+
+static int cmd_info(void)
+{
+    unsigned long rate, vref;
+    unsigned gain, bits, mains;
+    char adc[64], board[64], serial[64];
+    while (scanf("%lu %lu %u %u %u %63s %63s %63s", &rate, &vref, &gain, &bits, &mains, adc, board, serial) == 8) {
+        pfw_info_t info;
+        uint8_t out[PFW_MSG_MAX_SIZE];
+        memset(&info, 0, sizeof info);
+        info.rate_hz = (uint32_t)rate;
+        info.vref_uv = (uint32_t)vref;
+        info.gain = (uint16_t)gain;
+        info.adc_bits = (uint8_t)bits;
+        info.mains_filter = (uint8_t)mains;
+        copy_field(info.adc, adc, PFW_INFO_ADC_LEN);
+        copy_field(info.board, board, PFW_INFO_BOARD_LEN);
+        copy_field(info.serial, serial, PFW_INFO_SERIAL_LEN);
+        print_hex(out, pfw_encode_info(out, &info));
+    }
+    return 0;
+}
+
+static int cmd_status(void)
+{
+    unsigned long t_us, overflows, reconfigs, uptime;
+    unsigned reason, wd;
+    while (scanf("%lu %u %u %lu %lu %lu", &t_us, &reason, &wd, &overflows, &reconfigs, &uptime) == 6) {
+        pfw_status_t status;
+        uint8_t out[PFW_MSG_MAX_SIZE];
+        status.t_us = (uint32_t)t_us;
+        status.reset_reason = (uint8_t)reason;
+        status.watchdog_resets = (uint16_t)wd;
+        status.overflows = (uint32_t)overflows;
+        status.adc_reconfigs = (uint32_t)reconfigs;
+        status.uptime_s = (uint32_t)uptime;
+        print_hex(out, pfw_encode_status(out, &status));
+    }
+    return 0;
+}
+
+static int cmd_tempword(void)
+{
+    unsigned long raw;
+    while (scanf("%lx", &raw) == 1) {
+        printf("%04lx %d\n", raw, (int)pfw_ads1220_temp_q5((uint8_t)(raw >> 8u), (uint8_t)raw));
     }
     return 0;
 }
@@ -321,6 +458,21 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "timediff") == 0) {
         return cmd_timediff();
     }
+    if (strcmp(cmd, "golden") == 0) {
+        return cmd_golden();
+    }
+    if (strcmp(cmd, "message") == 0) {
+        return cmd_message();
+    }
+    if (strcmp(cmd, "info") == 0) {
+        return cmd_info();
+    }
+    if (strcmp(cmd, "status") == 0) {
+        return cmd_status();
+    }
+    if (strcmp(cmd, "tempword") == 0) {
+        return cmd_tempword();
+    }
     if (strcmp(cmd, "divmod") == 0) {
         return cmd_divmod();
     }
@@ -336,6 +488,6 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "threads") == 0 && argc == 3) {
         return cmd_threads(strtoul(argv[2], NULL, 0));
     }
-    fprintf(stderr, "usage: fw_test encode|edge SEED N|seqwrap|be24|timediff|divmod|clock HZ BITS US0|pacer RATE FIRST N|ring|threads N\n");
+    fprintf(stderr, "usage: fw_test encode|edge SEED N|golden|message|info|status|tempword|seqwrap|be24|timediff|divmod|clock HZ BITS US0|pacer RATE FIRST N|ring|threads N\n");
     return 2;
 }

@@ -1,4 +1,4 @@
-"""Live benchmark of issue 13: the latency haptic_bridge_node adds at 1 kHz.
+"""Live benchmark: the latency haptic_bridge_node adds at 1 kHz over a bare relay.
 
 A source process publishes `wrench` at 1 kHz, the node under test turns it into `haptic_command`,
 a sink process records every command. The node is haptic_bridge_node with parameters that make
@@ -6,16 +6,19 @@ its output the latest input unchanged (force scale 1, no deadband, slew limit 1e
 at 100 N, above every test force; device_axis z) or, as the baseline in the same run, a bare relay
 (`wrench` -> a WrenchStamped copy on `haptic_command`, the bridge's command QoS).
 
-The bridge stamps its command when it publishes it, from its own 1 kHz timer, so inputs and
-outputs are matched by value: message k carries force.z = SEQ_STEP_N * (k + 1), distinct for every
-message and passed through the bridge unchanged. For each measured input: publish -> arrival of
-the first command carrying its value. The bridge is a zero-order hold sampled by its timer: an
-input followed by a newer one before the next tick is never sent ("unmatched"); the figures
-"to the first command as new" (carrying that input or a newer one) cover every input, those included.
+The bridge publishes one command per wrench, from the wrench's callback, stamped when it publishes,
+so inputs and outputs are matched by value: message k carries force.z = SEQ_STEP_N * (k + 1),
+distinct for every message and passed through the bridge unchanged. For each measured input:
+publish -> arrival of the first command carrying its value. An input with no command of its own is
+"unmatched"; "to the first command as new" (carrying that input or a newer one) covers every input.
+Gaps: the largest pause between two measured inputs' publications and between two commands'
+arrivals while they flow (a bridge that adds no pause of its own leaves the second at the first
+plus the transport's jitter).
 
-Relay and bridge runs are interleaved in pairs (both see the same machine state, and each bridge
-run draws a new phase between the source's and the bridge's 1 kHz clocks); the latencies are
-pooled per kind. Every run warms up until the first command reaches the sink.
+Relay and bridge runs are interleaved in pairs (both see the same machine state); the latencies are
+pooled per kind. Reported: p50, p99 and max per kind, the added p50 (bridge - relay, us) and the p99
+ratio (bridge / relay, with a bootstrap interval over pairs). Every run warms up until the first
+command reaches the sink.
 
     .venv/bin/python bench/bench_bridge.py [--seconds 30] [--pairs 5]
 DDS stays on loopback in an isolated domain (set by bench_live on import).
@@ -83,7 +86,9 @@ def run_arm(kind, rate_hz, seconds, tmp):
 def interleaved_pairs(pairs, seconds, rate_hz, tmp):
     """Relay/bridge pairs of ``seconds`` each; pooled percentiles per kind and the ratios bridge / relay."""
     report, pooled = {}, {kind: {"lat": [], "fresh": [], "hist": []} for kind in KINDS}
-    counts = {kind: dict.fromkeys(("sent", "matched", "unmatched", "never_fresh", "foreign_outputs"), 0) for kind in KINDS}
+    counts = {kind: dict.fromkeys(("sent", "matched", "unmatched", "never_fresh", "foreign_outputs", "outputs"), 0)
+              for kind in KINDS}
+    gaps = {kind: {"in_gap_ms": 0.0, "out_gap_ms": 0.0} for kind in KINDS}
     warmups = []
     for rep in range(pairs):
         pair = {}
@@ -94,12 +99,15 @@ def interleaved_pairs(pairs, seconds, rate_hz, tmp):
             pooled[kind]["hist"].append(r.pop("hist"))
             for key in counts[kind]:
                 counts[kind][key] += r[key]
+            for key in gaps[kind]:
+                gaps[kind][key] = max(gaps[kind][key], r[key])
             warmups.append(r["warmup"])
             print(f"{rate_hz / 1000:g} kHz {kind:<6} p50 {r['p50_us']:6.0f} us  p99 {r['p99_us']:6.0f} us  "
                   f"max {r['max_us']:7.0f} us  (to the first command as new: p50 {r['fresh_p50_us']:6.0f}, "
                   f"p99 {r['fresh_p99_us']:6.0f} us)  publish->node stamp p50 {r['node_p50_us']:5.0f} us  "
                   f"node CPU {100 * r['node_cpu_fraction']:4.1f} %  sent {r['sent']}, matched {r['matched']}, "
-                  f"unmatched {r['unmatched']}, foreign outputs {r['foreign_outputs']}", flush=True)
+                  f"unmatched {r['unmatched']}, foreign outputs {r['foreign_outputs']}, outputs {r['outputs']}; "
+                  f"largest gap: inputs {r['in_gap_ms']:.1f} ms, commands {r['out_gap_ms']:.1f} ms", flush=True)
         report[f"pair{rep}"] = pair
     per_pair = {key: [report[f"pair{rep}"]["bridge"][key] / report[f"pair{rep}"]["relay"][key] for rep in range(pairs)]
                 for key in ("p50_us", "p99_us", "fresh_p99_us")}
@@ -110,7 +118,7 @@ def interleaved_pairs(pairs, seconds, rate_hz, tmp):
     summary = {}
     for kind in KINDS:
         lat, fresh = np.concatenate(pooled[kind]["lat"]), np.concatenate(pooled[kind]["fresh"])
-        summary[kind] = dict(percentiles(lat, ""), **percentiles(fresh, "fresh_"), **counts[kind])
+        summary[kind] = dict(percentiles(lat, ""), **percentiles(fresh, "fresh_"), **counts[kind], **gaps[kind])
     bridge, relay = summary["bridge"], summary["relay"]
     # p99 ratio from 1 us histograms as bench_live (latencies over 100 ms count as 100 ms), bootstrap over pairs
     ratio, low, high = pooled_p99_ratio(pooled["bridge"]["hist"], pooled["relay"]["hist"])
@@ -127,10 +135,11 @@ def interleaved_pairs(pairs, seconds, rate_hz, tmp):
               f"max {s['max_us']:.0f} us; to the first command as new: p50 {s['fresh_p50_us']:.0f} us, "
               f"p99 {s['fresh_p99_us']:.0f} us, max {s['fresh_max_us']:.0f} us; sent {s['sent']}, matched {s['matched']}, "
               f"unmatched {s['unmatched']} (never followed by a command as new: {s['never_fresh']}), "
-              f"foreign outputs {s['foreign_outputs']}", flush=True)
-    print(f"bridge / relay: p50 {summary['ratio_p50']:.2f} (+{summary['added_p50_us']:.0f} us), p99 {ratio:.2f} "
+              f"foreign outputs {s['foreign_outputs']}, outputs {s['outputs']}; largest gap: inputs "
+              f"{s['in_gap_ms']:.1f} ms, commands {s['out_gap_ms']:.1f} ms", flush=True)
+    print(f"bridge / relay: p50 {summary['ratio_p50']:.2f} ({summary['added_p50_us']:+.0f} us), p99 {ratio:.2f} "
           f"(90 % bootstrap interval over pairs {low:.2f}-{high:.2f}); to the first command as new: "
-          f"+{summary['added_fresh_p50_us']:.0f} us at p50, p99 ratio {summary['ratio_fresh_p99']:.2f}; "
+          f"{summary['added_fresh_p50_us']:+.0f} us at p50, p99 ratio {summary['ratio_fresh_p99']:.2f}; "
           f"warm-up before the chain flowed: {min(warmups)}-{max(warmups)} samples", flush=True)
     if any(stalled.values()):
         print("pairs with a latency over 100 ms (a stall: the pooled p99 is the stall's, see the ratios per pair): "
@@ -143,7 +152,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--seconds", type=float, default=30.0, help="measured seconds per arm (relay, bridge), split over the pairs")
     ap.add_argument("--pairs", type=int, default=5, help="interleaved relay/bridge runs of seconds / pairs each")
-    ap.add_argument("--rate", type=float, default=1000.0, help="wrench rate, Hz (the bridge publishes at 1 kHz)")
+    ap.add_argument("--rate", type=float, default=1000.0, help="wrench rate, Hz (the bridge publishes one command per wrench)")
     args = ap.parse_args()
     if args.pairs < 1 or args.seconds <= 0:
         ap.error("--pairs must be >= 1 and --seconds > 0")

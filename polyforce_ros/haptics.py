@@ -1,29 +1,39 @@
 """The rules of the haptic bridge: compensated needle force -> force command of a haptic master.
 
 ROS-free (``nodes/haptic_bridge_node.py`` is a thin shell around it), so every
-rule is tested without DDS. A sample of the compensated axial force (N,
-compression positive) becomes a command for the operator's hand (N) by
+rule is tested without DDS. Every input sample of the compensated axial force
+(N, compression positive) gives one command for the operator's hand (N), at
+once, by
 
 1. validation: a non-finite force (or time) is rejected and counted; it never
-   reaches the output and does not count as "fresh" input;
+   reaches the output and does not count as "fresh" input (the command stays
+   where it is, or keeps ramping);
 2. :func:`deadband` on the needle force (sensor noise around zero is not felt);
 3. :func:`scale` by ``force_scale`` (hand force per needle force);
 4. :func:`saturate` at the device's maximum force ``max_force_n``;
-5. :func:`slew` of the command towards that target at no more than
-   ``max_slew_n_per_s`` (no steps into the operator's hand);
-6. staleness: no valid input for ``stale_timeout_s`` starts a linear
-   :func:`stale_ramp` from the command at that instant to exactly zero within
-   ``ramp_s``. A force is never held on stale input. The ramp moves towards
-   zero only and is not slew-limited (releasing the force is the safe direction).
+5. :func:`slew` of the command towards that target by at most
+   ``max_slew_n_per_s`` times the stamp time elapsed since the previous valid
+   sample (no steps into the operator's hand). The sample's stamp, not its
+   arrival, sets the step: samples delivered late or in a burst are rendered as
+   they were acquired. A stamp step outside ``[0, stale_timeout_s]`` (a stamp
+   going backwards, a jump no live stream makes) and the first sample after a
+   silence move nothing: the command slews on from the next sample;
+6. staleness, on the arrival clock: no valid input for ``stale_timeout_s``
+   starts a linear :func:`stale_ramp` from the command at that instant to
+   exactly zero within ``ramp_s``. A force is never held on stale input. The
+   ramp moves towards zero only and is not slew-limited (releasing the force is
+   the safe direction). Only the ramp advances without input (:meth:`HapticBridge.tick`).
 
 Invariants (property-tested): the command is always finite and
-``|command| <= max_force_n``; between two updates it moves by at most
-``max_slew_n_per_s * dt`` or else towards zero; ``stale_timeout_s + ramp_s``
-after the last valid input it is exactly zero.
+``|command| <= max_force_n``; between two valid samples it moves by at most
+``max_slew_n_per_s`` times their stamp step, and otherwise only towards zero;
+``stale_timeout_s + ramp_s`` after the last valid input it is exactly zero.
 
-Times are seconds on any monotonic clock (the node uses the host's monotonic
-clock at receipt, not the sample stamps, which may come from a bag or a device).
-A time earlier than the last one seen is treated as that last time.
+Times are seconds. Arrival times (``now_s``) are on any monotonic clock (the
+node uses the host's monotonic clock at receipt); an arrival earlier than the
+last one seen is treated as that last one. Stamps (``stamp_s``) are the
+samples' own times (the node passes the header stamps); without them the
+arrival time is the stamp.
 """
 from __future__ import annotations
 
@@ -196,7 +206,7 @@ def _finite(value) -> bool:
 
 # ---------------------------------------------------------------------- the bridge
 class HapticBridge:
-    """Stateful haptic bridge: :meth:`step` on every input sample, :meth:`tick` on every output cycle.
+    """Stateful haptic bridge: :meth:`step` on every input sample, :meth:`tick` between them.
 
     Parameters
     ----------
@@ -206,12 +216,15 @@ class HapticBridge:
     Notes
     -----
     The command starts at zero and stale (no input yet). ``step`` first brings
-    the state up to ``now_s`` under the previous target (so a slew never spans
-    a silence), then takes the new sample as the target; the command reaches it
-    over the following ticks at the slew rate.
+    the stale rule up to the arrival time (the input may have gone stale before
+    this sample arrived; the ramp runs until then), then takes the sample: the
+    command slews towards its shaped target by at most the slew rate times the
+    stamp step from the previous valid sample. ``tick`` only advances the stale
+    rule; it never moves the command towards a target.
     """
 
-    COUNTERS = ("inputs", "invalid", "deadbanded", "saturated", "slew_limited", "stale_events", "recoveries")
+    COUNTERS = ("inputs", "invalid", "deadbanded", "saturated", "slew_limited", "stale_events", "recoveries",
+                "stamp_jumps")
 
     def __init__(self, config: HapticConfig | None = None):
         self.config = config if config is not None else HapticConfig()
@@ -220,8 +233,9 @@ class HapticBridge:
 
     def reset(self):
         """Back to the start state: zero command, stale, no time seen (counters are kept)."""
-        self._t = None            # last time the state was advanced to (s)
-        self._last_valid = None   # time of the last valid input (s)
+        self._t = None            # last arrival time the state was advanced to (s)
+        self._last_valid = None   # arrival time of the last valid input (s)
+        self._last_stamp = None   # stamp of the last valid input (s)
         self._last_input = None   # last valid needle force (N), re-shaped when the config changes
         self._target = 0.0        # shaped target (N)
         self._command = 0.0       # current command (N)
@@ -229,7 +243,7 @@ class HapticBridge:
         self._ramp = None         # (start time s, start command N) of the running stale ramp
 
     def configure(self, **changes) -> HapticConfig:
-        """Change parameters at run time (validated; the target is re-shaped, the command re-saturated)."""
+        """Change parameters at run time (validated; the target is re-shaped, the command re-saturated at once)."""
         self.config = replace(self.config, **changes)
         if self._last_input is not None and not self._stale:
             self._target = shape(self._last_input, self.config)
@@ -247,7 +261,7 @@ class HapticBridge:
 
     @property
     def target(self) -> float:
-        """The shaped target the command slews to, N (0 while stale)."""
+        """The shaped target of the last valid input, N (0 while stale)."""
         return self._target
 
     @property
@@ -256,47 +270,66 @@ class HapticBridge:
         return self._stale
 
     @property
+    def ramping(self) -> bool:
+        """True while the stale ramp has not reached zero."""
+        return self._ramp is not None
+
+    @property
     def last_valid_s(self):
-        """Time of the last valid input, s (None before the first)."""
+        """Arrival time of the last valid input, s (None before the first)."""
         return self._last_valid
 
     # ------------------------------------------------------------------ input / output
-    def step(self, now_s: float, force_n: float) -> float:
-        """Take one sample of the compensated needle force.
+    def step(self, now_s: float, force_n: float, stamp_s: float | None = None) -> float:
+        """Take one sample of the compensated needle force; returns the command for it.
 
         Parameters
         ----------
         now_s : float
-            Time of arrival (or the sample's stamp, on the same clock as :meth:`tick`), s.
+            Arrival time, s (the clock of :meth:`tick` and of the stale rule).
         force_n : float
             Compensated axial needle force, N (compression positive). Non-finite values are rejected.
+        stamp_s : float, optional
+            The sample's own time, s (any clock of its source); the slew limit runs on its steps.
+            None: the arrival time (as advanced: never earlier than the last one).
 
         Returns
         -------
         float
-            The command after the update, N.
+            The command after the sample, N.
         """
         self.counts["inputs"] += 1
-        if not _finite(now_s) or not _finite(force_n):
+        if not _finite(now_s) or not _finite(force_n) or (stamp_s is not None and not _finite(stamp_s)):
             self.counts["invalid"] += 1
             if _finite(now_s):
                 self._advance(float(now_s))
             return self.command
         now = self._advance(float(now_s))
+        stamp = now if stamp_s is None else float(stamp_s)
         force_n = float(force_n)
         target = shape(force_n, self.config)
         if force_n != 0.0 and target == 0.0 and abs(force_n) <= self.config.deadband_n:
             self.counts["deadbanded"] += 1
         if abs(target) >= self.config.max_force_n and target != 0.0:
             self.counts["saturated"] += 1
-        if self._stale and self._last_valid is not None:
-            self.counts["recoveries"] += 1
-        self._target, self._last_input, self._last_valid = target, force_n, now
+        if self._stale:  # the first sample after a silence: the command stays where the ramp has brought it
+            if self._last_valid is not None:
+                self.counts["recoveries"] += 1
+        else:
+            elapsed = stamp - self._last_stamp
+            if 0.0 <= elapsed <= self.config.stale_timeout_s:
+                new = slew(self._command, target, self.config.max_slew_n_per_s * elapsed)
+                if new != target:
+                    self.counts["slew_limited"] += 1
+                self._command = new
+            else:
+                self.counts["stamp_jumps"] += 1
+        self._target, self._last_input, self._last_valid, self._last_stamp = target, force_n, now, stamp
         self._stale, self._ramp = False, None
         return self.command
 
     def tick(self, now_s: float) -> float:
-        """Advance to ``now_s`` (s): slew towards the target, or run the stale ramp. Returns the command, N."""
+        """Advance the stale rule to ``now_s`` (s): start or run the stale ramp. Returns the command, N."""
         if _finite(now_s):
             self._advance(float(now_s))
         return self.command
@@ -310,19 +343,14 @@ class HapticBridge:
         if not self._stale:
             deadline = max(self._last_valid + self.config.stale_timeout_s, self._t)  # max: a shortened timeout
             if now < deadline:  # stale from the instant the input is stale_timeout_s old
-                self._slew_to(now)
+                self._t = now
                 return now
-            self._slew_to(deadline)  # normal operation up to the moment the input went stale
             self._stale = True
             self._target = 0.0
             self._ramp = (deadline, self._command)
             self.counts["stale_events"] += 1
         if self._ramp is not None:
-            start_s, start_n = self._ramp
-            # exactly zero from start + ramp_s on: compared (not subtracted) with 1 ns to spare, so no
-            # rounding of the caller's time arithmetic leaves a residue of force at the end of the ramp
-            done = now >= start_s + self.config.ramp_s - _RAMP_TOLERANCE_S
-            self._command = 0.0 if done else stale_ramp(start_n, now - start_s, self.config.ramp_s)
+            self._command = self._ramp_value(now)
             if self._command == 0.0:
                 self._ramp = None
         else:
@@ -330,13 +358,13 @@ class HapticBridge:
         self._t = now
         return now
 
-    def _slew_to(self, t: float):
-        step_n = self.config.max_slew_n_per_s * (t - self._t)
-        new = slew(self._command, self._target, step_n)
-        if new != self._target:
-            self.counts["slew_limited"] += 1
-        self._command = new
-        self._t = t
+    def _ramp_value(self, now: float) -> float:
+        start_s, start_n = self._ramp
+        # exactly zero from start + ramp_s on: compared (not subtracted) with 1 ns to spare, so no
+        # rounding of the caller's time arithmetic leaves a residue of force at the end of the ramp
+        if now >= start_s + self.config.ramp_s - _RAMP_TOLERANCE_S:
+            return 0.0
+        return stale_ramp(start_n, now - start_s, self.config.ramp_s)
 
     def summary(self) -> dict:
         """State and counters for diagnostics."""

@@ -33,6 +33,8 @@ def test_value_latency_pairs_each_input_with_the_first_command_carrying_it():
     assert stats["fresh_lat_us"].tolist() == pytest.approx([600.0, 600.0, 400.0, 600.0])  # 2 counts via 3
     assert stats["never_fresh"] == 1
     assert (stats["outputs"], stats["foreign_outputs"]) == (9, 1)
+    assert stats["in_gap_ms"] == pytest.approx(1.8)  # inputs 2.2 -> 4.0 ms
+    assert stats["out_gap_ms"] == pytest.approx(1.0)  # commands arriving 1.6 ... 4.6 ms, the first to the last matched
 
 
 def test_match_by_value_refuses_repeated_inputs_and_ignores_nan():
@@ -43,15 +45,17 @@ def test_match_by_value_refuses_repeated_inputs_and_ignores_nan():
 
 
 def test_the_bench_parameters_make_the_bridge_pass_every_sent_value_unchanged():
+    """Each input's command is that input's value (the first, after the silence before it, excepted)."""
     config = HapticConfig(**{k: v for k, v in bench_bridge.BRIDGE_PARAMETERS.items() if k in HapticConfig.names()})
     bridge = HapticBridge(config)
     rng = np.random.default_rng(3)
-    t, latest = 0.0, 0.0
-    for k in range(20_000):  # 1 kHz inputs with bursts (several in one tick) and 1 us - 60 ms gaps
-        t += rng.choice([0.0, 1e-6, 1e-3, 0.06], p=[0.2, 0.1, 0.69, 0.01])
+    arrival, stamp, latest = 0.0, 0.0, 0.0
+    for k in range(20_000):  # stamps 1 us - 60 ms apart (1 kHz mostly), arriving in bursts and with gaps
+        stamp += rng.choice([1e-6, 1e-3, 0.06], p=[0.1, 0.89, 0.01])
+        arrival += rng.choice([0.0, 1e-6, 1e-3, 0.06], p=[0.2, 0.1, 0.69, 0.01])
         latest = bench_bridge.SEQ_STEP_N * (k + 1)
-        bridge.step(t, latest)
+        command = bridge.step(arrival, latest, stamp)
+        assert command == (latest if k else 0.0)
         if rng.random() < 0.7:
-            t += 1e-6
-            assert bridge.tick(t) == latest
+            assert bridge.tick(arrival + 1e-6) == command  # the timer changes nothing while inputs flow
     assert latest < config.max_force_n and bridge.counts["saturated"] == 0

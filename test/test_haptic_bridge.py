@@ -1,5 +1,6 @@
 """Haptic bridge: every rule in the ROS-free HapticBridge (properties + examples), then the node over DDS."""
 import math
+import random
 import time
 from dataclasses import replace
 
@@ -55,18 +56,17 @@ def run(bridge, sequence, t0=100.0):
 @given(configs(), events)
 def test_command_is_always_finite_within_max_and_slew_limited_or_falling(config, sequence):
     bridge = HapticBridge(config)
-    previous_t, previous = None, 0.0
-    for t, c in run(bridge, sequence):
+    t_seen, last_valid_t, previous = None, None, 0.0
+    for (kind, _, force), (t, c) in zip(sequence, run(bridge, sequence)):
         assert math.isfinite(c) and abs(c) <= config.max_force_n
-        if previous_t is not None:
-            t_eff = max(t, previous_t)  # the bridge treats an earlier time as the last one
-            rising_or_crossing = abs(c) > abs(previous) + EPS or c * previous < 0
-            if rising_or_crossing:  # only the slew limit may move a command away from zero
-                assert abs(c - previous) <= config.max_slew_n_per_s * (t_eff - previous_t) * (1 + 1e-9) + EPS
-            previous_t = t_eff
-        else:
-            previous_t = t
-        previous = c
+        t_eff = t if t_seen is None else max(t, t_seen)  # the bridge treats an earlier time as the last one
+        valid = kind == "step" and math.isfinite(force)
+        if abs(c) > abs(previous) + EPS or c * previous < 0:  # only a valid sample's slew moves away from zero
+            assert valid and last_valid_t is not None, "a tick or a rejected sample moved the command up"
+            assert abs(c - previous) <= config.max_slew_n_per_s * (t_eff - last_valid_t) * (1 + 1e-9) + EPS
+        if valid:
+            last_valid_t = t_eff
+        t_seen, previous = t_eff, c
 
 
 @settings(max_examples=200, deadline=None)
@@ -160,12 +160,55 @@ def test_saturation_at_the_device_maximum():
 def test_slew_rate_limit():
     assert slew(0.0, 3.0, 0.5) == 0.5 and slew(0.0, 3.0, 5.0) == 3.0 and slew(1.0, -1.0, 0.5) == 0.5
     bridge = bridge_with(max_slew_n_per_s=100.0)
-    bridge.step(0.0, 3.0)
-    assert bridge.command == 0.0  # the new target is reached over the following ticks
-    assert bridge.tick(0.01) == pytest.approx(1.0)
-    assert bridge.tick(0.02) == pytest.approx(2.0)
-    assert bridge.tick(0.05) == 3.0
-    assert bridge.counts["slew_limited"] >= 2
+    assert bridge.step(0.0, 3.0) == 0.0  # the first sample after a silence moves nothing
+    assert bridge.tick(0.009) == 0.0  # a tick never moves the command towards the target
+    assert bridge.step(0.01, 3.0) == pytest.approx(1.0)  # 100 N/s x 10 ms since the previous sample
+    assert bridge.step(0.02, 3.0) == pytest.approx(2.0)
+    assert bridge.step(0.05, 3.0) == 3.0
+    assert bridge.counts["slew_limited"] == 2
+
+
+def test_slew_runs_on_the_stamps_of_irregular_samples_not_on_their_arrival():
+    bridge = bridge_with(max_slew_n_per_s=100.0)
+    stamps = [5.0, 5.001, 5.004, 5.0045, 5.0045, 5.010, 5.011]
+    arrivals = [0.0, 0.020, 0.020, 0.021, 0.021, 0.060, 0.061]  # late and in bursts
+    got = [bridge.step(a, 3.0, s) for a, s in zip(arrivals, stamps)]
+    assert got == pytest.approx([0.0, 0.1, 0.4, 0.45, 0.45, 1.0, 1.1])
+    # against zero, the band and the maximum the same way: the slew follows the shaped target
+    bridge = bridge_with(max_slew_n_per_s=100.0, deadband_n=0.5, max_force_n=1.0)
+    got = [bridge.step(0.001 * k, f, 7.0 + s) for k, (f, s) in enumerate([(0.0, 0.0), (5.0, 0.002), (5.0, 0.02),
+                                                                           (0.3, 0.021), (0.3, 0.03)])]
+    assert got == pytest.approx([0.0, 0.2, 1.0, 0.9, 0.0])
+
+
+@settings(max_examples=200, deadline=None)
+@given(configs(), st.data())
+def test_commands_depend_on_stamps_and_forces_not_on_arrival_times(config, data):
+    """Two arrival schedules of the same stamped samples (gaps below stale_timeout_s): the same commands."""
+    gap = st.floats(0.0, config.stale_timeout_s * 0.9)
+    finite = st.floats(-1e308, 1e308, allow_nan=False)  # (a rejected sample is not fresh: that is the stale rule's)
+    samples = data.draw(st.lists(st.tuples(gap, gap, finite), max_size=100))  # (stamp step, arrival gap, force)
+    regular, bursty = HapticBridge(config), HapticBridge(config)
+    stamp, arrival, a, b = 1e3, 0.0, [], []
+    for stamp_step, arrival_gap, force in samples:
+        stamp += stamp_step
+        arrival += arrival_gap
+        a.append(regular.step(stamp, force, stamp))  # arriving on its stamp
+        bursty.tick(500.0 + arrival)  # a tick in between changes nothing while the input is fresh
+        b.append(bursty.step(500.0 + arrival, force, stamp))
+    assert a == b
+
+
+def test_stamp_steps_no_live_stream_makes_move_nothing_and_are_counted():
+    bridge = bridge_with(max_slew_n_per_s=100.0, stale_timeout_s=0.1)
+    bridge.step(0.0, 3.0, 10.0)
+    assert bridge.step(0.001, 3.0, 10.001) == pytest.approx(0.1)
+    assert bridge.step(0.002, 3.0, 9.0) == pytest.approx(0.1)  # backwards: held, re-anchored on this stamp
+    assert bridge.step(0.003, 3.0, 9.002) == pytest.approx(0.3)
+    assert bridge.step(0.004, 3.0, 9.0 + 3600.0) == pytest.approx(0.3)  # an hour ahead: held
+    assert bridge.step(0.005, 3.0, 9.0 + 3600.001) == pytest.approx(0.4)
+    assert bridge.counts["stamp_jumps"] == 2
+    assert bridge.step(0.006, 3.0, math.nan) == pytest.approx(0.4) and bridge.counts["invalid"] == 1
 
 
 def test_stale_ramp_reaches_zero_within_ramp_s_and_recovers_without_a_step():
@@ -191,11 +234,11 @@ def test_stale_ramp_reaches_zero_within_ramp_s_and_recovers_without_a_step():
     bridge3 = bridge_with()
     settle(bridge3, 5.0)
     assert bridge3.tick(bridge3.last_valid_s + 5.0) == 0.0
-    # recovery: the command slews up again from zero
+    # recovery: the command slews up again from zero, from the second sample on
     bridge.step(t + 1.0, 1.0)
     assert bridge.command == 0.0 and not bridge.stale and bridge.counts["recoveries"] == 1
-    assert bridge.tick(t + 1.005) == pytest.approx(0.5)
-    assert bridge.tick(t + 1.02) == 1.0
+    assert bridge.step(t + 1.005, 1.0) == pytest.approx(0.5)
+    assert bridge.step(t + 1.02, 1.0) == 1.0
 
 
 def test_recovery_mid_ramp_continues_from_the_ramped_value():
@@ -204,7 +247,7 @@ def test_recovery_mid_ramp_continues_from_the_ramped_value():
     last_valid = bridge.last_valid_s
     bridge.step(last_valid + 0.2, 2.0)  # halfway down the ramp: 1.0 N
     assert bridge.command == pytest.approx(1.0)
-    assert bridge.tick(last_valid + 0.205) == pytest.approx(1.5)
+    assert bridge.step(last_valid + 0.205, 2.0) == pytest.approx(1.5)
 
 
 def test_no_force_before_the_first_input_and_reset():
@@ -222,7 +265,7 @@ def test_run_time_reconfiguration_clamps_at_once_and_rejects_bad_values():
     bridge.configure(max_force_n=2.0)
     assert bridge.command == 2.0 and bridge.target == 2.0
     bridge.configure(force_scale=0.1)
-    assert bridge.tick(t + 0.001) == pytest.approx(0.5)
+    assert bridge.step(t + 0.001, 5.0) == pytest.approx(0.5)
     for bad in (dict(max_force_n=math.nan), dict(ramp_s=-1.0), dict(max_slew_n_per_s=0.0), dict(force_scale=math.inf)):
         with pytest.raises(ValueError):
             bridge.configure(**bad)
@@ -272,9 +315,12 @@ class Probe(Node):
         self.create_subscription(Float64MultiArray, FD_EFFORT_COMMANDS, self.efforts.append, 10)
         self.create_subscription(DiagnosticArray, contract.DIAGNOSTICS, self.diags.append, 50)
 
-    def send(self, force):
+    def send(self, force, stamp_ns=None):
         msg = WrenchStamped()
-        msg.header.stamp = self.get_clock().now().to_msg()
+        if stamp_ns is None:
+            msg.header.stamp = self.get_clock().now().to_msg()
+        else:
+            msg.header.stamp.sec, msg.header.stamp.nanosec = divmod(stamp_ns, 1_000_000_000)
         msg.header.frame_id = contract.FRAME_ID
         msg.wrench.force.z = float(force)
         self.wrench.publish(msg)
@@ -296,22 +342,25 @@ def feed(h, probe, force, seconds, period=0.002):
     return sent
 
 
+def start_flowing(h, node, probe):
+    """Feed zero wrenches until the bridge takes them and both command topics reach the probe."""
+    deadline = time.monotonic() + 15.0  # DDS discovery takes seconds on busy cores
+    while (node.bridge.stale or not probe.commands or not probe.efforts) and time.monotonic() < deadline:
+        feed(h, probe, 0.0, 0.05)
+    assert not node.bridge.stale and probe.commands and probe.efforts, "the chain never flowed"
+
+
 def test_node_scales_saturates_slews_rejects_nan_and_ramps_to_zero_over_dds():
     params = dict(force_scale=0.5, deadband_n=0.0, max_force_n=2.0, max_slew_n_per_s=50.0, stale_timeout_s=0.1, ramp_s=0.2,
                   device_axis="-y", publish_rate_hz=250.0, diagnostics_period_s=0.2)
     with ros() as h:
         node = h.add(HapticBridgeNode(context=h.context, parameter_overrides=[Parameter(k, value=v) for k, v in params.items()]))
         probe = h.add(Probe(h.context))
-        # the chain must flow before anything is measured (DDS discovery takes seconds on busy cores)
-        assert h.spin_until(lambda: probe.wrench.get_subscription_count() > 0 and probe.commands and probe.efforts, 15.0)
-        deadline = time.monotonic() + 15.0
-        while node.bridge.stale and time.monotonic() < deadline:
-            feed(h, probe, 0.0, 0.05)
-        assert not node.bridge.stale, "wrench never reached the bridge"
+        start_flowing(h, node, probe)
 
-        ticks = []  # (monotonic time, command) of every timer tick: the clock the rules run on
-        tick = node.bridge.tick
-        node.bridge.tick = lambda now: ticks.append((now, tick(now))) or ticks[-1][1]
+        steps = []  # (stamp s, command) of every valid sample: the clock the slew limit runs on
+        step = node.bridge.step
+        node.bridge.step = lambda now, force, stamp=None: steps.append((stamp, step(now, force, stamp))) or steps[-1][1]
         start = len(probe.commands)
         feed(h, probe, 3.0, 0.4)  # -> 1.5 N on -y, reached at 50 N/s in 30 ms
         assert h.spin_until(lambda: commanded(probe, -1.5), 2.0)
@@ -335,19 +384,19 @@ def test_node_scales_saturates_slews_rejects_nan_and_ramps_to_zero_over_dds():
         assert h.spin_until(lambda: commanded(probe, -0.5), 2.0)
         assert node.bridge.counts["recoveries"] >= 1
 
-        # run-time parameters: a smaller maximum clamps at once; out-of-range values are refused
+        # run-time parameters: a smaller maximum clamps at once (published without waiting for a wrench);
+        # out-of-range values are refused
         assert node.set_parameters([Parameter("max_force_n", value=0.25)])[0].successful
-        feed(h, probe, 1.0, 0.05)
         assert h.spin_until(lambda: commanded(probe, -0.25), 2.0)
         assert not node.set_parameters([Parameter("max_force_n", value=1000.0)])[0].successful
 
         everything = [c.wrench.force.y for c in probe.commands]
         assert all(math.isfinite(f) and abs(f) <= 2.0 for f in everything)
         rising_ys = [c.wrench.force.y for c in rising]
-        assert set(rising_ys) <= {-c + 0.0 for _, c in ticks}, "every published command is a tick of the bridge"
-        for (t0, a), (t1, b) in zip(ticks, ticks[1:]):
+        assert set(rising_ys) <= {-c + 0.0 for _, c in steps}, "every command while wrenches flow is a sample's"
+        for (t0, a), (t1, b) in zip(steps, steps[1:]):
             if abs(b) > abs(a) or a * b < 0:
-                assert abs(b - a) <= 50.0 * (t1 - t0) + EPS  # slew limit on the node's monotonic clock
+                assert abs(b - a) <= 50.0 * (t1 - t0) + EPS  # slew limit over the wrenches' stamps
         assert h.spin_until(lambda: any(kv.key == "invalid" and int(kv.value) == bad_sent
                                         for d in probe.diags for s in d.status if s.name.endswith("haptic bridge")
                                         for kv in s.values), 3.0)
@@ -358,3 +407,47 @@ def test_node_scales_saturates_slews_rejects_nan_and_ramps_to_zero_over_dds():
         h.nodes.remove(node)
         node.destroy_node()
         assert h.spin_until(lambda: commanded(probe, 0.0), 3.0)
+
+
+def test_node_publishes_one_command_per_wrench_slewed_over_the_stamps_over_dds():
+    """Wrenches sent in irregular bursts with irregular stamps: exactly one command each, at once, and each
+    command is the previous one slewed towards the target by the rate times the stamp step."""
+    rate = 40.0
+    params = dict(force_scale=1.0, deadband_n=0.0, max_force_n=5.0, max_slew_n_per_s=rate, stale_timeout_s=5.0,
+                  ramp_s=0.2, device_axis="z", publish_rate_hz=1000.0)
+    with ros() as h:
+        node = h.add(HapticBridgeNode(context=h.context, parameter_overrides=[Parameter(k, value=v) for k, v in params.items()]))
+        probe = h.add(Probe(h.context))
+        start_flowing(h, node, probe)
+        assert h.spin_until(lambda: probe.commands[-1].wrench.force.z == 0.0, 2.0)
+        h.spin_for(0.1)
+        n0, published0, inputs0 = len(probe.commands), node.node_counts["published"], node.bridge.counts["inputs"]
+
+        # stamps 0.1-9 ms apart, sent in bursts of 1-5 with 0-20 ms pauses: arrival order is stamp order,
+        # arrival times have nothing to do with the stamps; the force changes every 1-40 wrenches
+        rng = random.Random(5)
+        stamp_ns, force = time.time_ns(), 0.0
+        sent = []  # (stamp ns, force)
+        while len(sent) < 300:
+            for _ in range(rng.randint(1, 5)):
+                stamp_ns += rng.randint(100_000, 9_000_000)
+                if rng.random() < 0.1:
+                    force = rng.choice([0.0, 0.05, 0.5, 2.0, -1.0, 3.0, 10.0])
+                probe.send(force, stamp_ns)
+                sent.append((stamp_ns, force))
+            h.spin_for(rng.uniform(0.0, 0.02))
+        assert h.spin_until(lambda: len(probe.commands) >= n0 + len(sent), 10.0)
+        h.spin_for(0.2)  # nothing more comes: the timer publishes only a stale ramp
+        assert len(probe.commands) == n0 + len(sent)
+        assert node.node_counts["published"] - published0 == len(sent) == node.bridge.counts["inputs"] - inputs0
+        assert not node.bridge.stale
+
+        got = [c.wrench.force.z for c in probe.commands[n0:]]
+        stamps_s = [(ns - node._stamp0_ns) * 1e-9 for ns, _ in sent]  # as the node passes them: from its first
+        kinds = set()
+        for k in range(1, len(sent)):
+            step = rate * (stamps_s[k] - stamps_s[k - 1])
+            target = shape(sent[k][1], node.bridge.config)
+            assert got[k] == pytest.approx(slew(got[k - 1], target, step), abs=1e-9), (k, got[k - 1], target, step)
+            kinds.add("limited" if got[k] != pytest.approx(target, abs=1e-9) else "reached")
+        assert kinds == {"limited", "reached"}  # both cases of the slew were checked

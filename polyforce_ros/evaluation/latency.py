@@ -140,7 +140,9 @@ def value_latency(sent_value, sent_ns, out_value, out_stamp_ns, out_ns, t0_ns, s
     (distinct non-zero output values no input carried); ``fresh_*``: publish -> arrival of the first output
     carrying that input or a newer one, over every measured input (``never_fresh``: none arrived);
     ``node_p50_us``: publish -> the output's header stamp (the relay copies the input's stamp: 0);
-    ``lat_us``: the matched latencies (us).
+    ``in_gap_ms``: the largest gap between two measured inputs' publish times; ``out_gap_ms``: the largest
+    gap between two outputs' arrivals while matched outputs arrive (from the first to the last output
+    carrying a measured input); ``lat_us``: the matched latencies (us).
     """
     sent_value, out_value = np.asarray(sent_value, dtype=float), np.asarray(out_value, dtype=float)
     sent_ns, out_ns, out_stamp_ns = (np.asarray(a, dtype=np.int64) for a in (sent_ns, out_ns, out_stamp_ns))
@@ -159,4 +161,12 @@ def value_latency(sent_value, sent_ns, out_value, out_stamp_ns, out_ns, t0_ns, s
     stats.update(percentiles(fresh_lat_us, "fresh_"), never_fresh=int(np.sum(fresh < 0)), fresh_lat_us=fresh_lat_us)
     stats["outputs"] = int(out_value.size)
     stats["foreign_outputs"] = int(np.unique(out_value[(out_index < 0) & (out_value != 0.0)]).size)
+    measured_sent = np.sort(sent_ns[measured])
+    stats["in_gap_ms"] = float(np.diff(measured_sent).max() / 1e6) if measured_sent.size > 1 else float("nan")
+    if first.size:
+        arrivals = out_ns[out_ns.argsort(kind="stable")]
+        span = arrivals[(arrivals >= out_ns[first].min()) & (arrivals <= out_ns[first].max())]
+        stats["out_gap_ms"] = float(np.diff(span).max() / 1e6) if span.size > 1 else float("nan")
+    else:
+        stats["out_gap_ms"] = float("nan")
     return stats

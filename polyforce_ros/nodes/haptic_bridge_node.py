@@ -1,9 +1,8 @@
 """haptic_bridge_node: compensated needle force -> force command of the haptic master.
 
 Subscribes ``wrench`` (geometry_msgs/WrenchStamped, force.z = compensated axial
-needle force in N, compression positive) and publishes, from a timer at
-``publish_rate_hz`` (1 kHz, the rate of a Force Dimension ros2_control loop),
-the current command:
+needle force in N, compression positive) and publishes one command per wrench,
+from the wrench's own callback (no wait for a timer), on
 
 * ``haptic_command`` (geometry_msgs/WrenchStamped) in the device frame
   ``device_frame_id``, the force on the axis ``device_axis``;
@@ -19,9 +18,18 @@ the current command:
 
 Every rule (validation, deadband, scaling, saturation, slew limit, stale ramp
 to zero) is in :class:`polyforce_ros.haptics.HapticBridge`; this node feeds it
-the host's monotonic receive time, ticks it and publishes. The effort
-controller holds its last command, so on shutdown the node publishes a zero
-command and waits for it to be acknowledged. Counters on /diagnostics.
+each wrench with the host's monotonic receive time (the stale rule's clock) and
+the wrench's header stamp (the slew limit's clock; an unstamped wrench, stamp
+0, is timed by its arrival), and publishes the command it returns. A timer at
+``publish_rate_hz`` (1 kHz, the rate of a Force Dimension ros2_control loop)
+serves only the stale ramp: once no valid wrench has come for
+``stale_timeout_s`` it publishes the ramp down to zero, the last command of the
+ramp being exactly zero, and then stays silent until a wrench comes (at start-up,
+before any wrench, it publishes one zero command). A run-time
+parameter change that moves the command (a lower ``max_force_n``) is published
+at once. The effort controller holds its last command, so on shutdown the node
+publishes a zero command and waits for it to be acknowledged. Counters on
+/diagnostics.
 """
 from __future__ import annotations
 
@@ -63,7 +71,9 @@ class HapticBridgeNode(Node):
                 read_only=True)
         declare(self, "effort_command_size", 3,
                 "Entries of the effort command (the controller's joint count: 3 = fd_x, fd_y, fd_z)", 1, 7, read_only=True)
-        declare(self, "publish_rate_hz", 1000.0, "Rate of the command topics (Hz)", 1.0, 10000.0, read_only=True)
+        declare(self, "publish_rate_hz", 1000.0,
+                "Rate of the stale ramp's commands (Hz); while wrenches arrive, one command per wrench",
+                1.0, 10000.0, read_only=True)
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
         declare_qos(self)
         p = {name: param.value for name, param in self._parameters.items()}
@@ -73,6 +83,8 @@ class HapticBridgeNode(Node):
         self.axis_index, self.axis_sign = parse_axis(self.axis)
         self.bridge = HapticBridge(HapticConfig(**{name: p[name] for name in HapticConfig.names()}))
         self.node_counts = dict(published=0)
+        self._published_n = None   # the last command published, N
+        self._stamp0_ns = None     # the first header stamp seen: stamps are passed on relative to it (float precision)
         self._reported = dict(self.bridge.counts)
 
         qos = data_qos(self)
@@ -102,13 +114,26 @@ class HapticBridgeNode(Node):
                 self.bridge.configure(**changes)
             except (TypeError, ValueError) as exc:
                 return SetParametersResult(successful=False, reason=str(exc))
+            if self._published_n is not None and self.bridge.command != self._published_n:
+                self._publish(self.bridge.command)  # a lower maximum clamps the command now, not at the next wrench
         return SetParametersResult(successful=True)
 
     def _on_wrench(self, msg: WrenchStamped):
-        self.bridge.step(time.monotonic(), msg.wrench.force.z)
+        now = time.monotonic()
+        stamp = msg.header.stamp
+        stamp_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
+        if stamp_ns == 0:
+            stamp_s = None
+        else:
+            if self._stamp0_ns is None:
+                self._stamp0_ns = stamp_ns
+            stamp_s = (stamp_ns - self._stamp0_ns) * 1e-9
+        self._publish(self.bridge.step(now, msg.wrench.force.z, stamp_s))
 
     def _on_timer(self):
-        self._publish(self.bridge.tick(time.monotonic()))
+        command = self.bridge.tick(time.monotonic())
+        if self.bridge.stale and command != self._published_n:  # the stale ramp, down to its last zero
+            self._publish(command)
 
     def _publish(self, force_n):
         msg = self._out
@@ -122,6 +147,7 @@ class HapticBridgeNode(Node):
             self._effort.data = device_vector(force_n, self.axis, self.size)
             self.effort_pub.publish(self._effort)
         self.node_counts["published"] += 1
+        self._published_n = force_n
 
     def _publish_diagnostics(self):
         counts = self.bridge.counts

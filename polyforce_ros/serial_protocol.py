@@ -458,15 +458,20 @@ class MessageDemux:
     inside a sample frame) becomes a message only with correct stuffing, a consistent length and
     its CRC; anything else passes through unchanged, so no sample frame is ever taken. Bytes from a
     candidate on are held back until it is complete or refuted (at most one message's length).
+    A 0xA5 that ends the data passes on at once (a sample frame may end with it) and is kept
+    for a sync cut between two reads; when it does start a message, the frame parser is left
+    with that single stray byte, which it skips without counting an error.
     """
 
     def __init__(self):
         self.buffer = bytearray()
         self.messages = 0  #: valid messages taken out
+        self._passed = 0   # bytes at the start of the buffer that were passed on already (0 or 1)
 
     def reset(self):
         """Forget partial data (after a reconnect)."""
         self.buffer.clear()
+        self._passed = 0
 
     def _parse(self, start: int):
         """At a candidate: (end, message) when valid, None when refuted, "more" when incomplete."""
@@ -494,28 +499,31 @@ class MessageDemux:
     def feed(self, data: bytes):
         """Append received bytes; return ``(bytes for FrameParser, messages found)``."""
         self.buffer += data
-        buf, passed, found, pos = self.buffer, bytearray(), [], 0
+        buf, passed, found = self.buffer, bytearray(), []
+        pos, search = self._passed, 0  # bytes before pos are passed on; candidates are sought from search
         while True:
-            start = buf.find(MSG_SYNC, pos)
+            start = buf.find(MSG_SYNC, search)
             if start < 0:
-                keep = len(buf) - 1 if buf.endswith(b"\xa5") else len(buf)  # a sync may be cut in two
-                passed += buf[pos:keep]
-                del buf[:keep]
+                passed += buf[pos:]
+                cut = buf.endswith(b"\xa5")  # a sync may be cut in two: keep its first byte, passed on
+                del buf[: len(buf) - 1 if cut else len(buf)]
+                self._passed = 1 if cut else 0
                 break
             result = self._parse(start)
             if result == "more":
                 passed += buf[pos:start]
                 del buf[:start]
+                self._passed = max(0, pos - start)
                 break
             if result is None:
                 passed += buf[pos:start + 1]  # not a message: its first byte belongs to the samples
-                pos = start + 1
+                pos = search = max(pos, start + 1)
                 continue
             end, message = result
             passed += buf[pos:start]
             found.append(message)
             self.messages += 1
-            pos = end
+            pos = search = end
         return bytes(passed), found
 
 

@@ -32,8 +32,10 @@ import pytest
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from sensor_msgs.msg import Temperature
 
 from conftest import REPO
+from polyforce_ros import contract
 from polyforce_ros.nodes.common import stamp_to_ns
 from polyforce_ros.nodes.driver_node import DriverNode
 from polyforce_ros.serial_protocol import (FRAME_SIZE, DeviceInfo, DeviceStatus, FrameParser, encode_frame,
@@ -372,8 +374,9 @@ class Listener(Node):
 
     def __init__(self, context, driver):
         super().__init__("fw_listener", namespace="/polyforce", context=context)
-        self.raw, self.diags = [], []
+        self.raw, self.diags, self.temps = [], [], []
         self.create_subscription(DiagnosticArray, "/diagnostics", self._diag, 100)
+        self.create_subscription(Temperature, contract.TEMPERATURE, self.temps.append, 100)
         publish = driver.pub_raw.publish
 
         def record(msg):
@@ -522,7 +525,8 @@ def live(tmp_path, build, device_args=(), **driver_params):
             node = h.add(DriverNode(context=h.context,
                                     parameter_overrides=[Parameter(k, value=v) for k, v in params.items()]))
             lis = h.add(Listener(h.context, node))
-            dev = VirtualDevice(build / "virtual_device_san", tmp_path, *device_args)
+            # the device's own volts_per_count (8 V / 2^23 = 2^-20) and rate agree with the driver's parameters
+            dev = VirtualDevice(build / "virtual_device_san", tmp_path, "--vref-uv", 8_000_000, "--gain", 1, *device_args)
             dev.expect(h, "pty ")
             assert h.spin_until(lambda: len(lis.raw) >= 200, 60.0), "no samples from the virtual device"
             yield h, node, lis, dev
@@ -624,6 +628,7 @@ def test_live_faults_are_counted_and_never_publish_a_corrupt_sample(build, tmp_p
         level, message, values = last_diag(lis)
         raw = list(lis.raw)
         lost_at_reset, jumps_at_reset = p.lost_frames - lost, p.seq_jumps - jumps
+        info_after_replug_and_reset = node.source.info
     dev.assert_clean_exit()
     valid, corrupt, events = dev.records()
     assert len(corrupt) == 1 and [e for e, _ in events if e in ("N", "unplug", "plug", "reset")] == [
@@ -640,6 +645,9 @@ def test_live_faults_are_counted_and_never_publish_a_corrupt_sample(build, tmp_p
         assert (lost_at_reset, jumps_at_reset) == (ahead - 1, 0)
     else:
         assert (lost_at_reset, jumps_at_reset) == (0, 1)
+    # the device said who it is again after the replug and after the reset (asked for at each connection)
+    assert info_after_replug_and_reset is not None and info_after_replug_and_reset.sensor_serial == "VIRTUAL-0001"
+    assert [e for e, _ in events].count("info") >= 3
     # never a corrupt sample: the published samples are the device's valid frames, in order
     idx = match_sent(published_counts(raw), valid)
     # and frames go missing only where the cable was out or while the reset re-anchored the stamps
@@ -666,6 +674,9 @@ def test_live_too_slow_device_or_link_warns(build, tmp_path):
         dev.command(h, "rate 500")
         assert h.spin_until(lambda: "frames/s, expected 1000" in last_diag(lis)[1], 30.0)
         assert last_diag(lis)[0] == DiagnosticStatus.WARN  # two consecutive windows below 950/s
+        # and the device itself says so: its info follows the rate change
+        assert "device converts at 500 Hz, expected_rate_hz is 1000" in last_diag(lis)[1]
+        assert last_diag(lis)[2]["device_rate_hz"] == "500"
         assert 400 < rate(lis) < 600 and node.parser.lost_frames == 0
         dev.command(h, "rate 1000")
         assert h.spin_until(lambda: last_diag(lis)[0] == DiagnosticStatus.OK, 30.0)
@@ -680,3 +691,50 @@ def test_live_too_slow_device_or_link_warns(build, tmp_path):
     valid, corrupt, _ = dev.records()
     match_sent(published_counts(raw), valid)  # still nothing but valid frames
     assert not corrupt
+
+
+def test_live_device_identity_status_and_temperature(build, tmp_path):
+    args = ["--serial", "PF-SN-77", "--board", "bench-1", "--temperature", 31.5, "--status-period", 0.3,
+            "--temp-period", 0.2]
+    with live(tmp_path, build, args, expected_rate_hz=1000.0) as (h, node, lis, dev):
+        assert h.spin_until(lambda: "sensor_serial" in last_diag(lis)[2] and "device_reset_reason" in last_diag(lis)[2],
+                            20.0)
+        level, message, values = last_diag(lis)
+        assert level == DiagnosticStatus.OK, message
+        assert values["sensor_serial"] == "PF-SN-77" and values["device_board"] == "bench-1"
+        assert values["device_firmware"] == "1.1.0" and values["device_protocol"] == "1"
+        assert values["device_adc"] == "virtual" and values["device_rate_hz"] == "1000"
+        assert values["device_gain"] == "1" and float(values["device_volts_per_count"]) == SCALE
+        assert values["device_reset_reason"] == "power_on" and values["device_watchdog_resets"] == "0"
+        assert dev.status(h)["requests"] >= 2  # the driver asked for info and status when it opened the port
+        # the ADC's temperature on `temperature`
+        assert h.spin_until(lambda: len(lis.temps) >= 2, 20.0)
+        assert {m.temperature for m in lis.temps} == {31.5} and lis.temps[-1].header.frame_id == node._frame
+        dev.command(h, "temp -12.25")
+        assert h.spin_until(lambda: lis.temps[-1].temperature == -12.25, 20.0)
+        # the firmware hangs and its watchdog resets it: reported, and a warning
+        dev.command(h, "watchdog")
+        assert h.spin_until(lambda: last_diag(lis)[2].get("device_reset_reason") == "watchdog", 20.0)
+        assert h.spin_until(lambda: "restarted by its watchdog" in last_diag(lis)[1], 20.0)
+        level, message, values = last_diag(lis)
+        assert level == DiagnosticStatus.WARN and values["device_watchdog_resets"] == "1"
+        n = len(lis.raw)
+        assert h.spin_until(lambda: len(lis.raw) >= n + 300, 20.0)  # samples flow again after the restart
+        crc_errors, raw = node.parser.crc_errors, list(lis.raw)
+    dev.assert_clean_exit()
+    valid, corrupt, events = dev.records()
+    names = [e for e, _ in events]
+    assert names.count("temperature") >= 5 and names.count("status") >= 5 and "watchdog" in names
+    # messages cost no sample and no CRC error: the published samples are the device's frames
+    assert crc_errors == 0 and not corrupt
+    match_sent(published_counts(raw), valid)
+
+
+def test_live_device_disagreeing_with_the_driver_parameters_warns(build, tmp_path):
+    # the device converts with 5 V / (128 2^23) per count; the driver is told 2^-20
+    with live(tmp_path, build, ["--vref-uv", 5_000_000, "--gain", 128], expected_rate_hz=1000.0) as (h, node, lis, dev):
+        assert h.spin_until(lambda: "device reports volts_per_count" in last_diag(lis)[1], 20.0)
+        level, message, values = last_diag(lis)
+        assert level == DiagnosticStatus.WARN and f"parameter is {SCALE!r}" in message
+        assert float(values["device_volts_per_count"]) == 5 / 2**30
+    dev.assert_clean_exit()

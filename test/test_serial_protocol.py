@@ -304,3 +304,20 @@ def test_a_later_layout_version_is_read_by_its_known_prefix_and_unknown_types_ar
     assert found == [STATUS, RawMessage(MSG_INFO, 1, INFO.payload()[:20]), RawMessage(0x42, 1, b"\xa5")]
     with pytest.raises(ValueError):
         encode_message(MSG_STATUS, bytes(MSG_PAYLOAD_MAX + 1))
+
+
+def test_a_sample_frame_ending_in_a5_is_not_held_back_and_a_cut_sync_still_finds_its_message():
+    frame = next(f for f in (encode_frame(s, 1000 * s, 7) for s in range(5000)) if f[-1] == 0xA5)
+    demux, parser = MessageDemux(), FrameParser()
+    passed, found = demux.feed(frame)
+    assert [f.counts for f in parser.feed(passed)] == [7] and found == []  # at once, not at the next read
+    # a message whose sync is cut between two reads: found, and the parser skips the A5 it was given
+    passed, found = demux.feed(GOLDEN_STATUS[:1])
+    assert found == [] and parser.feed(passed) == []
+    seq = _seq_of(frame) + 1
+    passed, found = demux.feed(GOLDEN_STATUS[1:] + encode_frame(seq, 9, 9))
+    assert found == [STATUS] and [f.counts for f in parser.feed(passed)] == [9] and parser.crc_errors == 0
+
+
+def _seq_of(frame):
+    return int.from_bytes(frame[2:4], "little")

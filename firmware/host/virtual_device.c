@@ -23,6 +23,18 @@
  *   --log FILE          one line per event (see below)
  *   --seed N            noise seed (default 1)
  *   --duration S        exit after S seconds (default 0 = run until "quit", EOF on stdin or SIGINT)
+ *   --serial TEXT       sensor serial number in the info message (default VIRTUAL-0001)
+ *   --board TEXT        board name in the info message (default virtual)
+ *   --vref-uv N         reference in the info message, uV (default 5000000)
+ *   --gain N            PGA gain in the info message (default 128): with 24 bits, volts_per_count =
+ *                       vref / (gain 2^23); 8000000 and 1 give 2^-20
+ *   --status-period S   a status message every S seconds (default 1; 0 = on request only)
+ *   --temp-period S     a temperature message every S seconds (default 1; 0 = none)
+ *   --temperature C     the simulated ADC temperature (default 25)
+ *
+ * Messages (info, status, temperature; polyforce_fw.h) go out between frames: info and status
+ * at every start (power-on, reset, watchdog reset) and after a rate change, status and
+ * temperature periodically, and info / status when the host writes 'I' / 'S' to the port.
  *
  * Commands on stdin, one per line; each is acknowledged with "ok <command>" on stdout:
  *   unplug        close the pty and remove the link (the USB cable is pulled)
@@ -30,6 +42,9 @@
  *   noise N       N bytes (1..1000) of line noise before the next frame
  *   dropbyte      the next frame loses one byte
  *   reset         device reset: sequence and clock restart at 0 (ring emptied)
+ *   watchdog      the firmware hangs; the watchdog resets the device (like reset, but reported
+ *                 with reset reason watchdog and one more watchdog reset)
+ *   temp C        the ADC's temperature becomes C degC
  *   rate HZ       change the conversion rate (e.g. a too slow ADC setting)
  *   baud N        change the wire rate limit (0 = none): a link too slow for the rate
  *   status        print counters
@@ -41,7 +56,8 @@
  *                                       host instant at which the device clock read t_us
  *   X seq t_us counts acq_ns write_ns   a frame written with a byte missing (must never be published)
  *   N nbytes write_ns                   line noise written
- *   E event write_ns                    unplug | plug | reset | rate HZ | baud N
+ *   M info|status|temperature write_ns  a message written
+ *   E event write_ns                    unplug | plug | reset | watchdog | rate HZ | baud N | temp C
  *
  * While nobody has the slave open, or while unplugged, frames are produced and
  * discarded (a USB device without a host), so a late reader gets no backlog.
@@ -70,7 +86,7 @@
 #define OUT_CAP 2048u
 #define NOISE_MAX 1000u
 
-enum out_kind { OUT_NONE, OUT_FRAME, OUT_CORRUPT, OUT_NOISE };
+enum out_kind { OUT_NONE, OUT_FRAME, OUT_CORRUPT, OUT_NOISE, OUT_MESSAGE };
 
 typedef struct {
     /* options */
@@ -85,6 +101,8 @@ typedef struct {
     FILE *log;
     uint64_t rng;
     double duration_s;
+    pfw_info_t info;
+    double status_period_s, temp_period_s, temperature_c;
 
     /* the pty */
     int master;
@@ -116,9 +134,18 @@ typedef struct {
     uint32_t noise_pending;
     int drop_pending;
     int reset_pending;
+    int watchdog_pending;
+
+    /* messages: pending ones go out at the next frame boundary */
+    int info_pending, status_pending, temp_pending;
+    const char *msg_name;
+    int64_t next_status_mono, next_temp_mono;
+    uint8_t reset_reason;
+    uint16_t watchdog_resets; /* survives a watchdog reset (like a no-init RAM word), not a power-on */
+    int64_t start_mono;       /* host instant of the last device start: uptime */
 
     /* counters */
-    uint64_t written_frames, discarded_frames, noise_bytes, dropped_bytes, resets;
+    uint64_t written_frames, discarded_frames, noise_bytes, dropped_bytes, resets, written_messages, requests;
 
     char cmd[512];
     size_t cmd_len;
@@ -200,6 +227,10 @@ static void start_device_clock(vdev_t *d, uint32_t us_start, uint16_t seq_start)
     d->fed_ticks = d->ticks;
     (void)pfw_pacer_init(&d->pacer, d->rate_hz, us_start);
     d->sample_index = 0u;
+    /* a starting firmware says who it is and why it started */
+    d->start_mono = now_ns(CLOCK_MONOTONIC);
+    d->info_pending = 1;
+    d->status_pending = 1;
 }
 
 /* ------------------------------------------------------------------ the pty */
@@ -337,6 +368,40 @@ static size_t make_noise(vdev_t *d, uint8_t *dst, size_t n)
 }
 
 /* ------------------------------------------------------------------ the writer */
+/* The firmware's health report as of now. */
+static pfw_status_t device_status(const vdev_t *d)
+{
+    pfw_status_t st;
+    st.t_us = d->clock.us;
+    st.reset_reason = d->reset_reason;
+    st.watchdog_resets = d->watchdog_resets;
+    st.overflows = d->ring.overflows;
+    st.adc_reconfigs = 0u; /* the simulated ADC never falls silent */
+    st.uptime_s = (uint32_t)((now_ns(CLOCK_MONOTONIC) - d->start_mono) / 1000000000);
+    return st;
+}
+
+/* One pending message into the output buffer: info first, then status, then temperature. */
+static void fill_message(vdev_t *d)
+{
+    if (d->info_pending) {
+        d->info.rate_hz = d->rate_hz;
+        d->out_len = pfw_encode_info(d->out, &d->info);
+        d->info_pending = 0;
+        d->msg_name = "info";
+    } else if (d->status_pending) {
+        const pfw_status_t st = device_status(d);
+        d->out_len = pfw_encode_status(d->out, &st);
+        d->status_pending = 0;
+        d->msg_name = "status";
+    } else {
+        d->out_len = pfw_encode_temperature(d->out, d->clock.us, (int16_t)lround(d->temperature_c * 32.0));
+        d->temp_pending = 0;
+        d->msg_name = "temperature";
+    }
+    d->kind = OUT_MESSAGE;
+}
+
 static void fill_out(vdev_t *d)
 {
     pfw_sample_t s;
@@ -349,6 +414,10 @@ static void fill_out(vdev_t *d)
         d->out_len = make_noise(d, d->out, d->noise_pending);
         d->noise_pending = 0u;
         d->kind = OUT_NOISE;
+        return;
+    }
+    if (d->info_pending || d->status_pending || d->temp_pending) {
+        fill_message(d);
         return;
     }
     if (!pfw_ring_pop(&d->ring, &s)) {
@@ -392,6 +461,10 @@ static void finish_out(vdev_t *d, int64_t write_rt)
     case OUT_NOISE:
         log_line(d, "N %zu %" PRId64 "\n", d->out_len, write_rt);
         d->noise_bytes += d->out_len;
+        break;
+    case OUT_MESSAGE:
+        log_line(d, "M %s %" PRId64 "\n", d->msg_name, write_rt);
+        d->written_messages++;
         break;
     case OUT_NONE:
     default:
@@ -489,9 +562,15 @@ static void do_command(vdev_t *d, char *line)
         d->drop_pending = 1;
     } else if (strcmp(word, "reset") == 0) {
         d->reset_pending = 1;
+    } else if (strcmp(word, "watchdog") == 0) {
+        d->reset_pending = 1;
+        d->watchdog_pending = 1;
+    } else if (strcmp(word, "temp") == 0 && nargs >= 1 && sscanf(line, "%*s %lf", &d->temperature_c) == 1) {
+        log_line(d, "E temp %.3f %" PRId64 "\n", d->temperature_c, rt);
     } else if (strcmp(word, "rate") == 0 && nargs == 2 && arg >= 1 && arg <= (long)PFW_MAX_RATE_HZ) {
         d->rate_hz = (uint32_t)arg;
         (void)pfw_pacer_init(&d->pacer, d->rate_hz, d->pacer.next_us);
+        d->info_pending = 1; /* the device's identity includes its rate */
         log_line(d, "E rate %ld %" PRId64 "\n", arg, rt);
     } else if (strcmp(word, "baud") == 0 && nargs == 2 && arg >= 0) {
         d->baud = (uint32_t)arg;
@@ -500,9 +579,10 @@ static void do_command(vdev_t *d, char *line)
     } else if (strcmp(word, "status") == 0) {
         say("status written=%" PRIu64 " discarded=%" PRIu64 " overflows=%" PRIu32 " queued=%" PRIu32
             " noise_bytes=%" PRIu64 " dropped_bytes=%" PRIu64 " resets=%" PRIu64 " next_seq=%u rate=%" PRIu32
-            " baud=%" PRIu32 "\n",
+            " baud=%" PRIu32 " messages=%" PRIu64 " requests=%" PRIu64 " watchdog_resets=%u\n",
             d->written_frames, d->discarded_frames, d->ring.overflows, pfw_ring_count(&d->ring), d->noise_bytes,
-            d->dropped_bytes, d->resets, (unsigned)d->ring.next_seq, d->rate_hz, d->baud);
+            d->dropped_bytes, d->resets, (unsigned)d->ring.next_seq, d->rate_hz, d->baud, d->written_messages,
+            d->requests, (unsigned)d->watchdog_resets);
     } else if (strcmp(word, "quit") == 0) {
         stop_requested = 1;
     } else {
@@ -510,6 +590,27 @@ static void do_command(vdev_t *d, char *line)
         return;
     }
     say("ok %s\n", line);
+}
+
+/* The host's requests on the link: 'I' for info, 'S' for status; other bytes are ignored. */
+static void read_requests(vdev_t *d)
+{
+    uint8_t buf[64];
+    ssize_t r;
+    ssize_t i;
+    if (d->master < 0) {
+        return;
+    }
+    r = read(d->master, buf, sizeof buf);
+    for (i = 0; i < r; ++i) {
+        if (buf[i] == PFW_REQUEST_INFO) {
+            d->info_pending = 1;
+            d->requests++;
+        } else if (buf[i] == PFW_REQUEST_STATUS) {
+            d->status_pending = 1;
+            d->requests++;
+        }
+    }
 }
 
 /* One read per wake-up, so that an endless input cannot starve the conversions. */
@@ -553,7 +654,9 @@ static void usage(void)
 {
     fprintf(stderr, "usage: virtual_device [--rate HZ] [--ppm PPM] [--link PATH] [--signal sine|step] [--amplitude N]\n"
                     "       [--offset N] [--freq HZ] [--seq0 N] [--t0-us N] [--baud N] [--log FILE] [--seed N]\n"
-                    "       [--duration S]    (commands on stdin: see the source header or firmware/README.md)\n");
+                    "       [--duration S] [--serial TEXT] [--board TEXT] [--vref-uv N] [--gain N]\n"
+                    "       [--status-period S] [--temp-period S] [--temperature C]\n"
+                    "       (commands on stdin: see the source header or firmware/README.md)\n");
     exit(2);
 }
 
@@ -564,6 +667,8 @@ int main(int argc, char **argv)
     int i;
     struct sigaction sa;
     int64_t end_mono = 0;
+    char serial[PFW_INFO_SERIAL_LEN + 1] = "VIRTUAL-0001";
+    char board[PFW_INFO_BOARD_LEN + 1] = "virtual";
 
     memset(d, 0, sizeof *d);
     d->rate_hz = 1000u;
@@ -572,6 +677,15 @@ int main(int argc, char **argv)
     d->freq = 1.7;
     d->rng = 1u;
     d->master = -1;
+    d->info.vref_uv = 5000000u;
+    d->info.gain = 128u;
+    d->info.adc_bits = 24u;
+    d->info.mains_filter = PFW_MAINS_OFF;
+    memcpy(d->info.adc, "virtual", 7u);
+    d->status_period_s = 1.0;
+    d->temp_period_s = 1.0;
+    d->temperature_c = 25.0;
+    d->reset_reason = PFW_RESET_POWER_ON;
     for (i = 1; i < argc; i += 2) { /* options come in pairs: --name value */
         const char *a = argv[i];
         const char *v = (i + 1 < argc) ? argv[i + 1] : NULL;
@@ -609,13 +723,29 @@ int main(int argc, char **argv)
             d->rng = strtoull(v, NULL, 0) | 1u;
         } else if (strcmp(a, "--duration") == 0) {
             d->duration_s = strtod(v, NULL);
+        } else if (strcmp(a, "--serial") == 0) {
+            snprintf(serial, sizeof serial, "%s", v);
+        } else if (strcmp(a, "--board") == 0) {
+            snprintf(board, sizeof board, "%s", v);
+        } else if (strcmp(a, "--vref-uv") == 0) {
+            d->info.vref_uv = (uint32_t)strtoul(v, NULL, 0);
+        } else if (strcmp(a, "--gain") == 0) {
+            d->info.gain = (uint16_t)strtoul(v, NULL, 0);
+        } else if (strcmp(a, "--status-period") == 0) {
+            d->status_period_s = strtod(v, NULL);
+        } else if (strcmp(a, "--temp-period") == 0) {
+            d->temp_period_s = strtod(v, NULL);
+        } else if (strcmp(a, "--temperature") == 0) {
+            d->temperature_c = strtod(v, NULL);
         } else {
             usage();
         }
     }
-    if (d->rate_hz == 0u || d->rate_hz > PFW_MAX_RATE_HZ || fabs(d->ppm) > 100000.0) {
+    if (d->rate_hz == 0u || d->rate_hz > PFW_MAX_RATE_HZ || fabs(d->ppm) > 100000.0 || d->info.gain == 0u) {
         usage();
     }
+    memcpy(d->info.serial, serial, strlen(serial)); /* a full field has no terminating NUL */
+    memcpy(d->info.board, board, strlen(board));
 
     memset(&sa, 0, sizeof sa);
     sa.sa_handler = on_signal;
@@ -636,6 +766,8 @@ int main(int argc, char **argv)
     if (d->duration_s > 0.0) {
         end_mono = d->mono0_ns + (int64_t)(d->duration_s * 1e9);
     }
+    d->next_status_mono = d->mono0_ns + (int64_t)(d->status_period_s * 1e9);
+    d->next_temp_mono = d->mono0_ns + (int64_t)(d->temp_period_s * 1e9);
     start_device_clock(d, d->t0_us, d->seq0);
     plug(d);
 
@@ -663,6 +795,15 @@ int main(int argc, char **argv)
             fprintf(stderr, "virtual_device: core clock disagrees with the tick count\n");
             abort();
         }
+        /* the firmware's periodic messages */
+        if (d->status_period_s > 0.0 && mono >= d->next_status_mono) {
+            d->status_pending = 1;
+            d->next_status_mono = mono + (int64_t)(d->status_period_s * 1e9);
+        }
+        if (d->temp_period_s > 0.0 && mono >= d->next_temp_mono) {
+            d->temp_pending = 1;
+            d->next_temp_mono = mono + (int64_t)(d->temp_period_s * 1e9);
+        }
         /* the "ADC interrupt": every conversion due so far, each drained at once so that a
            scheduling stall of this process does not overflow the ring by itself */
         held = 0;
@@ -672,7 +813,12 @@ int main(int argc, char **argv)
                 /* device reset (at a frame boundary): RAM is lost, clock and sequence restart at 0 */
                 d->reset_pending = 0;
                 d->resets++;
-                log_line(d, "E reset %" PRId64 "\n", now_ns(CLOCK_REALTIME));
+                d->reset_reason = d->watchdog_pending ? PFW_RESET_WATCHDOG : PFW_RESET_EXTERNAL;
+                if (d->watchdog_pending) {
+                    d->watchdog_resets++;
+                }
+                log_line(d, "E %s %" PRId64 "\n", d->watchdog_pending ? "watchdog" : "reset", now_ns(CLOCK_REALTIME));
+                d->watchdog_pending = 0;
                 start_device_clock(d, 0u, 0u);
                 now_us = pfw_clock_update(&d->clock, (uint32_t)d->ticks);
                 continue;
@@ -693,22 +839,33 @@ int main(int argc, char **argv)
         if (held && wake > mono + 500000) {
             wake = mono + 500000; /* baud-limited or full pty: check again in 0.5 ms */
         }
+        if (d->status_period_s > 0.0 && wake > d->next_status_mono) {
+            wake = d->next_status_mono;
+        }
+        if (d->temp_period_s > 0.0 && wake > d->next_temp_mono) {
+            wake = d->next_temp_mono;
+        }
         if (wake < mono) {
             wake = mono;
         }
         fds[0].fd = STDIN_FILENO;
         fds[0].events = POLLIN;
         fds[0].revents = 0;
-        if (held && d->baud == 0u && d->master >= 0) {
+        if (reader_present(d)) { /* with no reader the master reports POLLHUP at once: not polled then */
             fds[1].fd = d->master;
-            fds[1].events = POLLOUT;
+            fds[1].events = (short)(POLLIN | ((held && d->baud == 0u) ? POLLOUT : 0));
             fds[1].revents = 0;
             nfds = 2u;
         }
         timeout.tv_sec = (time_t)((wake - mono) / 1000000000);
         timeout.tv_nsec = (long)((wake - mono) % 1000000000);
-        if (ppoll(fds, nfds, &timeout, NULL) > 0 && (fds[0].revents & (POLLIN | POLLHUP)) != 0) {
-            read_commands(d);
+        if (ppoll(fds, nfds, &timeout, NULL) > 0) {
+            if ((fds[0].revents & (POLLIN | POLLHUP)) != 0) {
+                read_commands(d);
+            }
+            if (nfds == 2u && (fds[1].revents & POLLIN) != 0) {
+                read_requests(d);
+            }
         }
     }
     if (d->master >= 0) {

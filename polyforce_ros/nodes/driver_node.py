@@ -18,6 +18,13 @@ Backends
   of ``expected_rate_hz`` in two consecutive windows of ``rate_window_s`` (a
   device or link too slow for its rate; one window alone may just hold a host
   stall; 0 turns the check off). Reference firmware: ``firmware/``.
+  The device's messages (:class:`~polyforce_ros.serial_protocol.MessageDemux`) are
+  asked for on every connection: its info (firmware, board, ADC, rate, gain,
+  volts_per_count, sensor serial) and status (reset reason, watchdog resets,
+  overflows, ADC reconfigurations) appear in diagnostics, which WARN when the
+  device's volts_per_count or rate disagree with the parameters, or when it was
+  restarted by its watchdog or had to configure its ADC again. Its ADC temperature
+  is published on ``temperature`` (sensor_msgs/Temperature, degC, stamped at arrival).
 """
 from __future__ import annotations
 
@@ -33,6 +40,7 @@ from std_srvs.srv import Trigger
 
 from ..model_file import default_model_path, load_model
 from ..runtime.sources import SerialSource, SimulatedSource
+from ..serial_protocol import REQUEST_INFO, REQUEST_STATUS
 from ..sim import profiles
 from ..sim.sensor import BridgeSimulator
 from .. import contract
@@ -195,6 +203,8 @@ class _DriverLogic(PolyforceNode):
         self._last_error = "not opened yet"
         self._rate_window = None  # (start ns, parser.frames, outages) of the window being counted
         self._window_rates = deque(maxlen=2)  # frames/s of the last two completed windows
+        self.pub_temp = self._make_publisher(Temperature, contract.Rel.TEMPERATURE, 10)  # the ADC's own sensor
+        self._known_info = None  # the device info last logged
         self._open_port()
         self._entities += [self.create_timer(self._param("publish_period_s"), self._serial_tick),
                            self.create_timer(self._param("reconnect_period_s"), self._reconnect)]
@@ -211,7 +221,17 @@ class _DriverLogic(PolyforceNode):
         self.source.reset()
         self.connected = True
         self.get_logger().info(f"serial port {self._param('port')} open")
+        self._request_identity()
         return True
+
+    def _request_identity(self):
+        """Asks the device for its info and status (a device that knows no messages ignores the bytes)."""
+        import serial
+
+        try:
+            self.port.write(REQUEST_INFO + REQUEST_STATUS)
+        except (serial.SerialException, OSError, TypeError) as exc:
+            self.get_logger().warning(f"cannot ask the device who it is: {exc}")
 
     def _reconnect(self):
         if not self.connected and self._open_port():
@@ -242,6 +262,27 @@ class _DriverLogic(PolyforceNode):
         for stamp, volts in self.source.feed(data, self.get_clock().now().nanoseconds):
             self.pub_raw.publish(self._raw_message(stamp, volts))
             self.published += 1
+        self._publish_device_messages()
+
+    def _publish_device_messages(self):
+        """Logs a new device identity; publishes the device's temperatures."""
+        info = self.source.info
+        if info is not None and info != self._known_info:
+            previous, self._known_info = self._known_info, info
+            self.get_logger().info(
+                f"device: firmware {info.firmware} (protocol {info.protocol}) on {info.board}, ADC {info.adc}, "
+                f"{info.rate_hz} Hz, gain {info.gain}, volts_per_count {info.volts_per_count!r}, "
+                f"sensor serial {info.sensor_serial!r}")
+            if previous is not None and previous.sensor_serial != info.sensor_serial:
+                self.get_logger().warning(
+                    f"sensor serial changed from {previous.sensor_serial!r} to {info.sensor_serial!r}: a model "
+                    "calibrated on the former does not describe the latter")
+        for arrival_ns, reading in self.source.take_temperatures():
+            # variance: the ADS1220 sensor's typical accuracy, +-0.5 degC, taken as one sigma
+            msg = Temperature(temperature=reading.celsius, variance=0.25)
+            ns_to_stamp(arrival_ns, msg.header.stamp)
+            msg.header.frame_id = self._frame
+            self.pub_temp.publish(msg)
 
     # ------------------------------------------------------------------ diagnostics
     def _count_rate_window(self):
@@ -283,6 +324,7 @@ class _DriverLogic(PolyforceNode):
                 problems.append("duplicate or late frames or sequence jumps seen")
             if expected > 0 and len(rates) == 2 and max(rates) < RATE_WARN_FRACTION * expected:
                 problems.append(f"receiving {rate:.0f} frames/s, expected {expected:g} (device or link too slow)")
+            self._device_diagnostics(values, problems)
             if not self.connected:
                 level, message = ERROR, f"serial device unavailable: {self._last_error}"
             elif problems:
@@ -290,6 +332,25 @@ class _DriverLogic(PolyforceNode):
             else:
                 level, message = OK, "connected"
         return self.diag.publish(level, message, values)
+
+    def _device_diagnostics(self, values, problems):
+        """The device's own info and status into ``values``; disagreements and faults into ``problems``."""
+        info, status = self.source.info, self.source.status
+        if info is None:
+            values["device_info"] = "not received (asked for at connection; firmware without messages sends none)"
+        else:
+            values.update(info.values())
+            vpc, expected = self._param("volts_per_count"), self._param("expected_rate_hz")
+            if abs(info.volts_per_count - vpc) > 1e-6 * abs(vpc):
+                problems.append(f"device reports volts_per_count {info.volts_per_count!r}, parameter is {vpc!r}")
+            if expected > 0 and abs(info.rate_hz - expected) > 0.005 * expected:
+                problems.append(f"device converts at {info.rate_hz} Hz, expected_rate_hz is {expected:g}")
+        if status is not None:
+            values.update(status.values())
+            if status.reset_reason_name == "watchdog":
+                problems.append(f"device restarted by its watchdog ({status.watchdog_resets} watchdog resets)")
+            if status.adc_reconfigs:
+                problems.append(f"device configured its ADC again {status.adc_reconfigs} times (DRDY fell silent)")
 
     def _close_port(self) -> None:
         if getattr(self, "port", None) is not None:
@@ -327,6 +388,7 @@ class DriverLifecycleNode(ManagedNode, _DriverLogic, LifecycleNode):
         elif self.port is not None:
             self.port.reset_input_buffer()  # what waited while inactive is not this session's data
             self.source.reset()
+            self._request_identity()
         self._active = True
         return super().on_activate(state)
 

@@ -19,6 +19,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..serial_protocol import DeviceClock, FrameParser
+from ..serial_protocol import DeviceInfo, DeviceStatus, DeviceTemperature, MessageDemux
 
 __all__ = ["SimBlock", "SimulatedSource", "SerialSource", "SIM_BLOCK", "MAX_BURST"]
 
@@ -122,17 +123,27 @@ class SerialSource:
     Volts = counts x ``volts_per_count`` + ``volts_offset``. Corrupt, duplicate and late
     frames (``parser``) and implausible device times (``clock``) are counted there and
     give no sample; lost frames and sequence jumps are counted in ``parser``.
+
+    The device's messages are taken out of the stream first (``demux``): the latest info
+    (``info``) and status (``status``) are kept, temperatures wait in ``temperatures`` as
+    ``(arrival_ns, DeviceTemperature)`` until :meth:`take_temperatures`.
     """
 
     def __init__(self, volts_per_count: float, volts_offset: float = 0.0) -> None:
         self.volts_per_count, self.volts_offset = float(volts_per_count), float(volts_offset)
         self.parser = FrameParser()
         self.clock = DeviceClock()
+        self.demux = MessageDemux()
+        self.info: Optional[DeviceInfo] = None
+        self.status: Optional[DeviceStatus] = None
+        self.temperatures: list = []
 
     def reset(self) -> None:
         """A new connection: resynchronise on the sync word and re-learn the device clock."""
         self.parser.reset()
         self.clock.reset()
+        self.demux.reset()
+        self.info = self.status = None  # a new connection may be another device: it says who it is again
 
     def feed(self, data: bytes, arrival_ns: int) -> list:
         """Samples of the complete, valid frames in ``data`` (received at ``arrival_ns``).
@@ -140,8 +151,26 @@ class SerialSource:
         The frames of one call are stamped together (:meth:`DeviceClock.stamp_batch`): each keeps its
         own device-time stamp, however many arrive at once (a backlog after a (re)connect or a stall).
         """
+        data = self._take_messages(data, arrival_ns)
         frames = self.parser.feed(data)
         stamps = self.clock.stamp_batch([frame.t_us for frame in frames], arrival_ns)
         # an implausible device time (stamp None) gives no sample with a made-up stamp
         return [(stamp, frame.counts * self.volts_per_count + self.volts_offset)
                 for frame, stamp in zip(frames, stamps) if stamp is not None]
+
+    def _take_messages(self, data: bytes, arrival_ns: int) -> bytes:
+        """Keeps the messages in ``data``; returns the bytes left for the frame parser."""
+        data, messages = self.demux.feed(data)
+        for message in messages:
+            if isinstance(message, DeviceInfo):
+                self.info = message
+            elif isinstance(message, DeviceStatus):
+                self.status = message
+            elif isinstance(message, DeviceTemperature):
+                self.temperatures.append((arrival_ns, message))
+        return data
+
+    def take_temperatures(self) -> list:
+        """The temperatures received since the last call, as ``(arrival_ns, DeviceTemperature)``."""
+        out, self.temperatures = self.temperatures, []
+        return out

@@ -164,6 +164,18 @@ def cmd_diagnose(args) -> int:
           f"noise floor {diag.noise_floor_v:.3e} V")
     if diag.unexplained["present"]:
         print(f"unexplained: structured residual {diag.unexplained['rms_v']:.3e} V that no catalogue effect describes")
+    for label, key in (("base model", "base"), ("saved model", "saved")):
+        q = diag.newtons[key]
+        print(f"compensated force, left-out blocks, {label}: RMSE {q['rmse_n']:.4f} N "
+              f"({q['rmse_percent_full_scale']:.2f} % FS), largest error {q['max_error_n']:.4f} N "
+              f"({q['max_error_percent_full_scale']:.2f} % FS), R2 {q['r2']:.4f}; noise gain "
+              f"{q['noise_gain_n_per_v']:.3g} N/V at {q['noise_gain']['rate_hz']:g} Hz")
+    if diag.newtons.get("lag_bandwidth"):
+        bw = diag.newtons["lag_bandwidth"]
+        print(f"sensor lag inverted with a bandwidth: filter {bw['filter_factor']:g} x tau, "
+              f"added delay {1e3 * bw['added_delay_s']:.1f} ms")
+    if diag.newtons.get("rejected"):
+        print(f"not saved: {', '.join(diag.newtons['rejected']['effects'])} compensate the force worse than the base")
     for line in diag.evidence:
         print(f"  - {line}")
     if args.save_model:
@@ -257,7 +269,12 @@ def build_parser():
                     "its variant and confidence = share of cross-validation folds it improves), rmse_before/rmse_after (out of "
                     "sample, V), noise_floor_v (estimated from the data), unexplained {present, rms_v, noise_floor_v, "
                     "where}, skipped (e.g. thermal_drift without a temperature topic), candidates, evidence, coefficients "
-                    "(each with a block-jackknife standard_error over the folds), model.\n"
+                    "(each with a block-jackknife standard_error over the folds), model, newtons {base, saved: the "
+                    "compensated force of the left-out blocks against the reference (rmse_n, max_error_n, their % of "
+                    "full scale, r2) and the inverse's white-noise gain (noise_gain_n_per_v, its frequency response); "
+                    "lag_bandwidth: the filter time and added delay of a sensor lag's inverse; rejected: effects not "
+                    "saved because they compensate the force worse than the base}. The saved model's provenance "
+                    "carries the same figures.\n"
                     f"Effects of the catalogue: {', '.join(EFFECT_NAMES)}.")
     dg.add_argument("bag", help="bench bag: bridge_voltage, reference_force, optional temperature")
     dg.add_argument("--base", required=True, choices=list(MODEL_TYPES), help="the core model to start from")

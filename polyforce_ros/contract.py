@@ -7,7 +7,8 @@ spells a topic, a type or a default frame. ROS-free (type names are strings;
 from __future__ import annotations
 
 __all__ = [
-    "NAMESPACE", "Rel", "RECORDED", "JOINT_STATE", "WRENCH_STAMPED", "TEMPERATURE_MSG", "FLOAT64", "HEADER", "TOPICS", "full_name",
+    "NAMESPACE", "Rel", "RECORDED", "JOINT_STATE", "WRENCH_STAMPED", "TEMPERATURE_MSG", "FLOAT64", "HEADER",
+    "TOPICS", "full_name",
     "BRIDGE_VOLTAGE", "BRIDGE_VOLTAGE_SCALAR", "REFERENCE_FORCE", "WRENCH", "TEMPERATURE", "CONTRACT",
     "SCALAR_FIELD", "FRAME_ID", "JOINT_NAME", "QOS_RELIABLE", "QOS_DEPTH", "DIAGNOSTICS",
 ]

@@ -40,12 +40,14 @@ LAYERS = {
     "ros": ["test_teleop_files.py", "test_compensation_node.py", "test_contract.py", "test_driver_node.py",
             "test_live_attacks.py", "test_param_files.py", "test_replay.py", "test_haptic_bridge.py", "test_lifecycle.py"],
     "process": ["test_bad_input.py", "test_calibration.py", "test_cli_demo.py", "test_discrepancy.py",
-                "test_discrepancy_elements.py", "test_discrepancy_pipeline.py", "test_evaluate.py", "test_node_processes.py",
+                "test_discrepancy_elements.py", "test_discrepancy_pipeline.py",
+                "test_discrepancy_newtons.py", "test_evaluate.py", "test_node_processes.py",
                 "test_package_build.py", "test_ros_free_physics.py", "test_bag_fuzz.py", "test_bringup.py", "test_firmware.py",
                 "test_static.py", "test_cdr.py", "test_bag_conventions.py"],
     "netns": ["test_two_namespaces.py"],
 }
-SLOW = {"test_discrepancy.py", "test_discrepancy_pipeline.py", "test_evaluate.py", "test_package_build.py",
+SLOW = {"test_discrepancy.py", "test_discrepancy_pipeline.py", "test_discrepancy_newtons.py",
+        "test_evaluate.py", "test_package_build.py",
         "test_two_namespaces.py", "test_cli_demo.py", "test_bringup.py", "test_firmware.py"}
 _LAYER_OF = {name: layer for layer, names in LAYERS.items() for name in names}
 import subprocess  # noqa: E402

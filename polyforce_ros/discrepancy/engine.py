@@ -71,6 +71,7 @@ from ..physics.identification import block_average
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, simulate_deformation
 from ..record import Record  # noqa: F401 - the record type diagnose takes (re-exported)
 from .effects import EFFECTS as REGISTRY, NAMES, PLAY_RIDGE, lag_columns, lag_stages, variant_group
+from .newtons import fold_chains, force_quality, with_filter, with_safe_bandwidth
 
 EFFECTS = NAMES
 BASES = tuple(MODEL_TYPES)  # every core type the fitting stack knows
@@ -428,6 +429,9 @@ class Diagnosis:
     blocks_per_fold: int = BLOCKS_PER_FOLD
     variants: dict = field(default_factory=dict)
     coefficients: dict = field(default_factory=dict)  # the final fit's, with block-jackknife standard errors
+    newtons: dict = field(default_factory=dict)       # compensated force of the base and the saved model (newtons.py)
+    compensated_before_n: np.ndarray = field(repr=False, default=None)  # the base's, each block left out (N)
+    compensated_after_n: np.ndarray = field(repr=False, default=None)   # the saved model's (N)
 
     @property
     def missing_effect(self):
@@ -454,6 +458,7 @@ class Diagnosis:
             "evidence": self.evidence,
             "candidates": [c.summary() for c in self.candidates],
             "coefficients": self.coefficients,
+            "newtons": self.newtons,
             "model": model_to_mapping(SensorModel(self.chain)),
             "localisation": {k: v for k, v in self.localisation.items() if k != "masks"},
         }
@@ -863,7 +868,13 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                     for c in candidates:
                         if c.effect == name and c.accepted:
                             c.accepted = False
+                    # the model kept is the one the drop was judged on, unless its refit predicts the left-out
+                    # blocks better: a refit that moves the reference core can lose what the others explained,
+                    # and every later check is judged against this model
+                    judged_sig = fitter.sig
                     current = _refine(fitter, fit.structure, rounds=1)
+                    if current.cv_mse > fit.cv_mse:
+                        fitter.sig, current = judged_sig, fit
                 else:
                     confidences[name] = float(np.mean(current.sse_folds < fit.sse_folds))
             to_check = list(accepted) if dropped else []
@@ -948,13 +959,45 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
         present = bool(p_value < 1e-3 and structured >= unexplained_ratio * floor)
     chain = build_chain(current.structure, current.coef_map, sig)
     base_chain = build_chain(base_fit.structure, base_fit.coef_map, sig)
+    # 6. judged in newtons: the saved model compensates the left-out blocks at least as well as the base, with a
+    # bounded inverse; otherwise its effects are partial fits (they predict the voltage but not the force)
+    say("judge in newtons")
+    rec_temp = temp_full if has_temp else None
+    fold_rec = fitter.fold[bin_of_sample]
+    from ..runtime import CompensatorConfig
+
+    chain, bandwidth = with_safe_bandwidth(chain, t, rec.voltage_v, rec.force_n, rec_temp,
+                                           rates_hz=(CompensatorConfig.noise_gain_rate_hz,))
+    factor = bandwidth.get("filter_factor", 0.0)
+    base_q = force_quality(fold_chains(lambda m: build_chain(base_fit.structure, m, sig), base_fit.names,
+                                       base_fit.coef_folds), fold_rec, t, rec.voltage_v, rec.force_n, rec_temp,
+                           noise_chain=base_chain)
+    saved_q = base_q
+    if accepted:
+        saved_q = force_quality(fold_chains(lambda m: build_chain(current.structure, m, sig), current.names,
+                                            current.coef_folds, lambda c: with_filter(c, factor)),
+                                fold_rec, t, rec.voltage_v, rec.force_n, rec_temp, noise_chain=chain)
+    forces_n = (base_q.force_n, saved_q.force_n)
+    newtons = {"base": base_q.to_dict(), "saved": saved_q.to_dict(), "lag_bandwidth": bandwidth,
+               "validation": "each left-out block compensated by the model fitted without it"}
+    if accepted and not saved_q.rmse_n <= base_q.rmse_n:
+        say("worse in newtons: effects not saved")
+        partial = partial + [e for e in accepted if e not in partial]
+        newtons["rejected"] = {"effects": list(accepted), "saved_rmse_n": saved_q.rmse_n, "base_rmse_n": base_q.rmse_n}
+        newtons["saved"] = base_q.to_dict()
+        forces_n = (base_q.force_n, base_q.force_n)
+        accepted, confidences, variants = [], {}, {}
+        for c in candidates:
+            c.accepted = False
+        chain, present = base_chain, True
     loc = localise(rec, rec.voltage_v - sim_after if accepted else rec.voltage_v - sim_before)
     where = _where(loc)
     unexplained = {"present": present, "rms_v": structured, "noise_floor_v": floor, "ljung_box_q": q,
                    "ljung_box_p": p_value, "where": where if present else None, "partial_fits": partial,
                    "explained_share": float(explained)}
     diag = Diagnosis(base, accepted, confidences, rmse_before, rmse_after, floor, unexplained, candidates, skipped, [],
-                     chain, base_chain, sim_before, sim_after, loc, n_folds, blocks_per_fold, variants, current.coefficients())
+                     chain, base_chain, sim_before, sim_after, loc, n_folds, blocks_per_fold, variants, current.coefficients(),
+                     newtons, *forces_n)
     diag.evidence = describe(loc, diag)
     return diag
 

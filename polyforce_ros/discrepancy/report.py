@@ -74,6 +74,21 @@ def write_report(diag, rec, out_dir, bag_name=""):
     fig.savefig(out / "figures" / "localisation.png", dpi=100)
     plt.close(fig)
 
+    base_q, saved_q = diag.newtons["base"], diag.newtons["saved"]
+    fig, ax = plt.subplots(2, 1, figsize=(11, 6), sharex=True)
+    ax[0].plot(t, diag.compensated_before_n - rec.force_n, "r", lw=0.6,
+               label=f"base {diag.base} (RMSE {base_q['rmse_n']:.3f} N, R2 {base_q['r2']:.4f})")
+    ax[0].plot(t, diag.compensated_after_n - rec.force_n, "b", lw=0.6,
+               label=f"saved model (RMSE {saved_q['rmse_n']:.3f} N, R2 {saved_q['r2']:.4f})")
+    ax[0].set(ylabel="compensated - reference [N]",
+              title="Force error at the haptic master (each block compensated by the model fitted without it)")
+    ax[0].legend(fontsize=8)
+    ax[1].plot(t, rec.force_n, "g", lw=0.8)
+    ax[1].set(xlabel="time [s]", ylabel="reference force [N]")
+    fig.tight_layout()
+    fig.savefig(out / "figures" / "force_error.png", dpi=100)
+    plt.close(fig)
+
     data = diag.to_json()
     u = diag.unexplained
     named = ", ".join(f"`{e}` (confidence {diag.confidences[e]:.0%})" for e in diag.missing_effects)
@@ -86,6 +101,20 @@ def write_report(diag, rec, out_dir, bag_name=""):
         lines += [f"**Unexplained:** a structured residual of {u['rms_v']:.3e} V remains "
                   f"(Ljung-Box p = {u['ljung_box_p']:.1e}), {u['rms_v'] / max(u['noise_floor_v'], 1e-300):.1f}x the noise "
                   f"floor; no effect of the catalogue describes it. Where: {u['where']}.", ""]
+    lines += ["## Compensated force (what the haptic master receives)", "",
+              "| model | RMSE [N] | RMSE [% FS] | largest error [N] | largest [% FS] | R2 | noise gain [N/V] |",
+              "|---|---|---|---|---|---|---|"]
+    for label, q in (("base", base_q), ("saved", saved_q)):
+        lines.append(f"| {label} | {q['rmse_n']:.4f} | {q['rmse_percent_full_scale']:.2f} | {q['max_error_n']:.4f} | "
+                     f"{q['max_error_percent_full_scale']:.2f} | {q['r2']:.4f} | {q['noise_gain_n_per_v']:.3g} |")
+    if diag.newtons.get("lag_bandwidth"):
+        bw = diag.newtons["lag_bandwidth"]
+        lines += ["", f"The sensor lag is inverted with a bandwidth: filter time {bw['filter_factor']:g} x its time "
+                      f"constant, added delay {1e3 * bw['added_delay_s']:.1f} ms."]
+    if diag.newtons.get("rejected"):
+        lines += ["", f"Not saved: {', '.join(diag.newtons['rejected']['effects'])} (they compensate the force worse "
+                      "than the base)."]
+    lines += ["", "![force error](figures/force_error.png)", ""]
     for name, why in diag.skipped.items():
         lines.append(f"- `{name}` not tested: {why}")
     lines += ["", "## Evidence", ""]
@@ -120,6 +149,9 @@ def run(bag, base, json_path=None, report_dir=None, save_model_path=None, progre
                       "confidence": {k: float(v) for k, v in diag.confidences.items()},
                       "rmse_before_v": diag.rmse_before, "rmse_after_v": diag.rmse_after,
                       "noise_floor_v": diag.noise_floor_v,
-                      "unexplained": {"present": bool(diag.unexplained["present"]), "rms_v": float(diag.unexplained["rms_v"])}}
+                      "unexplained": {"present": bool(diag.unexplained["present"]), "rms_v": float(diag.unexplained["rms_v"])},
+                      "compensated_force": {k: {m: v for m, v in diag.newtons[k].items() if m != "noise_gain"}
+                                            for k in ("base", "saved")},
+                      "noise_gain": diag.newtons["saved"]["noise_gain"]}
         save_model(save_model_path, SensorModel(diag.chain, provenance))
     return diag, data

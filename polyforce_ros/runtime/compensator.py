@@ -63,7 +63,8 @@ import numpy.typing as npt
 from ..physics.chain import ModelError, SensorChain
 from ..physics.noise_gain import NoiseGain, backward_noise_gain
 
-__all__ = ["CompensatorConfig", "SampleGate", "Compensator", "check_noise_gain", "GATE_COUNTERS", "COMPENSATOR_COUNTERS", "WARN_COUNTERS",
+__all__ = ["CompensatorConfig", "SampleGate", "Compensator", "check_noise_gain",
+           "GATE_COUNTERS", "COMPENSATOR_COUNTERS", "WARN_COUNTERS",
            "ACCEPT", "ACCEPT_FRESH"]
 
 #: :meth:`SampleGate.admit` results that use the sample (FRESH: the history restarts with it).

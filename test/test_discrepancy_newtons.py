@@ -1,0 +1,63 @@
+"""The discrepancy workflow judged in newtons: saved models compensate the force, with a bounded inverse.
+
+Records from outside the project (../shared/data/regressions) are regression tests, never a tuning set.
+"""
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from polyforce_ros.discrepancy.engine import diagnose
+from polyforce_ros.physics.chain import SensorLagElement
+from polyforce_ros.physics.metrics import error_summary
+from polyforce_ros.record import load_record
+from polyforce_ros.runtime import Compensator, CompensatorConfig
+from polyforce_ros.sim import profiles
+from polyforce_ros.sim.bench import bench_record
+
+REGRESSIONS = Path(__file__).resolve().parents[2] / "shared" / "data" / "regressions"
+
+
+@pytest.mark.skipif(not (REGRESSIONS / "hysteresis_dropped_by_backward_check.mcap").is_file(),
+                    reason="../shared/data/regressions is not beside this checkout")
+def test_a_hysteresis_found_first_is_kept_by_the_backward_check_and_compensates_better_in_newtons():
+    rec = load_record(REGRESSIONS / "hysteresis_dropped_by_backward_check.mcap")
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["hysteresis"], (diag.missing_effects, diag.unexplained)
+    base, saved = diag.newtons["base"], diag.newtons["saved"]
+    assert saved["rmse_n"] < base["rmse_n"] and saved["r2"] >= 0.99
+    assert saved["noise_gain_n_per_v"] <= CompensatorConfig.max_noise_gain
+    Compensator(diag.chain)  # the runtime's guard accepts what diagnose saves
+
+
+def _needle_record(truth, rate_hz, seed, noise_v=2e-3):
+    t, force = profiles.make_profile("needle_insertion", rate_hz=rate_hz, seed=seed)
+    volts = truth.forward(t, force) + np.random.default_rng(seed).normal(0.0, noise_v, t.size)
+    return t, force, volts
+
+
+@pytest.mark.parametrize("family, seed", [
+    ("first_order", 3),
+    # a first-order roll-off of each stage's inverse cannot hold both 0.02 N of output noise and R2 0.99 for a
+    # 2 x 30 ms pole pair on the needle's punctures (measured R2 0.9897): strict, so that a better filter shows
+    pytest.param("pole_pair", 5, marks=pytest.mark.xfail(strict=True, reason="first-order roll-off: R2 0.9897 < 0.99")),
+])
+def test_a_named_sensor_lag_is_saved_with_a_bounded_inverse_that_compensates_a_new_needle_record(family, seed):
+    rec, case = bench_record("sensor_lag", 0.5, rate_hz=1000.0, duration_s=240.0, seed=seed,
+                             families={"sensor_lag": family}, noise_std_v=2e-3)
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["sensor_lag"], diag.missing_effects
+    lags = [e for e in diag.chain.elements if isinstance(e, SensorLagElement)]
+    bandwidth = diag.newtons["lag_bandwidth"]
+    assert lags and bandwidth["within_max_noise_gain"]
+    assert all(e.noise_filter_tau_s == pytest.approx(bandwidth["filter_factor"] * e.tau_s) for e in lags)
+    assert diag.newtons["saved"]["rmse_n"] <= diag.newtons["base"]["rmse_n"]
+    # the runtime (max_noise_gain at 1 kHz) accepts it; a new needle record of the same sensor is compensated
+    comp = Compensator(diag.chain, CompensatorConfig(auto_tare=False))
+    t, force, volts = _needle_record(case.truth, 1000.0, seed + 100)
+    used, out = comp.run(np.round(t * 1e9).astype(np.int64), volts)
+    assert used.all()
+    summary = error_summary(force, out)
+    assert summary["r2"] >= 0.99, summary
+    rest = t < 0.9  # the needle profile rests for its first second
+    assert np.std(out[rest]) <= 0.02  # N rms of output noise at rest with 2 mV of bridge noise

@@ -38,8 +38,8 @@ from conftest import REPO
 from polyforce_ros import contract
 from polyforce_ros.nodes.common import stamp_to_ns
 from polyforce_ros.nodes.driver_node import DriverNode
-from polyforce_ros.serial_protocol import (FRAME_SIZE, DeviceInfo, DeviceStatus, FrameParser, encode_frame,
-                                           encode_info, encode_message, encode_status)
+from polyforce_ros.serial_protocol import (FRAME_SIZE, DeviceInfo, DeviceStatus, FrameParser, MessageDemux,
+                                           encode_frame, encode_info, encode_message, encode_status)
 from ros_harness import ros
 from test_serial_protocol import GOLDEN_INFO, GOLDEN_INFO_STUFFED, GOLDEN_STATUS, GOLDEN_TEMPERATURE
 
@@ -337,21 +337,30 @@ def test_arduino_sketch_on_host_stubs(build):
     burst = [rnd.randrange(2**24) for _ in range(256 + 5)]  # the ring holds 256: five conversions are refused
     script = [f"conv {w:06x}\nloop\n" for w in words] + [f"conv {w:06x}\n" for w in burst] + ["loop\n"]
     script += ["advance 200000\n", "loop\n", "conv 123456\n", "loop\n"]  # DRDY silent for 200 periods: watchdog
+    script += ["host 49 53 00\n", "loop\n"]  # the host asks for info and status (and sends a byte it ignores)
     micros0 = 2**32 - 20_000  # micros() wraps during setup
     out = run(build, "arduino_sim", micros0, stdin="".join(script)).splitlines()
     assert not [line for line in out if line.startswith("error")], out
     config = ["spi 06", "spi 43 3e c4 40 00", "spi 08"]  # RESET; WREG regs 0-3; START/SYNC
-    assert out[:5] == ["baud 921600", *config, "attach 2 falling"]
+    assert out[:6] == ["baud 921600", *config, "attach 2 falling", "watchdog 1000"]
+    assert "watchdog expired" not in out  # loop() stalled for 261 ms at most (the burst): less than the watchdog
     spi = [line for line in out if line.startswith("spi")]
     reads = [line for line in spi if line == "spi 00 00 00"]
     assert len(reads) == len(words) + len(burst) + 1  # every DRDY read 24 bits
     restart = spi.index("spi 06", 3)
     assert spi[restart:restart + 3] == config and spi[restart + 3] == "spi 00 00 00"
     isr = [int(line.split()[1]) for line in out if line.startswith("isr")]
-    stream = bytes.fromhex(out[-1].split()[1])
+    stream, messages = MessageDemux().feed(bytes.fromhex(out[-1].split()[1]))
     parser = FrameParser()
     frames = parser.feed(stream)
     assert len(stream) % FRAME_SIZE == 0 and parser.crc_errors == 0
+    # at start: who it is and why it started; on request: the same, with the ADC reconfiguration and overflows
+    info = DeviceInfo(rate_hz=1000, vref_uv=5_000_000, gain=128, adc_bits=24, mains_filter=0, adc="ADS1220",
+                      board="arduino", sensor_serial="unset")
+    assert [type(m) for m in messages] == [DeviceInfo, DeviceStatus, DeviceInfo, DeviceStatus]
+    assert messages[0] == messages[2] == info and info.volts_per_count == 5 / 2**30
+    assert (messages[1].reset_reason_name, messages[1].overflows, messages[1].adc_reconfigs) == ("power_on", 0, 0)
+    assert (messages[3].overflows, messages[3].adc_reconfigs, messages[3].watchdog_resets) == (5, 1, 0)
     sent = words + burst[:256] + [0x123456]
     assert [f.counts for f in frames] == [int.from_bytes(w.to_bytes(3, "big"), "big", signed=True) for w in sent]
     assert [f.seq for f in frames] == list(range(len(words) + 256)) + [len(words) + 256 + 5]
@@ -359,6 +368,22 @@ def test_arduino_sketch_on_host_stubs(build):
     stamped = isr[:len(words) + 256] + isr[-1:]
     assert [f.t_us for f in frames] == [(m - stamped[0] + frames[0].t_us) % 2**32 for m in stamped]
     assert frames[0].t_us < 20_000  # the device clock started at 0 in setup()
+
+
+@pytest.mark.skipif(CXX is None, reason="g++ is needed to compile the Arduino sketch for the PC")
+def test_arduino_sketch_watchdog_and_reset_reason(build):
+    script = ["conv 000001\n", "loop\n", "advance 200000\n", "loop\n",  # fed while healthy
+              "advance 1200000\n",  # loop() hangs (a stuck link write): not fed for 1.2 s
+              "reboot 4\n", "conv 000002\n", "loop\n",  # the watchdog reset: counted, survives the reset
+              "reboot 4\n", "loop\n", "reboot 2\n", "loop\n", "reboot 1\n", "loop\n"]  # again; reset pin; power-on
+    out = run(build, "arduino_sim", 0, stdin="".join(script)).splitlines()
+    assert not [line for line in out if line.startswith("error")], out
+    assert out.count("watchdog expired") == 1 and out.index("watchdog expired") > out.index("spi 00 00 00")
+    stream, messages = MessageDemux().feed(bytes.fromhex(out[-1].split()[1]))
+    statuses = [(m.reset_reason_name, m.watchdog_resets) for m in messages if isinstance(m, DeviceStatus)]
+    assert statuses == [("power_on", 0), ("watchdog", 1), ("watchdog", 2), ("external", 2), ("power_on", 0)]
+    # one frame per boot, each numbered 0 by its boot
+    assert [FrameParser().feed(stream[i:i + FRAME_SIZE])[0].counts for i in range(0, len(stream), FRAME_SIZE)] == [1, 2]
 
 
 # ---------------------------------------------------------------------------------------- live

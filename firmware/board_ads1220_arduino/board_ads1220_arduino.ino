@@ -6,7 +6,11 @@
  * the bridge excitation as its reference (ratiometric); its DRDY falling edge
  * interrupts; the interrupt stamps the conversion with the device clock, reads
  * the 24-bit result over SPI and records it in the ring; loop() pops frames and
- * writes them to the USB serial port. Wiring, driver parameters and the rate
+ * writes them to the USB serial port. Between frames loop() sends the messages of
+ * polyforce_fw.h: info at start and when the host writes 'I', status at start,
+ * every second and when the host writes 'S'. Where the board has a watchdog hook
+ * below (AVR), loop() feeds it only while conversions arrive, and the status
+ * reports why the board last started. Wiring, driver parameters and the rate
  * budget: firmware/README.md.
  *
  * Tested boards are none (no hardware in CI); the sketch is compiled and run on
@@ -42,11 +46,78 @@ static const uint8_t ADS_REG2 = 0x40;
 // Register 3: I1MUX = I2MUX = 000 (IDACs off), DRDYM = 0 (DRDY on its own pin), reserved 0
 static const uint8_t ADS_REG3 = 0x00;
 static const uint32_t ADS_RATE_HZ = 1000;  // must match REG1 (and the driver's expected_rate_hz)
+static const uint32_t ADS_VREF_UV = 5000000;  // the reference = bridge excitation (uV): reported in the info
+static const uint16_t ADS_GAIN = 128;         // must match REG0
 static const uint32_t ADS_SPI_HZ = 4000000;  // SCLK period 250 ns; the ADS1220 allows 150 ns
 // SPI mode 1 (CPOL = 0, CPHA = 1): the ADS1220 latches DIN on the falling SCLK edge
 static const SPISettings ADS_SPI(ADS_SPI_HZ, MSBFIRST, SPI_MODE1);
 // No DRDY for this many sample periods (ADC reset by a brown-out, a loose wire): configure it again.
 static const uint32_t WATCHDOG_PERIODS = 100;
+
+// ---------------------------------------------------------------- identity (info message)
+// The serial number of the sensor wired to this board: set it when flashing, so that the host can
+// tie a calibrated model to this sensor (arduino-cli compile --build-property
+// "compiler.cpp.extra_flags=-DSENSOR_SERIAL=\"PF-0042\"").
+#ifndef SENSOR_SERIAL
+#define SENSOR_SERIAL "unset"
+#endif
+#if defined(ARDUINO_SAMD_ZERO)
+#define BOARD_NAME "arduino-zero"
+#elif defined(ARDUINO_SAMD_MKRZERO) || defined(ARDUINO_SAMD_MKR1000) || defined(ARDUINO_SAMD_MKRWIFI1010)
+#define BOARD_NAME "arduino-mkr"
+#elif defined(ARDUINO_ARCH_RP2040)
+#define BOARD_NAME "rp2040"
+#elif defined(TEENSYDUINO)
+#define BOARD_NAME "teensy"
+#elif defined(ARDUINO_AVR_UNO) || defined(ARDUINO_AVR_NANO)
+#define BOARD_NAME "avr-uno-nano"
+#else
+#define BOARD_NAME "arduino"
+#endif
+static const uint32_t STATUS_PERIOD_US = 1000000;  // a status message every second
+
+// ---------------------------------------------------------------- MCU watchdog and reset reason
+// The watchdog is fed by loop() only while conversions arrive (or the ADC is being configured
+// again): a hang in the link write, a hard fault or a dead loop resets the board. Its period,
+// 1 s, is longer than the ring's 256 ms: a link that stalls for less costs frames (counted as
+// overflows), not a reset. Hooks exist for AVR (and for the PC stubs); on other cores there is
+// none yet and the reset reason is "unknown".
+static const unsigned WATCHDOG_MS = 1000;
+#if defined(__AVR__)
+#include <avr/wdt.h>
+static uint8_t g_mcusr __attribute__((section(".noinit")));  // MCUSR as the bootloader or reset left it
+static uint16_t g_wd_resets __attribute__((section(".noinit")));
+static uint16_t g_wd_magic __attribute__((section(".noinit")));
+static uint8_t board_reset_reason()
+{
+    g_mcusr = MCUSR;
+    MCUSR = 0;
+    if (g_mcusr & _BV(WDRF)) return PFW_RESET_WATCHDOG;
+    if (g_mcusr & _BV(BORF)) return PFW_RESET_BROWN_OUT;
+    if (g_mcusr & _BV(EXTRF)) return PFW_RESET_EXTERNAL;
+    if (g_mcusr & _BV(PORF)) return PFW_RESET_POWER_ON;
+    return PFW_RESET_UNKNOWN;  // optiboot clears MCUSR before the sketch runs
+}
+static uint16_t *board_watchdog_count() { return &g_wd_resets; }  // survives a reset, not a power-on
+static uint16_t *board_watchdog_magic() { return &g_wd_magic; }
+static void board_watchdog_begin() { wdt_enable(WDTO_1S); }
+static void board_watchdog_feed() { wdt_reset(); }
+#elif defined(POLYFORCE_HOST_STUB)
+static uint8_t board_reset_reason() { return stub_reset_reason(); }
+static uint16_t *board_watchdog_count() { return stub_noinit_u16(0); }
+static uint16_t *board_watchdog_magic() { return stub_noinit_u16(1); }
+static void board_watchdog_begin() { stub_watchdog_begin(WATCHDOG_MS); }
+static void board_watchdog_feed() { stub_watchdog_feed(); }
+#else
+static uint16_t g_wd_resets_none = 0;
+static uint16_t g_wd_magic_none = 0;
+static uint8_t board_reset_reason() { return PFW_RESET_UNKNOWN; }
+static uint16_t *board_watchdog_count() { return &g_wd_resets_none; }
+static uint16_t *board_watchdog_magic() { return &g_wd_magic_none; }
+static void board_watchdog_begin() {}
+static void board_watchdog_feed() {}
+#endif
+static const uint16_t WD_MAGIC = 0x5AFE;  // the no-init counter is valid only after this was written
 
 // ---------------------------------------------------------------- device clock source
 // Any free-running hardware counter works (pfw_clock_init takes its frequency and width).
@@ -62,6 +133,12 @@ static pfw_ring_t g_ring;                 // DRDY interrupt -> loop()
 static pfw_clock_t g_clock;               // updated by the interrupt, and by loop() with interrupts masked
 static volatile uint32_t g_last_drdy_us;  // device time of the last conversion (interrupt writes)
 static uint32_t g_period_us;
+static pfw_info_t g_info;
+static uint8_t g_reset_reason;
+static uint32_t g_adc_reconfigs;   // DRDY fell silent and the ADC was configured again
+static uint32_t g_start_us;        // device time at the end of setup()
+static uint32_t g_next_status_us;  // device time of the next periodic status
+static uint32_t g_uptime_s;        // whole seconds since setup(), counted from the periodic status
 
 static void ads_command(uint8_t cmd)
 {
@@ -88,6 +165,15 @@ static void ads_configure()
     ads_command(ADS_CMD_START);  // continuous mode: converts until the next RESET/POWERDOWN
 }
 
+// The device clock, read from loop() (the interrupt updates it too).
+static uint32_t clock_now_masked()
+{
+    noInterrupts();
+    const uint32_t now_us = pfw_clock_update(&g_clock, hw_ticks());
+    interrupts();
+    return now_us;
+}
+
 // DRDY falling edge: one conversion is ready. The producer side of the ring.
 static void on_drdy()
 {
@@ -104,8 +190,46 @@ static void on_drdy()
     g_last_drdy_us = t_us;
 }
 
+static void copy_text(char *dst, const char *src, size_t size)
+{
+    for (size_t i = 0; i < size && src[i] != '\0'; ++i) {
+        dst[i] = src[i];
+    }
+}
+
+static void send_info()
+{
+    uint8_t msg[PFW_MSG_MAX_SIZE];
+    LINK.write(msg, pfw_encode_info(msg, &g_info));
+}
+
+static void send_status(uint32_t now_us)
+{
+    uint8_t msg[PFW_MSG_MAX_SIZE];
+    pfw_status_t st;
+    st.t_us = now_us;
+    st.reset_reason = g_reset_reason;
+    st.watchdog_resets = *board_watchdog_count();
+    noInterrupts();  // a 32-bit load is not atomic on AVR
+    st.overflows = g_ring.overflows;
+    interrupts();
+    st.adc_reconfigs = g_adc_reconfigs;
+    st.uptime_s = g_uptime_s;
+    LINK.write(msg, pfw_encode_status(msg, &st));
+}
+
 void setup()
 {
+    g_adc_reconfigs = 0;
+    g_uptime_s = 0;
+    g_reset_reason = board_reset_reason();
+    if (*board_watchdog_magic() != WD_MAGIC || g_reset_reason == PFW_RESET_POWER_ON) {
+        *board_watchdog_magic() = WD_MAGIC;  // RAM content is random after power-on
+        *board_watchdog_count() = 0;
+    }
+    if (g_reset_reason == PFW_RESET_WATCHDOG) {
+        *board_watchdog_count() = (uint16_t)(*board_watchdog_count() + 1);
+    }
     LINK.begin(LINK_BAUD);
     pinMode(PIN_ADS_CS, OUTPUT);
     digitalWrite(PIN_ADS_CS, HIGH);
@@ -118,9 +242,23 @@ void setup()
     (void)pfw_clock_init(&g_clock, HW_TICK_HZ, HW_TICK_BITS, hw_ticks(), 0);  // device clock starts at 0
     g_last_drdy_us = 0;
 
+    g_info.rate_hz = ADS_RATE_HZ;
+    g_info.vref_uv = ADS_VREF_UV;
+    g_info.gain = ADS_GAIN;
+    g_info.adc_bits = 24;
+    g_info.mains_filter = PFW_MAINS_OFF;  // REG2 bits 5:4 = 00
+    copy_text(g_info.adc, "ADS1220", sizeof g_info.adc);
+    copy_text(g_info.board, BOARD_NAME, sizeof g_info.board);
+    copy_text(g_info.serial, SENSOR_SERIAL, sizeof g_info.serial);
+
     SPI.usingInterrupt(digitalPinToInterrupt(PIN_ADS_DRDY));  // our own transactions mask DRDY
     ads_configure();
     attachInterrupt(digitalPinToInterrupt(PIN_ADS_DRDY), on_drdy, FALLING);
+    send_info();  // who this is, and why it started
+    g_start_us = pfw_clock_update(&g_clock, hw_ticks());
+    send_status(g_start_us);
+    g_next_status_us = g_start_us + STATUS_PERIOD_US;
+    board_watchdog_begin();
 }
 
 // The consumer side: frames out, as fast as the link takes them.
@@ -131,6 +269,14 @@ void loop()
     while (pfw_ring_pop_frame(&g_ring, frame)) {
         LINK.write(frame, PFW_FRAME_SIZE);  // blocks while the link is busy; the ring absorbs it
     }
+    while (LINK.available() > 0) {  // the host's requests
+        const int request = LINK.read();
+        if (request == (int)PFW_REQUEST_INFO) {
+            send_info();
+        } else if (request == (int)PFW_REQUEST_STATUS) {
+            send_status(clock_now_masked());
+        }
+    }
     // Keep the clock fed even without conversions (a 16-bit tick source must not miss a wrap),
     // and restart the ADC when DRDY has stopped.
     noInterrupts();
@@ -139,8 +285,16 @@ void loop()
     interrupts();
     if (pfw_time_diff_us(now_us, last_us) > (int32_t)(WATCHDOG_PERIODS * g_period_us)) {
         ads_configure();
+        g_adc_reconfigs++;
         noInterrupts();
         g_last_drdy_us = now_us;
         interrupts();
+    } else {
+        board_watchdog_feed();  // conversions arrive (or the ADC was just configured again): healthy
+    }
+    if (pfw_time_diff_us(now_us, g_next_status_us) >= 0) {
+        g_next_status_us += STATUS_PERIOD_US;
+        g_uptime_s++;
+        send_status(now_us);
     }
 }

@@ -7,8 +7,12 @@
  *   conv HEX6     one period (1000 us) passes, the ADC has the 24-bit word HEX6 ready: DRDY falls
  *   loop          loop() runs once
  *   advance US    time passes without conversions
+ *   host HEX      the host writes these bytes to the serial port (e.g. 49 = 'I')
+ *   reboot CODE   the board restarts with reset reason CODE (PFW_RESET_*): no-init RAM is kept,
+ *                 setup() runs again
  * Output: "spi AA BB .." (MOSI bytes of each SPI transaction), "isr MICROS" (micros() at each
  * DRDY), "serial HEX" (all bytes the sketch wrote, at the end), "baud N", "attach PIN MODE",
+ * "watchdog MS" (enabled), "watchdog expired" (not fed for its period: the board would reset),
  * and "error ..." for any misuse (transfer with CS high, wrong SPI mode, unbalanced masking).
  */
 #include <cstdio>
@@ -31,6 +35,12 @@ static int g_cs_pin = -1;
 static void (*g_isr)(void) = nullptr;
 static std::vector<uint8_t> g_miso, g_mosi, g_serial;
 static bool g_in_transaction = false;
+static std::vector<uint8_t> g_rx;               // host -> device bytes not read yet
+static uint8_t g_reset_reason = 1;              // PFW_RESET_POWER_ON
+static uint16_t g_noinit[2] = {0x1234, 0x4321}; // random after power-on
+static unsigned g_wd_ms = 0;                    // 0 = watchdog off
+static unsigned long long g_wd_fed = 0;
+static bool g_wd_expired = false;
 
 StubSerial Serial;
 SPIClass SPI;
@@ -67,6 +77,34 @@ void attachInterrupt(int interrupt, void (*isr)(void), int mode)
 }
 
 void StubSerial::begin(unsigned long baud) { std::printf("baud %lu\n", baud); }
+int StubSerial::available() { return (int)g_rx.size(); }
+int StubSerial::read()
+{
+    if (g_rx.empty()) {
+        return -1;
+    }
+    const int b = g_rx.front();
+    g_rx.erase(g_rx.begin());
+    return b;
+}
+
+uint8_t stub_reset_reason(void) { return g_reset_reason; }
+uint16_t *stub_noinit_u16(int index) { return &g_noinit[index]; }
+void stub_watchdog_begin(unsigned ms)
+{
+    g_wd_ms = ms;
+    g_wd_fed = g_micros;
+    std::printf("watchdog %u\n", ms);
+}
+void stub_watchdog_feed(void) { g_wd_fed = g_micros; }
+
+static void check_watchdog()
+{
+    if (g_wd_ms != 0 && !g_wd_expired && g_micros - g_wd_fed > 1000ull * g_wd_ms) {
+        std::printf("watchdog expired\n");
+        g_wd_expired = true;
+    }
+}
 size_t StubSerial::write(const uint8_t *data, size_t len)
 {
     if (g_in_isr) {
@@ -143,7 +181,24 @@ int main(int argc, char **argv)
         } else if (std::strcmp(cmd, "advance") == 0) {
             std::sscanf(line, "%31s %llu", cmd, &arg);
             g_micros += arg;
+        } else if (std::strcmp(cmd, "host") == 0) {
+            const char *hex = line + 4;
+            unsigned byte;
+            int used;
+            while (std::sscanf(hex, " %2x%n", &byte, &used) == 1) {
+                g_rx.push_back((uint8_t)byte);
+                hex += used;
+            }
+        } else if (std::strcmp(cmd, "reboot") == 0) {
+            std::sscanf(line, "%31s %llu", cmd, &arg);
+            g_reset_reason = (uint8_t)arg;
+            g_isr = nullptr;
+            g_wd_ms = 0;
+            g_wd_expired = false;
+            g_rx.clear();
+            setup();
         }
+        check_watchdog();
     }
     if (g_masked != 0) {
         std::printf("error interrupts left masked\n");

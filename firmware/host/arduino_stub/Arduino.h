@@ -26,9 +26,18 @@ void interrupts(void);
 int digitalPinToInterrupt(uint8_t pin);
 void attachInterrupt(int interrupt, void (*isr)(void), int mode);
 
+/* The sketch's board hooks on the PC (arduino_sim.cpp): reset reason, no-init RAM, watchdog. */
+#define POLYFORCE_HOST_STUB 1
+uint8_t stub_reset_reason(void);
+uint16_t *stub_noinit_u16(int index);
+void stub_watchdog_begin(unsigned ms);
+void stub_watchdog_feed(void);
+
 class StubSerial {
 public:
     void begin(unsigned long baud);
+    int available();
+    int read();
     size_t write(const uint8_t *data, size_t len);
     size_t write(uint8_t byte) { return write(&byte, 1); }
     operator bool() const { return true; }

@@ -123,8 +123,12 @@ def interleaved_pairs(pairs, seconds, rate_hz, tmp):
     # p99 ratio from 1 us histograms as bench_live (latencies over 100 ms count as 100 ms), bootstrap over pairs
     ratio, low, high = pooled_p99_ratio(pooled["bridge"]["hist"], pooled["relay"]["hist"])
     stalled = {kind: [rep for rep in range(pairs) if report[f"pair{rep}"][kind]["max_us"] > 100_000] for kind in KINDS}
+    calm = [rep for rep in range(pairs) if not any(rep in stalled[kind] for kind in KINDS)]  # pairs without a stall
+    ratio_calm = (pooled_p99_ratio([pooled["bridge"]["hist"][rep] for rep in calm],
+                                   [pooled["relay"]["hist"][rep] for rep in calm]) if calm else (float("nan"),) * 3)
     summary.update(ratio_p50=bridge["p50_us"] / relay["p50_us"], ratio_p99=ratio, ratio_p99_interval=[low, high],
-                   pairs_with_a_stall=stalled, added_p50_us=bridge["p50_us"] - relay["p50_us"],
+                   pairs_with_a_stall=stalled, ratio_p99_without_stalls=ratio_calm[0],
+                   ratio_p99_without_stalls_interval=list(ratio_calm[1:]), added_p50_us=bridge["p50_us"] - relay["p50_us"],
                    added_fresh_p50_us=bridge["fresh_p50_us"] - relay["fresh_p50_us"],
                    ratio_fresh_p99=bridge["fresh_p99_us"] / relay["fresh_p99_us"],
                    warmup_samples=[min(warmups), max(warmups)],
@@ -143,7 +147,9 @@ def interleaved_pairs(pairs, seconds, rate_hz, tmp):
           f"warm-up before the chain flowed: {min(warmups)}-{max(warmups)} samples", flush=True)
     if any(stalled.values()):
         print("pairs with a latency over 100 ms (a stall: the pooled p99 is the stall's, see the ratios per pair): "
-              + ", ".join(f"{kind} {stalled[kind]}" for kind in KINDS if stalled[kind]), flush=True)
+              + ", ".join(f"{kind} {stalled[kind]}" for kind in KINDS if stalled[kind])
+              + f"; p99 ratio over the {len(calm)} pairs without one: {ratio_calm[0]:.2f} "
+              f"(interval {ratio_calm[1]:.2f}-{ratio_calm[2]:.2f})", flush=True)
     report["pooled"] = summary
     return report
 

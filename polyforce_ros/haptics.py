@@ -270,11 +270,6 @@ class HapticBridge:
         return self._stale
 
     @property
-    def ramping(self) -> bool:
-        """True while the stale ramp has not reached zero."""
-        return self._ramp is not None
-
-    @property
     def last_valid_s(self):
         """Arrival time of the last valid input, s (None before the first)."""
         return self._last_valid

@@ -23,6 +23,7 @@ from __future__ import annotations
 import struct
 from collections import deque
 from dataclasses import dataclass
+from typing import Any, Callable
 
 __all__ = ["SYNC", "FRAME_SIZE", "crc16_ccitt", "encode_frame", "Frame", "FrameParser", "DeviceClock", "REORDER_WINDOW"]
 
@@ -423,8 +424,10 @@ class RawMessage:
     payload: bytes
 
 
-_DECODERS = {MSG_INFO: (DeviceInfo, _INFO.size), MSG_STATUS: (DeviceStatus, _STATUS.size),
-             MSG_TEMPERATURE: (DeviceTemperature, _TEMPERATURE.size)}
+# message type -> (decoder of its payload, the payload's least size in bytes)
+_DECODERS: dict[int, tuple[Callable[[bytes], Any], int]] = {
+    MSG_INFO: (DeviceInfo.from_payload, _INFO.size), MSG_STATUS: (DeviceStatus.from_payload, _STATUS.size),
+    MSG_TEMPERATURE: (DeviceTemperature.from_payload, _TEMPERATURE.size)}
 
 
 def encode_info(info: DeviceInfo) -> bytes:
@@ -447,7 +450,7 @@ def decode_message(msg_type: int, version: int, payload: bytes):
     decoder = _DECODERS.get(msg_type)
     if decoder is None or version < 1 or len(payload) < decoder[1]:
         return RawMessage(msg_type, version, bytes(payload))
-    return decoder[0].from_payload(payload)
+    return decoder[0](payload)
 
 
 class MessageDemux:

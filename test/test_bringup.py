@@ -52,7 +52,8 @@ def test_plan_merges_config_files_with_overrides_in_start_order(tmp_path):
         assert spec.argv[-4:] == ["-r", f"__ns:={contract.NAMESPACE}", "--params-file", str(spec.params_file)]
         assert Path(spec.argv[0]).name in (spec.name, Path(sys.executable).name)
     by_name = {s.name: s for s in specs}
-    assert by_name["driver_node"].overrides == {"backend": "serial", "port": "/dev/ttyUSB7"}
+    # the simulated profile waits for both readers of bridge_voltage (compensation and recorder)
+    assert by_name["driver_node"].overrides == {"backend": "serial", "port": "/dev/ttyUSB7", "wait_for_subscribers": 2}
     assert by_name["compensation_node"].overrides == {"model_file": str(model.resolve())}
     assert by_name["recorder_node"].overrides == {"bag_path": str(tmp_path / "run.mcap")}
     # another namespace: the same parameters under the node's name there

@@ -184,3 +184,24 @@ def test_a_new_offset_keeps_a_forward_only_chain_forward_only():
     assert moved.forward_only and moved.offset_v == 0.2 and truth.offset_v == 0.0
     t = np.arange(100) * 1e-3
     np.testing.assert_allclose(moved.forward(t, np.ones(100)), truth.forward(t, np.ones(100)) + 0.2)
+
+
+def test_a_transport_delay_shifts_forward_across_blocks_and_passes_backward_stating_its_latency():
+    import numpy as np
+
+    from polyforce_ros.physics.chain import OffsetElement, SensorChain, TransportDelayElement, ViscoelasticElement
+    from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+
+    delay = TransportDelayElement(delay_s=0.0125)
+    t = np.arange(2000) * 1e-3
+    x = np.sin(7.0 * t) + (t > 0.7)
+    whole = delay.forward(t, x)
+    state = delay.forward_state()
+    blocks = np.concatenate([delay.forward(t[a:b], x[a:b], state=state) for a, b in ((0, 3), (3, 700), (700, 2000))])
+    np.testing.assert_array_equal(blocks, whole)
+    np.testing.assert_allclose(whole[13:], 0.5 * (x[:-13] + x[1:-12]), atol=1e-12)  # 12.5 samples: mean of two
+    assert whole[0] == x[0]  # settled before the record
+    np.testing.assert_array_equal(delay.backward(t, x), x)
+    assert delay.streaming().step(0.1, 0.25) == 0.25
+    chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), delay, OffsetElement(0.02)])
+    assert chain.latency_s == 0.0125 and SensorChain.from_dict(chain.to_dict()).latency_s == 0.0125

@@ -61,3 +61,23 @@ def test_a_named_sensor_lag_is_saved_with_a_bounded_inverse_that_compensates_a_n
     assert summary["r2"] >= 0.99, summary
     rest = t < 0.9  # the needle profile rests for its first second
     assert np.std(out[rest]) <= 0.02  # N rms of output noise at rest with 2 mV of bridge noise
+
+
+@pytest.mark.parametrize("magnitude, seed", [(0.1, 7), (0.9, 8)])
+def test_a_pure_delay_is_saved_as_a_delay_with_its_latency_never_as_a_noisy_inverse(magnitude, seed):
+    from polyforce_ros.physics.chain import TransportDelayElement
+
+    rec, case = bench_record("sensor_lag", magnitude, rate_hz=1000.0, duration_s=240.0, seed=seed,
+                             families={"sensor_lag": "transport_delay"}, noise_std_v=2e-3)
+    truth_s = next(e.delay_s for e in case.truth.elements if isinstance(e, TransportDelayElement))
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["sensor_lag"] and diag.variants["sensor_lag"] == "delay"
+    assert abs(diag.chain.latency_s - truth_s) <= 0.002 and diag.newtons["latency_s"] == diag.chain.latency_s
+    assert not any(isinstance(e, SensorLagElement) for e in diag.chain.elements)
+    comp = Compensator(diag.chain, CompensatorConfig(auto_tare=False))
+    assert comp.noise_gain.gain_n_per_v <= CompensatorConfig.max_noise_gain
+    t, force, volts = _needle_record(case.truth, 1000.0, seed + 100)
+    used, out = comp.run(np.round(t * 1e9).astype(np.int64), volts)
+    shifted = np.interp(t - diag.chain.latency_s, t, force, left=force[0])  # the reference as late as stated
+    assert used.all() and error_summary(shifted, out)["r2"] >= 0.99
+    assert np.std(out[t < 0.9]) <= 0.02

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..physics.chain import (
     ExponentialDriftElement, PlayHysteresisElement, PolynomialGainElement, PolynomialDriftElement, PreisachElement,
-    SensorLagElement,
+    SensorLagElement, TransportDelayElement,
     SplineDriftElement, ThermalDriftElement, ThermalLagElement, play_operator,
 )
 from ..physics.expconv import exp_convolve, exp_convolve_columns
@@ -235,6 +235,11 @@ def _lag_second(rng, m, ctx):
     tau = float(np.interp(m, [0, 1], [0.012, 0.15]) * rng.uniform(0.8, 1.2))
     zeta = rng.uniform(0.5, 1.0)
     return Truth(after=[SecondOrderLag(2 * zeta / tau, zeta)])  # effective delay 2 zeta / omega = tau
+
+
+def _lag_delay(rng, m, ctx):
+    # DAQ buffering or transport: 5-40 ms
+    return Truth(after=[TransportDelayElement(delay_s=float(np.interp(m, [0, 1], [0.005, 0.04]) * rng.uniform(0.9, 1.1)))])
 
 
 def _lag_two_stage(rng, m, ctx):
@@ -474,12 +479,22 @@ def _drift_elements(coef, variant, param, sig):
 
 
 def lag_stages(variant, tau_s):
-    """Time constants (s) of the first-order stages of a sensor lag of total delay ``tau_s``."""
+    """Time constants (s) of the first-order stages of a sensor lag of total delay ``tau_s`` (none for a pure delay)."""
+    if variant == "delay":
+        return []
     return [tau_s / 2.0, tau_s / 2.0] if variant == "pole_pair" else [tau_s]
 
 
 def _lag_elements(coef, variant, param, sig):
+    if variant == "delay":
+        return [("lag", TransportDelayElement(delay_s=float(param)))]
     return [("lag", SensorLagElement(tau_s=float(tau))) for tau in lag_stages(variant, param)]
+
+
+def _lag_grid(variant, sig):
+    """Delays (s) searched: a transport delay of DAQ buffering (2-100 ms), or the total delay of one pole or two
+    equal poles, from electronics (3 ms) to mechanical and signal-conditioning filters (0.8 s)."""
+    return _log_grid(0.002, 0.1, 10) if variant == "delay" else _log_grid(0.003, 0.8, 12)
 
 
 _FAM = Family
@@ -512,9 +527,10 @@ EFFECTS = {
         columns=_hyst_columns, to_elements=_hyst_elements),
     "sensor_lag": Effect(
         "sensor_lag", "dynamics faster than the model (sensor_lag)", ("fast_transient",), ("force_rate",), ("sensor_lag",),
-        {"first_order": _FAM(_lag_first), "two_stage": _FAM(_lag_two_stage), "pole_pair": _FAM(_lag_second, held_out=True)},
-        # one pole, or two equal poles (a critically damped pair) of the same total delay param
-        variants=("", "pole_pair"), grid=lambda variant, sig: _log_grid(0.003, 0.4, 10), columns=_lag_apply,
+        {"first_order": _FAM(_lag_first), "two_stage": _FAM(_lag_two_stage), "transport_delay": _FAM(_lag_delay),
+         "pole_pair": _FAM(_lag_second, held_out=True)},
+        # one pole, two equal poles (a critically damped pair) of the same total delay param, or a pure delay
+        variants=("", "pole_pair", "delay"), grid=_lag_grid, columns=_lag_apply,
         to_elements=_lag_elements),
     "nonlinear_gain": Effect(
         "nonlinear_gain", "gain changing with load (nonlinear_gain)", ("high_load",), ("force_squared",), ("polynomial_gain",),

@@ -229,13 +229,14 @@ def _stack(columns, rows=_ALL_ROWS):
 def design_columns(sig, st: Structure):
     """:func:`design` with the columns of A as a list of arrays (not stacked: the polish needs a few rows)."""
     cols = list(_cached(sig, ("core", st.core, st.taus), lambda: _core_columns(sig, st.core, st.taus)))
-    lag = None
+    lag, delay_s = None, 0.0
     for term in st.terms:
         eff = REGISTRY[term.effect]
         if eff.core_change:
             continue
         if term.effect == "sensor_lag":
             lag = lag_stages(term.variant, term.param)
+            delay_s = term.param if term.variant == "delay" else 0.0
             continue
         cols += _cached(sig, (term.effect, term.variant, term.param),
                         lambda eff=eff, term=term: eff.columns(sig, term.variant, term.param))
@@ -246,6 +247,8 @@ def design_columns(sig, st: Structure):
         if lag is not None and c[4] == "sensor":
             for tau in lag:
                 x = lag_columns(sig.t, x, tau)
+            if delay_s > 0.0:  # the column as it was delay_s earlier, settled before the record
+                x = np.interp(sig.t - delay_s, sig.t, x, left=x[0])
         mats.append(x)
     mats.append(np.ones_like(sig.t))
     lo = np.array([c[2] for c in cols] + [-np.inf])
@@ -979,6 +982,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                                 fold_rec, t, rec.voltage_v, rec.force_n, rec_temp, noise_chain=chain)
     forces_n = (base_q.force_n, saved_q.force_n)
     newtons = {"base": base_q.to_dict(), "saved": saved_q.to_dict(), "lag_bandwidth": bandwidth,
+               "latency_s": chain.latency_s,
                "validation": "each left-out block compensated by the model fitted without it"}
     if accepted and not saved_q.rmse_n <= base_q.rmse_n:
         say("worse in newtons: effects not saved")
@@ -990,6 +994,7 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
         for c in candidates:
             c.accepted = False
         chain, present = base_chain, True
+        newtons["latency_s"] = chain.latency_s
     loc = localise(rec, rec.voltage_v - sim_after if accepted else rec.voltage_v - sim_before)
     where = _where(loc)
     unexplained = {"present": present, "rms_v": structured, "noise_floor_v": floor, "ljung_box_q": q,

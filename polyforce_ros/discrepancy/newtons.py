@@ -50,6 +50,9 @@ class ForceQuality:
         The reference's span [N] (the % figures are of it).
     noise_gain : NoiseGain
         White-noise gain of the model's inverse at the record's rate.
+    latency_s : float
+        The model's stated latency [s]: the reference was shifted by it before the comparison (a delay cannot
+        be undone; it is reported, not scored as error).
     force_n : (n,) ndarray
         The compensated force of each sample [N] (from the model that left its block out).
     """
@@ -59,6 +62,7 @@ class ForceQuality:
     r2: float
     full_scale_n: float
     noise_gain: NoiseGain
+    latency_s: float = 0.0
     force_n: np.ndarray = field(repr=False, compare=False, default_factory=lambda: np.zeros(0))
 
     def to_dict(self) -> dict[str, Any]:
@@ -67,6 +71,7 @@ class ForceQuality:
         return {"rmse_n": self.rmse_n, "max_error_n": self.max_error_n, "r2": self.r2,
                 "rmse_percent_full_scale": 100.0 * self.rmse_n / fs,
                 "max_error_percent_full_scale": 100.0 * self.max_error_n / fs, "full_scale_n": self.full_scale_n,
+                "latency_s": self.latency_s,
                 "noise_gain_n_per_v": self.noise_gain.gain_n_per_v, "noise_gain": self.noise_gain.to_dict()}
 
 
@@ -104,7 +109,7 @@ def force_quality(chains: Sequence[SensorChain], fold: np.ndarray, t_s: np.ndarr
     temperature_c : (n,) ndarray, optional
         Temperature [degC] for thermal elements.
     noise_chain : SensorChain, optional
-        The model whose noise gain is reported (default ``chains[0]``): the one that is saved.
+        The model whose noise gain and latency are reported (default ``chains[0]``): the one that is saved.
 
     Returns
     -------
@@ -117,10 +122,14 @@ def force_quality(chains: Sequence[SensorChain], fold: np.ndarray, t_s: np.ndarr
         if rows.any():
             with np.errstate(all="ignore"):
                 force[rows] = chain.backward(t_s, voltage_v, aux)[rows]
+    reported = noise_chain if noise_chain is not None else chains[0]
+    latency_s = reported.latency_s
     reference_n = np.asarray(reference_n, dtype=float)
+    if latency_s > 0.0:
+        reference_n = np.interp(t_s - latency_s, t_s, reference_n, left=reference_n[0])
     rmse, worst, r2 = _errors(force, reference_n)
-    gain = backward_noise_gain(noise_chain if noise_chain is not None else chains[0], rate_of(t_s))
-    return ForceQuality(rmse, worst, r2, float(np.ptp(reference_n)), gain, force)
+    gain = backward_noise_gain(reported, rate_of(t_s))
+    return ForceQuality(rmse, worst, r2, float(np.ptp(reference_n)), gain, latency_s, force)
 
 
 def with_filter(chain: SensorChain, factor: float) -> SensorChain:

@@ -37,7 +37,8 @@ if TYPE_CHECKING:  # for annotations only: at run time scipy.interpolate and the
     from .preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
 
 __all__ = ["ModelError", "ElementStream", "Element", "PARAMETER_BOUNDS", "MAX_PREISACH_LEVELS", "ViscoelasticElement",
-    "OffsetElement", "GainElement", "NonlinearGainElement", "SensorLagElement", "ThermalDriftElement",
+    "OffsetElement", "GainElement", "NonlinearGainElement", "SensorLagElement", "TransportDelayElement",
+    "ThermalDriftElement",
     "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "ThermalLagElement",
     "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement", "ELEMENT_TYPES",
     "SensorChain", "ChainStream"]
@@ -216,6 +217,8 @@ PARAMETER_BOUNDS = {
     # electronics (0.1 us) to a slow thermal lag (11.6 days); diagnosis fits 1e-4..10 s
     "tau_s": (1e-7, 1e6, "s", "from 0.1 us electronics to 11.6 days; the forward run scales by 1/tau"),
     "noise_filter_tau_s": (1e-7, 1e6, "s", "a lag like tau_s"),
+    # DAQ buffering and transport: microseconds to a few seconds (diagnosis fits 2..100 ms)
+    "delay_s": (1e-7, 10.0, "s", "a force felt seconds late is no force feedback"),
     # V per degC: 10 V/degC swings a 10 V range in 1 degC (diagnosis fits +-1 V/degC)
     "coefficient_v_per_c": (-10.0, 10.0, "V/degC", "full scale within 1 degC already"),
     # a polymer sensor below -100 degC is glass, above 300 degC it decomposes
@@ -985,6 +988,68 @@ class SensorLagElement(_SimpleElement):
 
         # a TypedDict's update takes a mapping, not keywords
         return _FunctionStream(step, lambda: prev.update({"t": None, "y": 0.0}))
+
+
+class _DelayForwardState(TypedDict):
+    t: _FloatArray  # s; the input samples of the last delay_s (the interpolation's support)
+    x: _FloatArray  # input unit
+
+
+class TransportDelayElement(_SimpleElement):
+    """A pure delay (DAQ buffering, transport): y(t) = x(t - delay_s).
+
+    Forward: the input interpolated linearly at ``t - delay_s``, held at its first sample
+    before it (a settled sensor). Backward: a delay cannot be undone without predicting the
+    future, so the inverse passes the signal unchanged and the chain states the latency
+    (:attr:`SensorChain.latency_s`) instead of boosting noise to fake a prediction.
+    """
+
+    kind = "transport_delay"
+    PARAMS = (("delay_s", True),)
+    delay_s: float
+
+    def forward_state(self) -> _DelayForwardState:
+        """A fresh delay state (no input seen) for block-wise :meth:`forward` runs."""
+        return {"t": np.zeros(0), "x": np.zeros(0)}
+
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_DelayForwardState] = None) -> _FloatArray:
+        """The input delayed by ``delay_s`` (linear interpolation; the first input before the record).
+
+        Parameters
+        ----------
+        t_s : (n,) array_like of float
+            Sample times [s], non-decreasing.
+        x : (n,) array_like of float
+            Input [any unit].
+        aux : mapping, optional
+            Not used.
+        state : dict, optional
+            From :meth:`forward_state`, carries the last ``delay_s`` of input across blocks (updated in place).
+
+        Returns
+        -------
+        (n,) ndarray of float
+            Output [the input's unit].
+        """
+        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        st = state if state is not None else self.forward_state()
+        if t.size == 0:
+            return x.copy()
+        support_t, support_x = np.concatenate([st["t"], t]), np.concatenate([st["x"], x])
+        y = np.interp(t - self.delay_s, support_t, support_x, left=support_x[0])
+        keep = support_t >= t[-1] - self.delay_s
+        keep[max(int(np.argmax(keep)) - 1, 0)] = True  # one sample before the window: the interpolation's left end
+        st["t"], st["x"] = support_t[keep], support_x[keep]
+        return y
+
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The output unchanged: the delay stays, stated as latency, never undone by amplifying noise."""
+        return np.array(y, dtype=float)
+
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward` (the sample unchanged)."""
+        return _FunctionStream(lambda t_s, y, aux=None: y)
 
 
 def _temperature(aux: Optional[Mapping[str, Any]], n: int) -> Optional[_FloatArray]:
@@ -1959,8 +2024,8 @@ class _ElementType(Protocol):
 
 ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
-for _element in (GainElement, NonlinearGainElement, SensorLagElement, ThermalDriftElement, OffsetDriftElement, PreisachElement,
-                 PlayHysteresisElement, ThermalLagElement, PolynomialDriftElement, PolynomialGainElement,
+for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportDelayElement, ThermalDriftElement,
+                 OffsetDriftElement, PreisachElement, PlayHysteresisElement, ThermalLagElement, PolynomialDriftElement, PolynomialGainElement,
                  ExponentialDriftElement, SplineDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
 
@@ -2133,6 +2198,13 @@ class SensorChain:
             The elements' fresh per-sample inverses from the voltage end [V in, N out].
         """
         return ChainStream([e.streaming() for e in reversed(self.elements)])
+
+    @property
+    def latency_s(self) -> float:
+        """How late the compensated force follows the applied force [s]: every transport delay, which the
+        inverse cannot undo, plus the filter time of every bandwidth-limited lag inverse."""
+        return float(sum(e.delay_s for e in self.elements if isinstance(e, TransportDelayElement))
+                     + sum(e.noise_filter_tau_s for e in self.elements if isinstance(e, SensorLagElement)))
 
     def static_gain_v_per_n(self) -> float:
         """The core's static gain (1.0 without a core); the other elements are not included.

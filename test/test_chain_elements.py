@@ -205,3 +205,24 @@ def test_a_transport_delay_shifts_forward_across_blocks_and_passes_backward_stat
     assert delay.streaming().step(0.1, 0.25) == 0.25
     chain = SensorChain([ViscoelasticElement(PAPER_BURGERS), delay, OffsetElement(0.02)])
     assert chain.latency_s == 0.0125 and SensorChain.from_dict(chain.to_dict()).latency_s == 0.0125
+
+
+def test_a_thermal_sensitivity_scales_the_span_and_its_inverse_undoes_it_with_a_bounded_gain():
+    import numpy as np
+
+    from polyforce_ros.physics.chain import ThermalSensitivityElement
+
+    e = ThermalSensitivityElement(span_coefficient_per_c=0.004, reference_c=24.0)
+    t = np.arange(500) * 0.01
+    x = np.linspace(0.0, 2.5, 500)
+    temp = 24.0 + 5.0 * np.sin(t)
+    y = e.forward(t, x, {"temperature_c": temp})
+    np.testing.assert_allclose(y, x * (1 + 0.004 * (temp - 24.0)))
+    np.testing.assert_allclose(e.backward(t, y, {"temperature_c": temp}), x, rtol=1e-12)
+    stream = e.streaming()
+    assert stream.step(0.0, float(y[100]), {"temperature_c": float(temp[100])}) == pytest.approx(x[100], rel=1e-12)
+    np.testing.assert_array_equal(e.backward(t, y), y)  # no temperature: not corrected
+    # far outside the calibration the inverse divides by at least 0.2: a gain of at most 5
+    hot = ThermalSensitivityElement(span_coefficient_per_c=-0.05, reference_c=24.0)
+    assert hot.backward(t[:1], np.ones(1), {"temperature_c": 100.0})[0] == pytest.approx(5.0)
+    assert type(e).from_dict(e.to_dict()).to_dict() == e.to_dict()

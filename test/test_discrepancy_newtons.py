@@ -81,3 +81,53 @@ def test_a_pure_delay_is_saved_as_a_delay_with_its_latency_never_as_a_noisy_inve
     shifted = np.interp(t - diag.chain.latency_s, t, force, left=force[0])  # the reference as late as stated
     assert used.all() and error_summary(shifted, out)["r2"] >= 0.99
     assert np.std(out[t < 0.9]) <= 0.02
+
+
+def _resonant_record(f0_hz, zeta, seed, rate_hz=1000.0):
+    """A burgers sensor whose output rings in a lightly damped mechanical mode (not in the catalogue)."""
+    from polyforce_ros.discrepancy.effects import SecondOrderLag
+    from polyforce_ros.physics.chain import OffsetElement, SensorChain, ViscoelasticElement
+    from polyforce_ros.record import Record
+    from polyforce_ros.sim.bench import random_core, random_load
+    from polyforce_ros.sim.sensor import BridgeSimulator
+
+    t, f = random_load(240.0, rate_hz, seed)
+    core = random_core("burgers", np.random.default_rng(seed + 1234))
+    elements = [ViscoelasticElement(core)] + ([SecondOrderLag(2 * np.pi * f0_hz, zeta)] if f0_hz else [])
+    chain = SensorChain([*elements, OffsetElement(0.05)], forward_only=True)
+    sim = BridgeSimulator(noise_std_v=2e-3, seed=seed)
+    sim.chain, sim._states = chain, chain.forward_states()
+    volts = sim.simulate(t, f)
+    return Record(t, f + np.random.default_rng(seed).normal(0.0, 0.005, t.size), volts, None)
+
+
+@pytest.mark.parametrize("f0_hz, zeta, seed", [(15.0, 0.05, 31), (28.0, 0.04, 32)])
+def test_a_resonance_the_catalogue_does_not_hold_is_unexplained_at_the_records_rate_never_none(f0_hz, zeta, seed):
+    diag = diagnose(_resonant_record(f0_hz, zeta, seed), base="burgers")
+    assert diag.missing_effect == "unexplained" and diag.unexplained["present"]
+    low, high = diag.unexplained["strongest_band_hz"]
+    assert low <= f0_hz < high * 1.5  # the band that holds the mode (or the octave its ringing spills into)
+    clean = diagnose(_resonant_record(0.0, 0.0, seed), base="burgers")
+    assert clean.missing_effect == "none" and max(b["rms_v"] for b in clean.unexplained["bands"]) < 0.5 * clean.noise_floor_v
+
+
+@pytest.mark.parametrize("magnitude, seed, rate_hz", [(0.3, 41, 200.0), (0.9, 42, 1000.0)])
+def test_a_span_that_follows_temperature_is_named_and_its_saved_model_compensates_a_new_record(magnitude, seed, rate_hz):
+    from polyforce_ros.physics.chain import ThermalSensitivityElement
+    from polyforce_ros.sim.bench import random_temperature
+
+    rec, case = bench_record("thermal_sensitivity", magnitude, rate_hz=rate_hz, duration_s=600.0, seed=seed)
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["thermal_sensitivity"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    truth = next(e for e in case.truth.elements if isinstance(e, ThermalSensitivityElement))
+    saved = next(e for e in diag.chain.elements if isinstance(e, ThermalSensitivityElement))
+    assert saved.span_coefficient_per_c == pytest.approx(truth.span_coefficient_per_c, rel=0.1)
+    assert diag.chain.needs_temperature
+    # a new record of the same sensor: a needle profile while the temperature swings
+    t, force = profiles.make_profile("needle_insertion", rate_hz=rate_hz, seed=seed)
+    temp = random_temperature(t + 100.0, seed + 1)
+    volts = case.truth.forward(t, force, aux={"temperature_c": temp}) + np.random.default_rng(seed).normal(0, 2e-3, t.size)
+    comp = Compensator(diag.chain, CompensatorConfig(auto_tare=False))
+    used, out = comp.run(np.round(t * 1e9).astype(np.int64), volts, temperature_c=temp)
+    assert used.all()
+    assert np.sqrt(np.mean((out - force) ** 2)) <= 0.01 * np.ptp(force)  # within 1 % of full scale

@@ -273,6 +273,7 @@ def _example_chains():
         "nonlinear_gain": NonlinearGainElement(quadratic_per_v=0.08),
         "sensor_lag": SensorLagElement(tau_s=0.03, noise_filter_tau_s=0.005),
         "transport_delay": ELEMENT_TYPES["transport_delay"](delay_s=0.02),
+        "thermal_sensitivity": ELEMENT_TYPES["thermal_sensitivity"](span_coefficient_per_c=0.003, reference_c=22.0),
         "thermal_drift": ThermalDriftElement(coefficient_v_per_c=2e-3, reference_c=22.0),
         "offset_drift": OffsetDriftElement(rate_v_per_s=1e-4),
         "preisach": PreisachElement(hysteretic_identity(0.0, 10.0, 0.05, n_levels=4), continuous=True),

@@ -37,7 +37,7 @@ import numpy as np
 from ..physics.chain import (
     ExponentialDriftElement, PlayHysteresisElement, PolynomialGainElement, PolynomialDriftElement, PreisachElement,
     SensorLagElement, TransportDelayElement,
-    SplineDriftElement, ThermalDriftElement, ThermalLagElement, play_operator,
+    SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement, play_operator,
 )
 from ..physics.expconv import exp_convolve, exp_convolve_columns
 from ..physics.viscoelastic import Burgers, Burgers2, Maxwell, Zener, Zener2, simulate_deformation_columns
@@ -326,6 +326,12 @@ def _thermal_lag(rng, m, ctx):
     return Truth(late=[ThermalLagElement(coefficient_v_per_c=c, reference_c=24.0, tau_s=float(rng.uniform(5.0, 60.0)))])
 
 
+def _span_thermal(rng, m, ctx):
+    # a polymer sensor's span changes by 0.05-0.5 %/degC (a metal-foil cell's by ~0.01 %/degC)
+    c = float(np.interp(m, [0, 1], [0.0005, 0.005]) * rng.choice([-1, 1]) * rng.uniform(0.8, 1.2))
+    return Truth(after=[ThermalSensitivityElement(span_coefficient_per_c=c, reference_c=24.0)])
+
+
 def _viscous(rng, m, ctx):
     core = ctx["core"]
     eta1 = float(np.exp(np.interp(m, [0, 1], np.log([40000.0, 1500.0]))) * rng.uniform(0.7, 1.3))
@@ -427,6 +433,17 @@ def _thermal_columns(sig, variant, param):
     if variant == "lag":  # the lag starts settled at the first temperature, as ThermalLagElement
         temp = exp_convolve(sig.t, sig.temp, [1.0 / param], y0=[sig.temp[0] * param])[:, 0] / param - sig.temp_ref
     return [("thermal", temp, -np.inf, np.inf, "additive", None)]
+
+
+def _span_thermal_columns(sig, variant, param):
+    # the core output scaled by the temperature's departure: x (1 + c dT) - x = c x dT
+    return [("span_thermal", sig.x_ref * (sig.temp - sig.temp_ref), -np.inf, np.inf, "sensor", None)]
+
+
+def _span_thermal_elements(coef, variant, param, sig):
+    c = float(np.clip(coef.get("span_thermal", 0.0), -0.05, 0.05))
+    return [("after", ThermalSensitivityElement(span_coefficient_per_c=c,
+                                                reference_c=float(np.clip(sig.temp_ref, -100.0, 300.0))))]
 
 
 def _thermal_elements(coef, variant, param, sig):
@@ -542,6 +559,12 @@ EFFECTS = {
         {"linear": _FAM(_thermal_linear), "thermal_lag": _FAM(_thermal_lag, held_out=True)},
         variants=("direct", "lag"), grid=lambda variant, sig: [None] if variant == "direct" else _log_grid(3.0, 120.0, 6),
         columns=_thermal_columns, to_elements=_thermal_elements, needs_temperature=True),
+    "thermal_sensitivity": Effect(
+        "thermal_sensitivity", "a span that follows temperature (thermal_sensitivity)", ("temperature_change", "high_load"),
+        ("temperature",), ("thermal_sensitivity",),
+        {"linear_span": _FAM(_span_thermal)},
+        grid=lambda variant, sig: [None], columns=_span_thermal_columns, to_elements=_span_thermal_elements,
+        needs_temperature=True),
     "offset_drift": Effect(
         "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",),
         ("polynomial_drift", "exponential_drift", "spline_drift"),

@@ -38,7 +38,7 @@ if TYPE_CHECKING:  # for annotations only: at run time scipy.interpolate and the
 
 __all__ = ["ModelError", "ElementStream", "Element", "PARAMETER_BOUNDS", "MAX_PREISACH_LEVELS", "ViscoelasticElement",
     "OffsetElement", "GainElement", "NonlinearGainElement", "SensorLagElement", "TransportDelayElement",
-    "ThermalDriftElement",
+    "ThermalDriftElement", "ThermalSensitivityElement",
     "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "ThermalLagElement",
     "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement", "ELEMENT_TYPES",
     "SensorChain", "ChainStream"]
@@ -221,6 +221,8 @@ PARAMETER_BOUNDS = {
     "delay_s": (1e-7, 10.0, "s", "a force felt seconds late is no force feedback"),
     # V per degC: 10 V/degC swings a 10 V range in 1 degC (diagnosis fits +-1 V/degC)
     "coefficient_v_per_c": (-10.0, 10.0, "V/degC", "full scale within 1 degC already"),
+    # span change per degC: 5 %/degC halves or doubles the span within 20 degC (diagnosis fits +-2 %/degC)
+    "span_coefficient_per_c": (-0.05, 0.05, "1/degC", "the span halves or doubles within 20 degC already"),
     # a polymer sensor below -100 degC is glass, above 300 degC it decomposes
     "reference_c": (-100.0, 300.0, "degC", "the range a polymer sensor survives"),
     # Preisach input/output range and weights, in N or V (either side of the core)
@@ -1139,6 +1141,54 @@ class ThermalDriftElement(_SimpleElement):
         return _FunctionStream(step)
 
 
+#: The least span factor 1 + c (T - T_ref) the inverse divides by: a temperature far outside the calibrated range
+#: must not turn the division into a huge gain.
+_MIN_SPAN_FACTOR = 0.2
+
+
+class ThermalSensitivityElement(_SimpleElement):
+    """A span that changes with temperature: y = x (1 + span_coefficient_per_c (T - reference_c)).
+
+    The load cell datasheets' "temperature effect on sensitivity", beside the zero's
+    (:class:`ThermalDriftElement`). T comes from ``aux['temperature_c']``; without it T is
+    taken as the reference (no correction). The inverse divides by the span factor, held at
+    least ``_MIN_SPAN_FACTOR`` (0.2) so a temperature far outside the calibration never
+    multiplies the force by more than 5.
+    """
+
+    kind = "thermal_sensitivity"
+    PARAMS = (("span_coefficient_per_c", False), ("reference_c", False))
+    span_coefficient_per_c: float
+    reference_c: float
+
+    def _factor(self, n: int, aux: Optional[Mapping[str, Any]]) -> _FloatOrArray:
+        temp = _temperature(aux, n)
+        if temp is None:
+            return 1.0
+        return np.maximum(1.0 + self.span_coefficient_per_c * (temp - self.reference_c), _MIN_SPAN_FACTOR)
+
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: object = None) -> _FloatArray:
+        """The input scaled by the span factor at each sample's temperature (unchanged without one)."""
+        x = np.asarray(x, dtype=float)
+        return x * self._factor(x.size, aux)
+
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> _FloatArray:
+        """The output divided by the span factor (unchanged without a temperature)."""
+        y = np.asarray(y, dtype=float)
+        return y / self._factor(y.size, aux)
+
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`; a sample without ``aux['temperature_c']`` passes unchanged."""
+        c, ref = self.span_coefficient_per_c, self.reference_c
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+            temp = None if not aux else aux.get("temperature_c")
+            return y if temp is None else y / max(1.0 + c * (temp - ref), _MIN_SPAN_FACTOR)
+
+        return _FunctionStream(step)
+
+
 class _DriftForwardState(TypedDict):
     t_first: Optional[float]  # s; None before the first sample
 
@@ -2025,8 +2075,8 @@ class _ElementType(Protocol):
 ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
 for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportDelayElement, ThermalDriftElement,
-                 OffsetDriftElement, PreisachElement, PlayHysteresisElement, ThermalLagElement, PolynomialDriftElement, PolynomialGainElement,
-                 ExponentialDriftElement, SplineDriftElement):
+                 ThermalSensitivityElement, OffsetDriftElement, PreisachElement, PlayHysteresisElement, ThermalLagElement,
+                 PolynomialDriftElement, PolynomialGainElement, ExponentialDriftElement, SplineDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
 
 
@@ -2100,7 +2150,8 @@ class SensorChain:
     @property
     def needs_temperature(self) -> bool:
         """Whether an element follows temperature (``aux['temperature_c']``, degC): without it, it is not corrected."""
-        return any(isinstance(e, (ThermalDriftElement, ThermalLagElement)) for e in self.elements)
+        thermal = (ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement)
+        return any(isinstance(e, thermal) for e in self.elements)
 
     @property
     def offset_v(self) -> float:

@@ -19,7 +19,8 @@ from typing import Any, Optional
 import numpy as np
 from scipy import signal
 
-from .chain import OffsetElement, SensorChain, ThermalDriftElement, ThermalLagElement, ViscoelasticElement
+from .chain import (OffsetElement, SensorChain, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
+                    ViscoelasticElement)
 
 __all__ = ["NoiseGain", "backward_noise_gain"]
 
@@ -73,7 +74,7 @@ class NoiseGain:
 
 def _reference_temperature(chain: SensorChain) -> Optional[float]:
     for element in chain.elements:
-        if isinstance(element, (ThermalDriftElement, ThermalLagElement)):
+        if isinstance(element, (ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement)):
             return float(element.reference_c)
     return None
 

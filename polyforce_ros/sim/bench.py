@@ -189,8 +189,8 @@ class _TimeGain:
 OUT_OF_CATALOGUE = {"sensitivity_drift": _sens_drift, "load_stiffening": _stiffening, "periodic_interference": _periodic}
 EFFECTS = ("none",) + NAMES
 #: Order of effects along the chain (core first, drift last).
-_ORDER = ("viscous_flow", "delayed_elasticity", "hysteresis", "nonlinear_gain", "sensor_lag", "thermal_drift",
-          "offset_drift")
+_ORDER = ("viscous_flow", "delayed_elasticity", "hysteresis", "nonlinear_gain", "thermal_sensitivity", "sensor_lag",
+          "thermal_drift", "offset_drift")
 
 
 def default_base(effects):

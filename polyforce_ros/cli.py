@@ -172,7 +172,7 @@ def cmd_diagnose(args) -> int:
               f"{q['noise_gain_n_per_v']:.3g} N/V at {q['noise_gain']['rate_hz']:g} Hz")
     if diag.newtons.get("lag_bandwidth"):
         bw = diag.newtons["lag_bandwidth"]
-        print(f"sensor lag inverted with a bandwidth: filter {bw['filter_factor']:g} x tau, "
+        print(f"sensor lag inverted with a bandwidth: filter {bw['filter_factor']:g} x tau, order {bw['filter_order']}, "
               f"added delay {1e3 * bw['added_delay_s']:.1f} ms")
     if diag.newtons.get("rejected"):
         print(f"not saved: {', '.join(diag.newtons['rejected']['effects'])} compensate the force worse than the base")

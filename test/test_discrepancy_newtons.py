@@ -36,12 +36,7 @@ def _needle_record(truth, rate_hz, seed, noise_v=2e-3):
     return t, force, volts
 
 
-@pytest.mark.parametrize("family, seed", [
-    ("first_order", 3),
-    # a first-order roll-off of each stage's inverse cannot hold both 0.02 N of output noise and R2 0.99 for a
-    # 2 x 30 ms pole pair on the needle's punctures (measured R2 0.9897): strict, so that a better filter shows
-    pytest.param("pole_pair", 5, marks=pytest.mark.xfail(strict=True, reason="first-order roll-off: R2 0.9897 < 0.99")),
-])
+@pytest.mark.parametrize("family, seed", [("first_order", 3), ("pole_pair", 5), ("two_stage", 6)])
 def test_a_named_sensor_lag_is_saved_with_a_bounded_inverse_that_compensates_a_new_needle_record(family, seed):
     rec, case = bench_record("sensor_lag", 0.5, rate_hz=1000.0, duration_s=240.0, seed=seed,
                              families={"sensor_lag": family}, noise_std_v=2e-3)

@@ -38,6 +38,26 @@ def test_a_bandwidth_bounds_the_gain_by_tau_over_its_filter_time():
     assert exact > 300.0 and rolled <= 5.0 * 0.05 / 0.025 * 1.01
 
 
+def test_a_second_order_roll_off_passes_far_less_noise_for_the_same_filter_time_and_streams_exactly():
+    first = SensorLagElement(tau_s=0.05, noise_filter_tau_s=0.01)
+    second = SensorLagElement(tau_s=0.05, noise_filter_tau_s=0.01, noise_filter_order=2)
+    chain = lambda e: SensorChain([ViscoelasticElement(Elastic(5.0)), e, OffsetElement(0.0)])  # noqa: E731
+    g1, g2 = (backward_noise_gain(chain(e), 1000.0) for e in (first, second))
+    assert g2.gain_n_per_v < 0.3 * g1.gain_n_per_v  # the inverse falls off above 1 / (2 pi tau_f)
+    assert g2.response_n_per_v[-1] < g2.response_n_per_v[len(g2.response_n_per_v) // 2]
+    assert second.latency_s == pytest.approx(0.02) and chain(second).latency_s == pytest.approx(0.02)
+    t = np.sort(np.random.default_rng(0).uniform(0.0, 5.0, 3000))  # irregular stamps
+    x = np.sin(2.0 * t)
+    y = SensorLagElement(tau_s=0.05).forward(t, x)
+    batch = second.backward(t, y)
+    stream = second.streaming()
+    np.testing.assert_allclose([stream.step(float(a), float(b)) for a, b in zip(t, y)], batch, atol=1e-12)
+    late = np.sin(2.0 * (t - 0.02))  # what is left: 1 / (1 + tau_f s)**2, about 2 tau_f late at low frequency
+    assert np.abs(batch - late)[t > 1.0].max() < 2e-3
+    with pytest.raises(ModelError):
+        SensorLagElement(tau_s=0.05, noise_filter_tau_s=0.01, noise_filter_order=3)
+
+
 def test_the_shipped_core_and_a_hysteresis_are_judged_by_the_core():
     chain = SensorChain([PlayHysteresisElement(1.0, [0.5, 1.0], [0.1, 0.05]), ViscoelasticElement(PAPER_BURGERS),
                          OffsetElement(0.05)])

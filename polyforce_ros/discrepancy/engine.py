@@ -1000,14 +1000,14 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
 
     chain, bandwidth = with_safe_bandwidth(chain, t, rec.voltage_v, rec.force_n, rec_temp,
                                            rates_hz=(CompensatorConfig.noise_gain_rate_hz,))
-    factor = bandwidth.get("filter_factor", 0.0)
+    factor, order = bandwidth.get("filter_factor", 0.0), bandwidth.get("filter_order", 1)
     base_q = force_quality(fold_chains(lambda m: build_chain(base_fit.structure, m, sig), base_fit.names,
                                        base_fit.coef_folds), fold_rec, t, rec.voltage_v, rec.force_n, rec_temp,
                            noise_chain=base_chain)
     saved_q = base_q
     if accepted:
         saved_q = force_quality(fold_chains(lambda m: build_chain(current.structure, m, sig), current.names,
-                                            current.coef_folds, lambda c: with_filter(c, factor)),
+                                            current.coef_folds, lambda c: with_filter(c, factor, order)),
                                 fold_rec, t, rec.voltage_v, rec.force_n, rec_temp, noise_chain=chain)
     forces_n = (base_q.force_n, saved_q.force_n)
     newtons = {"base": base_q.to_dict(), "saved": saved_q.to_dict(), "lag_bandwidth": bandwidth,

@@ -110,7 +110,7 @@ def write_report(diag, rec, out_dir, bag_name=""):
     if diag.newtons.get("lag_bandwidth"):
         bw = diag.newtons["lag_bandwidth"]
         lines += ["", f"The sensor lag is inverted with a bandwidth: filter time {bw['filter_factor']:g} x its time "
-                      f"constant, added delay {1e3 * bw['added_delay_s']:.1f} ms."]
+                      f"constant, roll-off of order {bw['filter_order']}, added delay {1e3 * bw['added_delay_s']:.1f} ms."]
     if diag.newtons.get("rejected"):
         lines += ["", f"Not saved: {', '.join(diag.newtons['rejected']['effects'])} (they compensate the force worse "
                       "than the base)."]

@@ -217,6 +217,7 @@ PARAMETER_BOUNDS = {
     # electronics (0.1 us) to a slow thermal lag (11.6 days); diagnosis fits 1e-4..10 s
     "tau_s": (1e-7, 1e6, "s", "from 0.1 us electronics to 11.6 days; the forward run scales by 1/tau"),
     "noise_filter_tau_s": (1e-7, 1e6, "s", "a lag like tau_s"),
+    "noise_filter_order": (1.0, 2.0, "", "first- or second-order roll-off of the inverse"),
     # DAQ buffering and transport: microseconds to a few seconds (diagnosis fits 2..100 ms)
     "delay_s": (1e-7, 10.0, "s", "a force felt seconds late is no force feedback"),
     # V per degC: 10 V/degC swings a 10 V range in 1 degC (diagnosis fits +-1 V/degC)
@@ -867,15 +868,31 @@ class SensorLagElement(_SimpleElement):
     (1 + tau s) / (1 + tau_f s) = tau/tau_f + (1 - tau/tau_f) / (1 + tau_f s):
     a weighted sum of y and of y through a lag of tau_f, run with the same
     exact recursion. Noise then grows by at most tau / tau_f, and the
-    bandwidth ends near 1 / (2 pi tau_f). Both assume y constant before its
-    first sample (no start-up transient).
+    bandwidth ends near 1 / (2 pi tau_f). With ``noise_filter_order = 2`` the
+    roll-off is (1 + tau s) / (1 + tau_f s)**2 = (tau/tau_f) L + (1 - tau/tau_f) L L,
+    L a lag of tau_f: the inverse falls off above 1 / (2 pi tau_f) instead of
+    staying at tau / tau_f, so white noise passes far less for the same tau_f
+    (the compensated force then follows the applied one through 1 / (1 + tau_f s)**2,
+    about 2 tau_f late). All assume y constant before its first sample (no
+    start-up transient).
     """
 
     kind = "sensor_lag"
     PARAMS = (("tau_s", True),)
-    OPTIONAL = {"noise_filter_tau_s": 0.0}
+    OPTIONAL = {"noise_filter_tau_s": 0.0, "noise_filter_order": 1.0}
     tau_s: float
     noise_filter_tau_s: float
+    noise_filter_order: float
+
+    def __init__(self, **values: float) -> None:
+        super().__init__(**values)
+        if self.noise_filter_order not in (1.0, 2.0):
+            raise ModelError(f"{self.kind}: noise_filter_order must be 1 or 2, got {_short(self.noise_filter_order)}")
+
+    @property
+    def latency_s(self) -> float:
+        """How late the compensated signal follows: ``noise_filter_order * noise_filter_tau_s`` [s]."""
+        return self.noise_filter_order * self.noise_filter_tau_s
 
     def forward_state(self) -> _LagForwardState:
         """A fresh lag state (output zero, no previous sample) for block-wise :meth:`forward` runs.
@@ -949,6 +966,9 @@ class SensorLagElement(_SimpleElement):
                 return y.copy()
             # the lag starts settled at y[0]: its integral state is y[0] * tau_f
             lagged = exp_convolve(t, y, [1.0 / tau_f], y0=[y[0] * tau_f])[:, 0] / tau_f
+            if self.noise_filter_order == 2.0:
+                twice = exp_convolve(t, lagged, [1.0 / tau_f], y0=[y[0] * tau_f])[:, 0] / tau_f
+                return (self.tau_s / tau_f) * lagged + (1.0 - self.tau_s / tau_f) * twice
             return (self.tau_s / tau_f) * y + (1.0 - self.tau_s / tau_f) * lagged
         slope = np.zeros_like(y)
         if y.size > 1:
@@ -965,6 +985,25 @@ class SensorLagElement(_SimpleElement):
             A fresh stream [output unit in, input unit out]; its ``reset`` forgets the previous sample.
         """
         tau, tau_f = self.tau_s, self.noise_filter_tau_s
+        if tau_f > 0.0 and self.noise_filter_order == 2.0:
+            first, second = ExpConvState([1.0 / tau_f]), ExpConvState([1.0 / tau_f])
+            w_once, w_twice = tau / tau_f, 1.0 - tau / tau_f
+
+            def filtered2(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+                if first.t_prev_s is None:
+                    first.reset([y * tau_f])
+                    second.reset([y * tau_f])
+                state = first.update(t_s, y)
+                once = (state if state is not None else first.y)[0] / tau_f
+                state = second.update(t_s, once)
+                twice = (state if state is not None else second.y)[0] / tau_f
+                return w_once * once + w_twice * twice
+
+            def reset2() -> None:
+                first.reset()
+                second.reset()
+
+            return _FunctionStream(filtered2, reset2)
         if tau_f > 0.0:
             lag = ExpConvState([1.0 / tau_f])
             w_direct, w_lag = tau / tau_f, 1.0 - tau / tau_f
@@ -2255,7 +2294,7 @@ class SensorChain:
         """How late the compensated force follows the applied force [s]: every transport delay, which the
         inverse cannot undo, plus the filter time of every bandwidth-limited lag inverse."""
         return float(sum(e.delay_s for e in self.elements if isinstance(e, TransportDelayElement))
-                     + sum(e.noise_filter_tau_s for e in self.elements if isinstance(e, SensorLagElement)))
+                     + sum(e.latency_s for e in self.elements if isinstance(e, SensorLagElement)))
 
     def static_gain_v_per_n(self) -> float:
         """The core's static gain (1.0 without a core); the other elements are not included.

@@ -1,4 +1,4 @@
-"""Live benchmarks of issue 6: latency of the 1 kHz haptic path and memory of the compensation node.
+"""Live benchmarks 1 and 6 (docs/benchmarks.md): latency of the 1 kHz haptic path and memory of the compensation node.
 
 1. raw sample stamp -> `wrench` received in another process: p50/p99/max and losses for the
    compensation node and, in the same run, a bare relay (same types, no computation);

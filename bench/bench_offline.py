@@ -1,4 +1,4 @@
-"""Offline benchmarks of issue 6 (2-5): each figure beside its baseline, measured in the same run.
+"""Offline benchmarks 2-5 (docs/benchmarks.md): each figure beside its baseline, measured in the same run.
 
     .venv/bin/python bench/bench_offline.py [--quick]
 """

@@ -221,9 +221,9 @@ class _CompensationLogic(PolyforceNode):
         self.node_counts["published"] += 1
 
     def _publish(self, stamp_ns, force_n, frame_id=""):
-        # One message object, reused: publish() serialises at once, and building a
-        # WrenchStamped per sample was a third of the callback's time. Its header is a new one:
-        # the one it holds may be a received message's (_process), which is not ours to write.
+        # One message object, reused: publish() serialises at once, so refilling it is cheaper than
+        # building a WrenchStamped per sample. Its header is a new one: the one it holds may be a
+        # received message's (_process), which is not ours to write.
         msg = self._out
         msg.header = Header(stamp=ns_to_stamp(stamp_ns, Time()), frame_id=self.p["frame_id"] or frame_id)
         msg.wrench.force.z = float(force_n)
@@ -252,9 +252,9 @@ class _CompensationLogic(PolyforceNode):
         """The watchdog: a zero wrench once no valid input came for ``stale_timeout_s``, then every zero period.
 
         While input flows it wakes once, when the newest sample would go stale, not on a fixed
-        50 Hz poll: each executor wake-up delays the sample that arrives meanwhile, and the poll
-        put the node's 1 kHz latency p99 well above a relay's (README, benchmark 1). A stop is
-        also caught on time (not up to one poll period late).
+        50 Hz poll: each executor wake-up delays the sample that arrives meanwhile, which shows in
+        the tail of the 1 kHz latency (docs/benchmarks.md, benchmark 1). A stop is also caught on
+        time (not up to one poll period late).
         """
         timeout_s = self.compensator.config.stale_timeout_s
         zero_period_ns = int(min(0.02, timeout_s / 4) * 1e9)
@@ -342,7 +342,7 @@ class CompensationLifecycleNode(ManagedNode, _CompensationLogic, LifecycleNode):
 
     def on_activate(self, state):
         self._active = True
-        self.compensator.reset()  # what came before activation is not this session's history
+        self.compensator.reset()  # what came before activation is not this activation's history
         return super().on_activate(state)
 
     def on_deactivate(self, state):

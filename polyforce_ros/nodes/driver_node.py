@@ -386,7 +386,7 @@ class DriverLifecycleNode(ManagedNode, _DriverLogic, LifecycleNode):
             self.source.restart()
             self.published = 0
         elif self.port is not None:
-            self.port.reset_input_buffer()  # what waited while inactive is not this session's data
+            self.port.reset_input_buffer()  # what waited while inactive is not this activation's data
             self.source.reset()
             self._request_identity()
         self._active = True

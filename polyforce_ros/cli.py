@@ -27,6 +27,7 @@ from .physics.metrics import error_summary
 from .sim import profiles
 from .sim.sensor import BridgeSimulator
 from .workflows import compensate_record
+from .runtime import CompensatorConfig
 
 def _print_row(profile, label, e):
     print(f"{profile:<18} {label:<12} {e['rmse_n']:9.4f} {e['max_abs_n']:11.4f} {e['r2']:7.4f}")
@@ -99,13 +100,17 @@ def cmd_calibrate(args) -> int:
 
 
 def cmd_compensate(args) -> int:
-    from .runtime import CompensatorConfig
+    from .runtime.compensator import check_noise_gain
     from .workflows import compensate_bag
 
     model = load_model(args.model or default_model_path())
-    n, warnings = compensate_bag(args.input, args.output, model, CompensatorConfig(force_limit_n=args.force_limit,
-                                                                                   auto_tare=not args.no_auto_tare),
-                                 directory=args.directory)
+    config = CompensatorConfig(force_limit_n=args.force_limit, auto_tare=not args.no_auto_tare,
+                               max_noise_gain=args.max_noise_gain, noise_gain_rate_hz=args.rate)
+    gain = check_noise_gain(model.chain, config.noise_gain_rate_hz, config.max_noise_gain)  # exit 2 when refused
+    print(f"model noise gain {gain.gain_n_per_v:.3g} N/V rms at {gain.rate_hz:g} Hz (max_noise_gain "
+          f"{config.max_noise_gain:g}; most from {gain.element}); latency {1e3 * model.chain.latency_s:.1f} ms",
+          file=sys.stderr)
+    n, warnings = compensate_bag(args.input, args.output, model, config, directory=args.directory)
     for warning in warnings:
         print(f"warning: {warning}", file=sys.stderr)
     print(f"{args.output}: copied {args.input} and added {n} /polyforce/wrench messages "
@@ -236,7 +241,13 @@ def build_parser():
     comp.add_argument("--directory", action="store_true",
                       help="write OUT as a rosbag2 bag directory (OUT/OUT_0.mcap + metadata.yaml)")
     comp.add_argument("--no-auto-tare", action="store_true",
-                      help="do not zero the bridge offset from the first 0.5 s (like the node's auto_tare: false)")
+                      help="do not zero the bridge offset at the first rest (like the node's auto_tare: false)")
+    comp.add_argument("--max-noise-gain", type=float, default=CompensatorConfig.max_noise_gain,
+                      help="refuse (exit 2) a model whose inverse turns white bridge noise into more than this force, "
+                           "N per V rms, like the node's max_noise_gain (default %(default)s)")
+    comp.add_argument("--rate", type=float, default=CompensatorConfig.noise_gain_rate_hz,
+                      help="sample rate that noise gain is judged at, Hz (the node's noise_gain_rate_hz; "
+                           "default %(default)s)")
     comp.set_defaults(func=cmd_compensate)
 
     rep = sub.add_parser("replay", help="play a bag onto the topics with its original timing")

@@ -122,6 +122,9 @@ YAML_CASES = {
     "missing key": (lambda d: d["elements"][0].pop("eta2_n_s_per_v"), "missing keys"),
     "non-number": (lambda d: d["elements"][0].update(eta1_n_s_per_v="lots"), "must be a number"),
     "unknown key": (lambda d: d["elements"][0].update(colour="blue"), "unknown keys"),
+    # valid values, but the exact inverse of an 11.7 ms lag turns 1 mV of noise into ~0.1 N at 1 kHz
+    "unbounded lag inverse": (lambda d: d["elements"].insert(1, {"type": "sensor_lag", "tau_s": 0.0117}),
+                              "above max_noise_gain"),
 }
 
 

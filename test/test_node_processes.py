@@ -67,12 +67,15 @@ def test_bad_parameter_fails_at_start_with_a_clear_message():
 @pytest.mark.parametrize("args, says", [
     (("-p", "model_file:={bad}"), "outside the allowed range"),
     (("-p", "force_limit_n:=1e9"), "force_limit_n"),
+    (("-p", "model_file:={shaky}"), "sensor_lag element multiplies it by"),  # an exact lag inverse: noise x 25
 ])
 def test_a_node_started_with_bad_input_exits_2_with_the_reason(tmp_path, args, says):
-    bad = tmp_path / "bad.yaml"
+    bad, shaky = tmp_path / "bad.yaml", tmp_path / "shaky.yaml"
     bad.write_text("format: polyforce_model/1\nelements:\n- {type: burgers, k1_n_per_v: 1.0e+300, k2_n_per_v: 10.0, "
                    "eta1_n_s_per_v: 4627.94, eta2_n_s_per_v: 85.12}\n")
-    proc = spawn(BIN / "compensation_node", *[a.format(bad=bad) for a in args])
+    shaky.write_text("format: polyforce_model/1\nelements:\n- {type: burgers, k1_n_per_v: 3.23, k2_n_per_v: 10.0, "
+                     "eta1_n_s_per_v: 4627.94, eta2_n_s_per_v: 85.12}\n- {type: sensor_lag, tau_s: 0.0117}\n")
+    proc = spawn(BIN / "compensation_node", *[a.format(bad=bad, shaky=shaky) for a in args])
     try:
         out, _ = proc.communicate(timeout=60)
     finally:

@@ -46,10 +46,9 @@ from ..physics.viscoelastic import Burgers, Burgers2, Maxwell, Zener, Zener2, si
 Col = tuple
 
 #: Play-operator half-widths of the hysteresis fit, as fractions of the input span (a regularised
-#: non-negative weight distribution over them is fitted). 22 log-spaced, ~27 % apart: with the 11 of
-#: before (up to 2x apart) an operator between two of them left 1.5-2x the noise floor at 6 % loops,
-#: which a drift or a gain then took as a second effect (tune split 53/59 -> 56/59; 16 gave 56/59 too,
-#: with a worse 90th percentile of the validation RMSE).
+#: non-negative weight distribution over them is fitted). 22 log-spaced, ~27 % apart: with radii up to 2x
+#: apart, an operator between two of them leaves 1.5-2x the noise floor at 6 % loops, which a drift or a
+#: gain then takes as a second effect.
 PLAY_FRACTIONS = np.geomspace(0.003, 0.5, 22)
 #: Ridge weight on the play weights, relative to the mean diagonal of the normal matrix.
 PLAY_RIDGE = 1e-4

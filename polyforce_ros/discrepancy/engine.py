@@ -505,10 +505,9 @@ class Diagnosis:
 
 def _refresh_ref(sig: Signals, core, span_x=None):
     """``sig`` with ``core`` as the reference core: its output ``x_ref`` and, unless ``span_x`` is given (the record at
-    another rate takes the fit rate's), the play radii's span from it. Radii that kept an earlier core's span drifted
-    against the signal when a voltage-path hysteresis took part of the core's gain (a play of small radius is
-    nearly the input itself), and each settling round fitted worse (tune split: 0.0023 -> 0.0033 V, and the
-    loss was named as a drift)."""
+    another rate takes the fit rate's), the play radii's span from it. Radii that kept an earlier core's span would
+    drift against the signal when a voltage-path hysteresis takes part of the core's gain (a play of small radius is
+    nearly the input itself): each settling round would fit worse, and the loss be named as a drift."""
     x = simulate_deformation(core, sig.t, sig.f_nonlinear)
     return replace(sig, core_ref=core, x_ref=x, span_x=span_x if span_x is not None else max(float(np.ptp(x)), 1e-9))
 
@@ -524,8 +523,8 @@ def _polish(fitter: Fitter, st: Structure) -> Structure:
     """Polish the nonlinear time constants (core, lag, thermal lag) by multi-start least squares in log space."""
     idx = [("core", i) for i in range(len(st.taus))]
     # a core effect's parameter (a delayed elasticity's time) is one of the core's times, not a column's: it is not
-    # polished on its own (it had stayed at its grid value while the core's time moved, e.g. 150 s against 561 s,
-    # and _without drops the core time nearest to it) but follows the core time it names
+    # polished on its own (it would stay at its grid value while the core's time moves, and _without drops the core
+    # time nearest to it) but follows the core time it names
     own_tau = {k: int(np.argmin([abs(math.log(tau / t.param)) for tau in st.taus]))
                for k, t in enumerate(st.terms) if t.param is not None and REGISTRY[t.effect].core_change and st.taus}
     idx += [("term", k) for k, t in enumerate(st.terms)
@@ -554,7 +553,7 @@ def _polish(fitter: Fitter, st: Structure) -> Structure:
         s = make(theta)
         names, mats, lo, hi, ridge = design_columns(sig, s)
         # scaled by the whole record's RMS, but only the rows used are stacked: stacking every row at every
-        # evaluation had been a third of a diagnosis
+        # evaluation costs a third of a diagnosis
         scale = np.array([math.sqrt(float(m @ m) / m.size) for m in mats])
         scale[scale <= 0] = 1.0
         a = _stack(mats, sub) / scale * w[sub, None]
@@ -732,10 +731,10 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
     # at the record's rate the nonlinear columns (plays, powers of the core output) are driven by the reference force
     # as smooth as they were fitted on: a centred moving mean over a fit bin's samples (the raw force when a bin
     # holds one sample). The raw reference carries its own noise, which plays of small radii follow and block means
-    # do not: driven by it, a stop hysteresis fitted to 0.0013 V at the fit rate predicted the record to 0.0065 V,
-    # 2.5x the floor, reported unexplained (tune split, 1 kHz); each sample's own block mean (a staircase) left
-    # 1.25x. The linear columns keep the raw force: its fast content is worth more than its noise there. (The saved
-    # chain, run on a raw reference, still moves its small plays with that noise.)
+    # do not: driven by it, a stop hysteresis fitted to 0.0013 V at the fit rate predicts a 1 kHz record to 2.5x
+    # the floor, and each sample's own block mean (a staircase) to 1.25x. The linear columns keep the raw force:
+    # its fast content is worth more than its noise there. (The saved chain, run on a raw reference, still moves
+    # its small plays with that noise.)
     per_bin = int(round(t.size / max(int(valid.sum()), 1)))
     f_smooth = ndimage.uniform_filter1d(np.asarray(rec.force_n, float), per_bin, mode="nearest") if per_bin > 1 else None
     sig_full = Signals(t, np.asarray(rec.force_n, float), np.asarray(rec.voltage_v, float),
@@ -745,8 +744,8 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
     st = _base_structure(fitter, base)
     base_fit = fitter.evaluate(st)
     # 1. noise floor from the data: the voltage's white noise, and the reference's through the model's instantaneous
-    # compliance (the creep terms low-pass it away; through the static gain, 1.5-2x larger for a burgers, the floor
-    # had been overestimated and a record's validation RMSE came out at 0.73-0.93x of it)
+    # compliance (the creep terms low-pass it away; the static gain, 1.5-2x larger for a burgers, would overestimate
+    # the floor, and validation RMSEs would come out at 0.73-0.93x of it)
     sigma_v, sigma_f = noise_std(rec.voltage_v), noise_std(rec.force_n)
     gain = abs(float(base_fit.coef_map.get("j0", 0.0)))
     floor = math.sqrt(sigma_v ** 2 + (gain * sigma_f) ** 2)
@@ -792,8 +791,8 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
         for v, f in best_of.items():
             groups.setdefault(variant_group(v), []).append(f)
         # of variants that differ only in size (the splines), the best in sample (the largest, mostly) and the best
-        # out of sample: polishing each of the 5 splines at every step, swap and rebuild had made the speed bench's
-        # worst record 21 s (the best in sample alone cost two tune answers, marginal drift events)
+        # out of sample: polishing each of the 5 splines at every step, swap and rebuild makes the slowest bench
+        # record take 21 s, and the best in sample alone misses marginal drift events
         to_polish = {id(f): f for fs in groups.values() for f in (min(fs, key=lambda f: f.fit_mse),
                                                                   min(fs, key=lambda f: f.cv_mse))}
         # promising in sample: the time constants (the core's too) are refitted with the effect in place (inherited
@@ -829,9 +828,9 @@ def diagnose(rec: Record, base="burgers", fit_rate_hz=100.0, n_folds=5, min_conf
                 continue
             without = _without(fit.structure, other)
             # every shape on its grid, the best of them polished, and (``polish``) the promising variants with a
-            # parameter of their own polished too: an unpolished settling drift had lost to a fine spline that stood
-            # in for the dropped effect (tune, flow + settling drift at 1 kHz). Polishing every promising variant
-            # (8 of a hysteresis, 5 splines) had made the backward check of a three-effect record 9 s
+            # parameter of their own polished too: an unpolished settling drift loses to a fine spline that stands
+            # in for the dropped effect (a flow beside a settling drift at 1 kHz). Polishing every promising variant
+            # (8 of a hysteresis, 5 splines) makes the backward check of a three-effect record take 9 s
             again = (addition(fitter.evaluate(without), other, "parametric" if polish else False)
                      if without is not None else None)
             if again is not None and again.structure.term(other) != fit.structure.term(other):

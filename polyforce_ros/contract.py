@@ -7,7 +7,7 @@ spells a topic, a type or a default frame. ROS-free (type names are strings;
 from __future__ import annotations
 
 __all__ = [
-    "NAMESPACE", "Rel", "RECORDED", "JOINT_STATE", "WRENCH_STAMPED", "TEMPERATURE_MSG", "FLOAT64", "HEADER",
+    "NAMESPACE", "Rel", "RECORDED", "JOINT_STATE", "WRENCH_STAMPED", "TEMPERATURE_MSG", "FLOAT64", "HEADER", "STRING",
     "TOPICS", "full_name",
     "BRIDGE_VOLTAGE", "BRIDGE_VOLTAGE_SCALAR", "REFERENCE_FORCE", "WRENCH", "TEMPERATURE", "CONTRACT",
     "SCALAR_FIELD", "FRAME_ID", "JOINT_NAME", "QOS_RELIABLE", "QOS_DEPTH", "DIAGNOSTICS",
@@ -21,6 +21,7 @@ WRENCH_STAMPED = "geometry_msgs/msg/WrenchStamped"
 TEMPERATURE_MSG = "sensor_msgs/msg/Temperature"
 FLOAT64 = "std_msgs/msg/Float64"
 HEADER = "std_msgs/msg/Header"
+STRING = "std_msgs/msg/String"
 
 
 class Rel:
@@ -33,6 +34,7 @@ class Rel:
     TEMPERATURE = "temperature"                       # degC
     HAPTIC_COMMAND = "haptic_command"                 # haptic_bridge_node: force for the haptic master, device frame
     SENSOR_RESET = "sensor_reset"                     # the sensor restarted relaxed at header.stamp (driver -> compensation)
+    SENSOR_SERIAL = "sensor_serial"                   # serial number the device reports for its sensor (latched, driver)
 
 
 #: Relative topic name -> message type.
@@ -44,6 +46,7 @@ TOPICS = {
     Rel.TEMPERATURE: TEMPERATURE_MSG,
     Rel.HAPTIC_COMMAND: WRENCH_STAMPED,
     Rel.SENSOR_RESET: HEADER,
+    Rel.SENSOR_SERIAL: STRING,
 }
 
 
@@ -64,7 +67,8 @@ RECORDED = {rel: TOPICS[rel] for rel in (Rel.BRIDGE_VOLTAGE, Rel.REFERENCE_FORCE
 CONTRACT = {full_name(rel): type_name for rel, type_name in RECORDED.items()}
 
 #: The field that carries a contract message's one scalar.
-SCALAR_FIELD = {JOINT_STATE: "position", WRENCH_STAMPED: "force_z", TEMPERATURE_MSG: "temperature", FLOAT64: "data"}
+SCALAR_FIELD = {JOINT_STATE: "position", WRENCH_STAMPED: "force_z", TEMPERATURE_MSG: "temperature", FLOAT64: "data",
+                STRING: "data"}
 
 #: Sensor frame (urdf) and the JointState name of the sensor's passive prismatic joint.
 FRAME_ID = "polyforce_sensor"

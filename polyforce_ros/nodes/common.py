@@ -48,6 +48,12 @@ def data_qos(node) -> QoSProfile:
     )
 
 
+def latched_qos() -> QoSProfile:
+    """QoS of a state topic (``sensor_serial``): the latest value, kept for subscribers that join later."""
+    return QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                      durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
 def declare_qos(node):
     declare(node, "qos_reliable", contract.QOS_RELIABLE, "Reliable (true) or best-effort (false) data topics", read_only=True)
     declare(node, "qos_depth", contract.QOS_DEPTH, "History depth of data topics (messages)", 1, 100000, read_only=True)

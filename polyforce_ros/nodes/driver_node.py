@@ -24,7 +24,10 @@ Backends
   overflows, ADC reconfigurations) appear in diagnostics, which WARN when the
   device's volts_per_count or rate disagree with the parameters, or when it was
   restarted by its watchdog or had to configure its ADC again. Its ADC temperature
-  is published on ``temperature`` (sensor_msgs/Temperature, degC, stamped at arrival).
+  is published on ``temperature`` (sensor_msgs/Temperature, degC, stamped at arrival),
+  and its sensor serial on ``sensor_serial`` (std_msgs/String, latched: the latest
+  serial reaches late subscribers; published again when a device with another serial
+  appears), which compensation_node compares with its model's.
 """
 from __future__ import annotations
 
@@ -35,7 +38,7 @@ from geometry_msgs.msg import WrenchStamped
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from rclpy.node import Node
 from sensor_msgs.msg import JointState, Temperature
-from std_msgs.msg import Header
+from std_msgs.msg import Header, String
 from std_srvs.srv import Trigger
 
 from ..model_file import default_model_path, load_model
@@ -44,7 +47,8 @@ from ..serial_protocol import REQUEST_INFO, REQUEST_STATUS
 from ..sim import profiles
 from ..sim.sensor import BridgeSimulator
 from .. import contract
-from .common import ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, ns_to_stamp, run
+from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, latched_qos,
+                     ns_to_stamp, run)
 
 #: Serial backend: WARN when fewer than this fraction of expected_rate_hz frames arrive (covers ADC oscillator tolerance).
 RATE_WARN_FRACTION = 0.95
@@ -205,6 +209,8 @@ class _DriverLogic(PolyforceNode):
         self._window_rates = deque(maxlen=2)  # frames/s of the last two completed windows
         self.pub_temp = self._make_publisher(Temperature, contract.Rel.TEMPERATURE, 10)  # the ADC's own sensor
         self._known_info = None  # the device info last logged
+        self.pub_serial = self._make_publisher(String, contract.Rel.SENSOR_SERIAL, latched_qos())
+        self._published_serial = None  # the sensor serial last published
         self._open_port()
         self._entities += [self.create_timer(self._param("publish_period_s"), self._serial_tick),
                            self.create_timer(self._param("reconnect_period_s"), self._reconnect)]
@@ -277,6 +283,9 @@ class _DriverLogic(PolyforceNode):
                 self.get_logger().warning(
                     f"sensor serial changed from {previous.sensor_serial!r} to {info.sensor_serial!r}: a model "
                     "calibrated on the former does not describe the latter")
+            if info.sensor_serial != self._published_serial:
+                self._published_serial = info.sensor_serial
+                self.pub_serial.publish(String(data=info.sensor_serial))
         for arrival_ns, reading in self.source.take_temperatures():
             # variance: the ADS1220 sensor's typical accuracy, +-0.5 degC, taken as one sigma
             msg = Temperature(temperature=reading.celsius, variance=0.25)

@@ -2,7 +2,7 @@
 
     polyforce demo                               live: driver (sim) -> compensation -> errors
     polyforce simulate                           offline: simulate, compensate, print errors
-    polyforce calibrate CREEP.mcap --output M.yaml
+    polyforce calibrate CREEP.mcap --output M.yaml [--sensor-serial SN]
     polyforce compensate IN.mcap OUT.mcap [--model M.yaml]
     polyforce replay BAG.mcap [--rate 2.0] [--loop] [--lossless]
     polyforce evaluate [--out DIR] [--bag BAG.mcap ...]
@@ -86,7 +86,8 @@ def cmd_calibrate(args) -> int:
 
     check_model_types(args.candidates)  # before reading the bag
     result = calibrate_bag(args.bag, args.output, candidates=tuple(args.candidates), min_r2=args.min_r2,
-                           progress=lambda name: print(f"fitting {name} ...", file=sys.stderr))
+                           progress=lambda name: print(f"fitting {name} ...", file=sys.stderr),
+                           sensor_serial=args.sensor_serial)
     for warning in result.warnings:
         print(f"warning: {warning}", file=sys.stderr)
     print(f"{'model':<9} {'R2':>8} {'RMSE [V]':>10} {'BIC':>12}  parameters (± standard error)")
@@ -231,6 +232,8 @@ def build_parser():
     cal.add_argument("--candidates", nargs="+", default=["maxwell", "kelvin", "zener", "burgers"])
     cal.add_argument("--min-r2", type=float, default=0.9)
     cal.add_argument("--json", help="also write the fit report as JSON")
+    cal.add_argument("--sensor-serial", help="serial number of the sensor the bag was recorded on, written into the "
+                     "model's provenance (compensation_node compares it with the live device's)")
     cal.set_defaults(func=cmd_calibrate)
 
     comp = sub.add_parser("compensate", help="copy a bag and add the compensated /polyforce/wrench topic")

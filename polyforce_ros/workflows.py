@@ -159,11 +159,13 @@ class CalibrationResult:
     fits: list = field(default_factory=list)  # summaries, best first
     previous_rmse_v: float | None = None
     warnings: list = field(default_factory=list)
+    sensor_serial: str | None = None  #: serial of the calibrated sensor, as written into the provenance
 
     def summary(self) -> dict:
-        """JSON-ready outcome: written or not and why, the output path, every fit, the previous RMSE [V], warnings."""
+        """JSON-ready outcome: written or not and why, the output path, every fit, the previous RMSE [V], warnings,
+        the sensor serial."""
         return {"written": self.written, "reason": self.reason, "output": self.output, "fits": self.fits,
-                "previous_rmse_v": self.previous_rmse_v, "warnings": self.warnings}
+                "previous_rmse_v": self.previous_rmse_v, "warnings": self.warnings, "sensor_serial": self.sensor_serial}
 
 
 def rmse_of_model(model: ViscoelasticModel, t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray) -> float:
@@ -176,7 +178,7 @@ def rmse_of_model(model: ViscoelasticModel, t_s: np.ndarray, force_n: np.ndarray
 def calibrate_record(t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray, output: str | Path,
                      source: str | Path, candidates: Sequence[str] = ("maxwell", "kelvin", "zener", "burgers"),
                      min_r2: float = 0.9, progress: Optional[Callable[[str], Any]] = None,
-                     warnings: Iterable[str] = ()) -> CalibrationResult:
+                     warnings: Iterable[str] = (), sensor_serial: Optional[str] = None) -> CalibrationResult:
     """Fit and select a model; write it to ``output`` only if it is good and better.
 
     The new model is written (atomically, the old file kept as ``.prev``) when
@@ -186,22 +188,33 @@ def calibrate_record(t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray
     to a record always reproduces that record at least as well as any other,
     noise included. BIC charges the new fit for its p + 1 free parameters and
     the existing model for its one (the offset).
+    ``sensor_serial`` names the sensor the record was taken on: it goes into the
+    provenance (``sensor_serial``), where compensation_node compares it with the
+    serial the live device reports. A model there whose provenance names another
+    sensor is no standard for this one: the new fit replaces it when good.
     Raises ``ValueError`` when no fit is possible (e.g. no creep segment).
     """
     output = Path(output).expanduser()
+    sensor_serial = str(sensor_serial).strip() if sensor_serial is not None else ""
     selection = select_model(t_s, force_n, voltage_v, candidates=candidates, progress=progress)
     best = selection.best
     fits = [f.summary() for f in selection.fits]
-    result = CalibrationResult(False, "", str(output), fits, warnings=list(warnings))
+    result = CalibrationResult(False, "", str(output), fits, warnings=list(warnings),
+                               sensor_serial=sensor_serial or None)
     if not np.isfinite(best.r2) or best.r2 < min_r2:
         result.reason = f"best fit ({best.kind}) has R^2 {best.r2:.4f} < {min_r2}: previous model kept"
         return result
+    previous: Optional[ViscoelasticModel] = None  # the model already at output
+    previous_serial = ""  # the sensor its provenance names
     if output.exists():
         try:
-            previous = load_model(output).chain.viscoelastic
+            previous_model = load_model(output)
         except ModelError:
-            previous = None
-        if previous is not None:
+            previous_model = None
+        previous = previous_model.chain.viscoelastic if previous_model is not None else None
+        if previous_model is not None:
+            previous_serial = str(previous_model.provenance.get("sensor_serial") or "").strip()
+        if previous is not None and not (sensor_serial and previous_serial and previous_serial != sensor_serial):
             n = len(voltage_v)  # both criteria over every sample of this record
             rmse_new = rmse_of_model(best.model, t_s, force_n, voltage_v)
             result.previous_rmse_v = rmse_of_model(previous, t_s, force_n, voltage_v)
@@ -219,9 +232,15 @@ def calibrate_record(t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray
         "fit": {"r2": best.r2, "rmse_v": best.rmse_v, "bic": best.bic, "stderr": best.stderr},
         "candidates": {f.kind: {"bic": f.bic, "r2": f.r2} for f in selection.fits},
     }
+    if sensor_serial:
+        provenance["sensor_serial"] = sensor_serial
     save_model(output, SensorModel(SensorChain.from_model(best.model, offset_v=best.offset_v), provenance))
     result.written = True
     result.reason = f"{best.kind} written (R^2 {best.r2:.4f}, RMSE {best.rmse_v:.3e} V)"
+    if sensor_serial:
+        result.reason += f" for sensor {sensor_serial}"
+        if previous is not None and previous_serial and previous_serial != sensor_serial:
+            result.reason += f", in place of the model of sensor {previous_serial}"
     return result
 
 

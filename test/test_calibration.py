@@ -12,6 +12,7 @@ from std_srvs.srv import Trigger
 
 from polyforce_ros.model_file import load_model
 from polyforce_ros.nodes.calibration_node import CalibrationNode
+from polyforce_ros.nodes.common import latched_qos
 from polyforce_ros.nodes.compensation_node import CompensationNode
 from polyforce_ros.nodes.driver_node import DriverNode
 from polyforce_ros.physics.viscoelastic import PAPER_BURGERS, Zener
@@ -79,6 +80,26 @@ def test_worse_or_failed_fit_never_replaces_a_good_model(creep_bags, tmp_path):
     assert (tmp_path / "model.yaml.prev").read_text() == good
 
 
+def test_cli_calibrate_names_the_sensor_and_a_model_of_another_sensor_is_no_standard(creep_bags, tmp_path):
+    out = tmp_path / "model.yaml"
+    proc = polyforce("calibrate", str(creep_bags["burgers"]), "--output", str(out), "--sensor-serial", "PF-A",
+                     "--json", str(tmp_path / "r.json"))
+    assert proc.returncode == 0 and "for sensor PF-A" in proc.stdout, proc.stdout + proc.stderr
+    assert load_model(out).provenance["sensor_serial"] == "PF-A"
+    assert json.loads((tmp_path / "r.json").read_text())["sensor_serial"] == "PF-A"
+    good = out.read_text()
+    # the same sensor: the existing model explains the noisy record better and is kept
+    proc = polyforce("calibrate", str(creep_bags["noisy"]), "--output", str(out), "--min-r2", "0.0",
+                     "--sensor-serial", "PF-A")
+    assert proc.returncode == 3 and "as well or better" in proc.stdout and out.read_text() == good
+    # another sensor: the model of PF-A says nothing about it, so the fit is written
+    proc = polyforce("calibrate", str(creep_bags["noisy"]), "--output", str(out), "--min-r2", "0.0",
+                     "--sensor-serial", "PF-B")
+    assert proc.returncode == 0 and "in place of the model of sensor PF-A" in proc.stdout, proc.stdout
+    assert load_model(out).provenance["sensor_serial"] == "PF-B"
+    assert (tmp_path / "model.yaml.prev").read_text() == good
+
+
 def test_cli_compensate_adds_wrench_stamped_like_raw(creep_bags, tmp_path):
     from polyforce_ros import bags
     from polyforce_ros.physics.viscoelastic import compensate
@@ -121,6 +142,10 @@ def test_live_recording_of_a_creep_experiment(tmp_path):
     out = tmp_path / "live.yaml"
     with ros() as h:
         cal = h.add(CalibrationNode(context=h.context, parameter_overrides=[Parameter("output_path", value=str(out))]))
+        # the serial a serial-backend driver announces (latched): the recorded sensor's, named in the model
+        serial = cal.create_publisher(String, "sensor_serial", latched_qos())
+        serial.publish(String(data="PF-LIVE-9"))
+        assert h.spin_until(lambda: cal.live_serial == "PF-LIVE-9", 5.0)
         start = cal.create_client(Trigger, "calibration_node/start_recording")
         stop = cal.create_client(Trigger, "calibration_node/stop_and_fit")
         assert h.call(start, Trigger.Request()).success
@@ -131,3 +156,4 @@ def test_live_recording_of_a_creep_experiment(tmp_path):
     assert response.success, response.message
     assert load_model(out).chain.viscoelastic.kind in ("burgers", "zener")
     assert load_model(out).chain.viscoelastic.as_dict()["k1_n_per_v"] == pytest.approx(4.8, rel=0.02)
+    assert load_model(out).provenance["sensor_serial"] == "PF-LIVE-9"

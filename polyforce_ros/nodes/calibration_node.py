@@ -11,6 +11,12 @@ The model goes to ``output_path`` atomically, and only when the fit is good
 :func:`polyforce_ros.workflows.calibrate_record`). Every outcome is logged,
 published as JSON on ``~/result`` (std_msgs/String, transient local) and
 reported on /diagnostics.
+
+The model's provenance names the sensor it was calibrated on (``sensor_serial``):
+the ``sensor_serial`` parameter when set, else, for a live recording, the serial
+the driver announced on ``sensor_serial`` while recording (none when it changed
+during the recording, with a warning). A bag names no sensor by itself, so a bag
+fit carries the parameter's serial only.
 """
 from __future__ import annotations
 
@@ -30,7 +36,8 @@ from ..physics.fitting import check_model_types
 from ..record import record_from_samples
 from ..workflows import calibrate_bag, calibrate_record
 from .. import contract
-from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run, stamp_to_ns
+from .common import (DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, latched_qos, run,
+                     stamp_to_ns)
 
 DEFAULT_OUTPUT = str(Path.home() / ".ros" / "polyforce_model.yaml")
 
@@ -44,6 +51,9 @@ class CalibrationNode(Node):
         declare(self, "candidates", ["maxwell", "kelvin", "zener", "burgers"], "Model types to fit; the lowest BIC wins")
         declare(self, "min_r2", 0.9, "A best fit below this R^2 is not written", 0.0, 1.0)
         declare(self, "calibrate_on_start", False, "Fit bag_path once at start-up", read_only=True)
+        declare(self, "sensor_serial", "",
+                "Serial number of the calibrated sensor, written into the model's provenance; empty = for a live "
+                "recording the serial the driver announces on sensor_serial, for a bag none")
         declare_qos(self)
         qos = data_qos(self)
         self.diag = Diagnostics(self, "polyforce_ros: calibration")
@@ -54,6 +64,9 @@ class CalibrationNode(Node):
         self.create_service(Trigger, "~/stop_and_fit", self._on_stop_and_fit)
         self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, self._on_raw, qos)
         self.create_subscription(WrenchStamped, contract.Rel.REFERENCE_FORCE, self._on_ref, qos)
+        self.live_serial = None  # the driver's latest sensor serial
+        self._recorded_serials = set()  # the serials announced while recording
+        self.create_subscription(String, contract.Rel.SENSOR_SERIAL, self._on_serial, latched_qos())
         check_model_types(self.get_parameter("candidates").value)  # a clear error at start, not at the first fit
         self.recording = False
         self._raw_t, self._raw_v = array("q"), array("d")
@@ -66,7 +79,23 @@ class CalibrationNode(Node):
     def _options(self):
         return dict(output=self.get_parameter("output_path").value,
                     candidates=tuple(self.get_parameter("candidates").value),
-                    min_r2=self.get_parameter("min_r2").value)
+                    min_r2=self.get_parameter("min_r2").value,
+                    sensor_serial=self.get_parameter("sensor_serial").value.strip() or None)
+
+    def _on_serial(self, msg):
+        self.live_serial = msg.data
+        if self.recording:
+            self._recorded_serials.add(msg.data)
+
+    def _recording_serial(self, warnings):
+        """The sensor serial of a live recording: the parameter's, else the one the driver announced (or None)."""
+        if self.get_parameter("sensor_serial").value.strip():
+            return self.get_parameter("sensor_serial").value.strip()
+        if len(self._recorded_serials) > 1:
+            warnings.append(f"the sensor serial changed during the recording ({', '.join(sorted(self._recorded_serials))})"
+                            ": the model names no sensor")
+            return None
+        return next(iter(self._recorded_serials), None)
 
     def _calibrate(self, job):
         try:
@@ -103,6 +132,7 @@ class CalibrationNode(Node):
     def _on_start(self, request, response):
         for buf in (self._raw_t, self._raw_v, self._ref_t, self._ref_f):
             del buf[:]
+        self._recorded_serials = {self.live_serial} if self.live_serial is not None else set()
         self.recording = True
         response.success, response.message = True, "recording bridge_voltage and reference_force"
         self.get_logger().info(response.message)
@@ -120,8 +150,10 @@ class CalibrationNode(Node):
             rec = record_from_samples(raw_t, raw_v, ref_t, ref_f, source="live recording")
             if rec.t_s.size < 10:
                 raise ValueError(f"recorded {rec.t_s.size} usable raw samples: too few to fit")
+            warnings = list(rec.warnings)
+            options = dict(self._options(), sensor_serial=self._recording_serial(warnings))
             return calibrate_record(rec.t_s, rec.force_n, rec.voltage_v, source="live recording",
-                                    warnings=rec.warnings, **self._options())
+                                    warnings=warnings, **options)
 
         return self._respond(response, self._calibrate(job))
 
@@ -143,6 +175,8 @@ class CalibrationNode(Node):
         if self.last.get("fits"):
             best = self.last["fits"][0]
             values.update(best_model=best["model"], r2=best["r2"], rmse_v=best["rmse_v"])
+        if self.last.get("sensor_serial"):
+            values["sensor_serial"] = self.last["sensor_serial"]
         return self.diag.publish(level, message, values)
 
 

@@ -265,3 +265,52 @@ def test_drift_tracking_rezeroes_a_drifting_baseline_at_rest(tracking):
     else:
         assert node.counts["drift_corrections"] == 0
         assert forces[-1] > 0.1  # 30 mV of drift reads as force
+
+
+def test_sensor_serial_of_the_model_against_the_live_device(tmp_path):
+    """The driver's latched sensor_serial against the model's provenance: a different sensor is a WARN, or zero
+    force and ERROR with require_matching_sensor, which also refuses an unknown serial; the right one is OK."""
+    from std_msgs.msg import String
+
+    from polyforce_ros.nodes.common import latched_qos
+
+    path = tmp_path / "pf_a.yaml"
+    save_model(path, SensorModel(SensorChain.from_model(PAPER_BURGERS), {"sensor_serial": "PF-A"}))
+    unnamed = tmp_path / "unnamed.yaml"
+    save_model(unnamed, SensorModel(SensorChain.from_model(PAPER_BURGERS)))
+    stamps = iter(T0_NS + np.arange(1000) * 1_000_000)
+
+    def forces(h, probe, n=20):
+        start_at = len(probe.sample_wrenches())
+        send_all(h, probe, [next(stamps) for _ in range(n)], [0.31] * n, expect=start_at + n)
+        return [w.wrench.force.z for w in probe.sample_wrenches()[start_at:]]
+
+    with ros() as h:
+        node, probe = start(h, stale_timeout_s=30.0, model_file=str(path))
+        serial = probe.create_publisher(String, "sensor_serial", latched_qos())
+        assert node.model_serial == "PF-A" and node.live_serial is None
+        assert min(forces(h, probe)) > 1.0  # no serial known, nothing required: force flows
+        serial.publish(String(data="PF-B"))
+        assert h.spin_until(lambda: node.live_serial == "PF-B", 5.0)
+        status = node._publish_diagnostics()
+        assert status.level == DiagnosticStatus.WARN and "'PF-B' is not the one the model was calibrated on ('PF-A')" \
+            in status.message
+        assert min(forces(h, probe)) > 1.0  # a warning only
+        assert node.set_parameters([Parameter("require_matching_sensor", value=True)])[0].successful
+        assert forces(h, probe) == [0.0] * 20
+        status = node._publish_diagnostics()
+        assert status.level == DiagnosticStatus.ERROR and "zero force (require_matching_sensor)" in status.message
+        values = {kv.key: kv.value for kv in status.values}
+        assert (values["sensor_serial"], values["model_sensor_serial"], values["sensor_check"]) == ("PF-B", "PF-A",
+                                                                                                    "mismatch")
+        serial.publish(String(data="PF-A"))  # the right sensor is plugged in
+        assert h.spin_until(lambda: node.live_serial == "PF-A", 5.0)
+        assert min(forces(h, probe)) > 1.0
+        assert node._publish_diagnostics().level == DiagnosticStatus.OK
+        # a model that names no sensor cannot be matched: refused while required
+        assert node.set_parameters([Parameter("model_file", value=str(unnamed))])[0].successful
+        assert forces(h, probe) == [0.0] * 20
+        assert "the model names no sensor serial" in node._publish_diagnostics().message
+        assert node.set_parameters([Parameter("require_matching_sensor", value=False)])[0].successful
+        assert min(forces(h, probe)) > 1.0
+        assert node._publish_diagnostics().level == DiagnosticStatus.OK

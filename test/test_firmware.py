@@ -763,3 +763,45 @@ def test_live_device_disagreeing_with_the_driver_parameters_warns(build, tmp_pat
         assert level == DiagnosticStatus.WARN and f"parameter is {SCALE!r}" in message
         assert float(values["device_volts_per_count"]) == 5 / 2**30
     dev.assert_clean_exit()
+
+
+def test_live_sensor_serial_reaches_the_compensation_node(build, tmp_path):
+    """The device's sensor serial, through the driver's latched sensor_serial, against the model's provenance:
+    another sensor gets zero force and ERROR while require_matching_sensor, a WARN without."""
+    from polyforce_ros.model_file import SensorModel, save_model
+    from polyforce_ros.nodes.compensation_node import CompensationNode
+    from polyforce_ros.physics.chain import SensorChain
+    from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+
+    model = tmp_path / "other_sensor.yaml"
+    save_model(model, SensorModel(SensorChain.from_model(PAPER_BURGERS), {"sensor_serial": "PF-OTHER"}))
+    # at rest (0 V) for 1 s, then 200000 counts (0.19 V, about 0.9 N on the paper model) for 1 s, and so on
+    args = ["--serial", "PF-LIVE-1", "--signal", "step", "--offset", 0, "--amplitude", 200_000, "--freq", 1.0]
+    with live(tmp_path, build, args, volts_offset=0.0) as (h, node, lis, dev):
+        comp = h.add(CompensationNode(context=h.context, parameter_overrides=[
+            Parameter("model_file", value=str(model)), Parameter("require_matching_sensor", value=True),
+            Parameter("auto_tare", value=False), Parameter("stale_timeout_s", value=5.0)]))
+        forces, volts = [], []
+        publish = comp.pub.publish
+
+        def record(msg):
+            forces.append(msg.wrench.force.z)
+            publish(msg)
+
+        comp.pub.publish = record
+        assert h.spin_until(lambda: comp.live_serial == "PF-LIVE-1", 20.0)  # latched: the driver sent it earlier
+        n_raw = len(lis.raw)
+        assert h.spin_until(lambda: len(forces) >= 2500, 60.0)
+        volts = [m.position[0] for m in lis.raw[n_raw:]]
+        refused = list(forces)
+        status = comp._publish_diagnostics()
+        assert comp.set_parameters([Parameter("require_matching_sensor", value=False)])[0].successful
+        n = len(forces)
+        assert h.spin_until(lambda: any(f > 0.3 for f in forces[n:]), 30.0), "no force once allowed"
+        warned = comp._publish_diagnostics()
+        comp.pub.publish = publish
+    dev.assert_clean_exit()
+    assert max(volts) > 0.15 and set(refused) == {0.0}  # the sensor was loaded while its force was refused
+    assert status.level == DiagnosticStatus.ERROR and "'PF-LIVE-1' is not the one the model was calibrated on " \
+        "('PF-OTHER'): zero force" in status.message
+    assert warned.level == DiagnosticStatus.WARN and "not the one the model was calibrated on" in warned.message

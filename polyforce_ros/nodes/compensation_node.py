@@ -8,7 +8,11 @@ compression positive, stamped like the raw sample). Services ``~/tare`` and
 ``~/reset`` (std_srvs/Trigger). ``sensor_reset`` (std_msgs/Header, stamp = acquisition
 time from which the sensor restarted relaxed, sent by the driver when its device or
 simulator restarts) clears the history and re-arms the zeroing, like ``~/reset``.
-Diagnostics on /diagnostics.
+``sensor_serial`` (std_msgs/String, latched, from the driver) is the serial number
+the live device reports for its sensor; it is compared with the serial the model's
+provenance names (``sensor_serial``, written by calibration). A different serial
+is a WARN; with ``require_matching_sensor`` the force is zero (diagnostics ERROR)
+until the live serial is known and equals the model's. Diagnostics on /diagnostics.
 
 A thin shell: every rule about samples (bad values, implausible and backwards
 stamps and their healing, gaps, tare, drift, clamp, staleness) lives in
@@ -29,7 +33,7 @@ from rclpy.node import Node
 from rcl_interfaces.msg import SetParametersResult
 from sensor_msgs.msg import JointState, Temperature
 from builtin_interfaces.msg import Time
-from std_msgs.msg import Float64, Header
+from std_msgs.msg import Float64, Header, String
 from std_srvs.srv import Trigger
 
 from ..model_file import default_model_path, load_model
@@ -37,8 +41,8 @@ from ..physics.chain import ModelError
 from ..runtime import Compensator, CompensatorConfig
 from ..runtime.compensator import WARN_COUNTERS
 from .. import contract
-from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, ns_to_stamp, run,
-                     send_last_zero, stamp_to_ns)
+from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, latched_qos,
+                     ns_to_stamp, run, send_last_zero, stamp_to_ns)
 
 
 class _CompensationLogic(PolyforceNode):
@@ -83,6 +87,10 @@ class _CompensationLogic(PolyforceNode):
                 "(tracks slow baseline drift; off by default: it would also zero a real steady load that small)")
         declare(self, "drift_band_n", 0.05, "Force band counted as 'at rest' for drift tracking (N)", 0.001, 5.0)
         declare(self, "drift_window_s", 5.0, "Rest time before a drift correction (s)", 0.1, 3600.0)
+        declare(self, "require_matching_sensor", False,
+                "Publish force only while the live device's sensor serial (sensor_serial, from the driver) equals the "
+                "one the model's provenance names; otherwise zero force and diagnostics ERROR. False: a different "
+                "serial is a WARN and force is published")
         declare(self, "joint_name", "", "Joint to read from JointState; empty = position[0]")
         declare(self, "frame_id", "", "Frame of the wrench; empty = the frame of the input")
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
@@ -101,6 +109,8 @@ class _CompensationLogic(PolyforceNode):
         self._stale = True
         self._model_error = ""
         self._model_path, self._model_mtime = None, None
+        self.live_serial = None  # the sensor serial the driver announced (None until one arrives)
+        self._sensor_state, self._refuse_force = None, False
         self._load_model(self.get_parameter("model_file").value)  # raises on a bad file at start-up
         qos = data_qos(self)
         self.pub = create_publisher(WrenchStamped, contract.Rel.WRENCH, qos)
@@ -111,6 +121,7 @@ class _CompensationLogic(PolyforceNode):
             self.create_subscription(Float64, contract.Rel.BRIDGE_VOLTAGE_SCALAR, self._on_scalar, qos),
             self.create_subscription(Temperature, contract.Rel.TEMPERATURE, self._on_temperature, 10),
             self.create_subscription(Header, contract.Rel.SENSOR_RESET, self._on_sensor_reset, 10),
+            self.create_subscription(String, contract.Rel.SENSOR_SERIAL, self._on_sensor_serial, latched_qos()),
             self.create_service(Trigger, "~/tare", self._on_tare),
             self.create_service(Trigger, "~/reset", self._on_reset),
             self._watchdog,
@@ -133,6 +144,7 @@ class _CompensationLogic(PolyforceNode):
             self.compensator = Compensator(model.chain, config)
         else:
             self.compensator.set_chain(model.chain)  # a tare is kept; the history belongs to the old model
+        self._check_sensor()
         gain = self.compensator.noise_gain
         self.get_logger().info(f"model noise gain {gain.gain_n_per_v:.3g} N/V rms at {gain.rate_hz:g} Hz "
                                f"(max_noise_gain {self.compensator.config.max_noise_gain:g}; most from {gain.element})")
@@ -168,6 +180,8 @@ class _CompensationLogic(PolyforceNode):
                 self.get_logger().info(f"model set to {self._model_path}")
         for p in params:
             self.p[p.name] = p.value
+        if any(p.name == "require_matching_sensor" for p in params):
+            self._check_sensor()
         changes = {p.name: p.value for p in params if p.name in CompensatorConfig.names()}
         if changes:
             self.compensator.configure(**changes)
@@ -208,6 +222,8 @@ class _CompensationLogic(PolyforceNode):
             self._log_tare_decision()
         if force is None:
             return
+        if self._refuse_force:
+            force = 0.0  # not the sensor the model describes (require_matching_sensor)
         self._stale = False
         if header is None or self.p["frame_id"]:
             self._publish(stamp_ns, force, header.frame_id if header is not None else "")
@@ -246,6 +262,50 @@ class _CompensationLogic(PolyforceNode):
         self.compensator.reset(from_stamp_ns=stamp_to_ns(msg.stamp))
         self.get_logger().info("sensor restarted: history cleared, zeroing again")
         self._log_tare_decision()
+
+    # ------------------------------------------------------------------ sensor identity
+    @property
+    def model_serial(self) -> str:
+        """The sensor serial the model's provenance names ("" for none)."""
+        return str(self.model.provenance.get("sensor_serial") or "").strip()
+
+    def _on_sensor_serial(self, msg: String):
+        self.live_serial = msg.data.strip()
+        self._check_sensor()
+
+    def _check_sensor(self):
+        """Compares the live sensor serial with the model's: decides whether force is refused, logs each change."""
+        model, live = self.model_serial, self.live_serial
+        if not model or live is None:
+            state = "unknown"
+        else:
+            state = "match" if live == model else "mismatch"
+        self._refuse_force = bool(self.p["require_matching_sensor"]) and state != "match"
+        key = (state, model, live, self._refuse_force)
+        if key == self._sensor_state:
+            return
+        self._sensor_state = key
+        # one call site per severity: rclpy refuses a call site whose severity changes
+        if self._refuse_force:
+            self.get_logger().error(self._sensor_message())
+        elif state == "mismatch":
+            self.get_logger().warning(self._sensor_message())
+        elif state == "match":
+            self.get_logger().info(self._sensor_message())
+
+    def _sensor_message(self) -> str:
+        """What the comparison of the live and the model's sensor serial found ("" when there is nothing to say)."""
+        state, model, live, refuse = self._sensor_state
+        refused = ": zero force (require_matching_sensor)" if refuse else ""
+        if state == "match":
+            return f"sensor {live!r} is the one the model was calibrated on"
+        if state == "mismatch":
+            return f"live sensor {live!r} is not the one the model was calibrated on ({model!r}){refused}"
+        if not refuse:
+            return ""
+        if not model:
+            return f"the model names no sensor serial{refused}"
+        return f"no sensor serial from the driver yet{refused}"
 
     # ------------------------------------------------------------------ safety
     def _check_stale(self):
@@ -302,12 +362,16 @@ class _CompensationLogic(PolyforceNode):
         c = self.counts
         if self._stale:
             level, message = ERROR, "no valid input: publishing zero force"
+        elif self._refuse_force:
+            level, message = ERROR, self._sensor_message()
         elif self._needs_temperature and self.compensator.temperature_c is None:
             level, message = WARN, "model follows temperature but no temperature received: not corrected"
         elif self.compensator.auto_tare_failed:
             level, message = ERROR, f"{self.compensator.auto_tare_status}: call ~/tare with the sensor unloaded"
         elif self.compensator.auto_tare_pending:
             level, message = WARN, "publishing zero force until the sensor rests (start-up zeroing pending)"
+        elif self._sensor_state[0] == "mismatch":
+            level, message = WARN, self._sensor_message()
         elif self._model_error:
             level, message = WARN, f"model file invalid, previous model kept: {self._model_error}"
         elif any(c[k] for k in WARN_COUNTERS):
@@ -317,7 +381,9 @@ class _CompensationLogic(PolyforceNode):
         values = dict(c, active=self._active, model_file=self._model_path, model=self.model.chain.viscoelastic,
                       offset_v=self.compensator.offset_v, tared=self.compensator.tare_offset_v is not None,
                       auto_tare=self.compensator.auto_tare_status,
-                      noise_gain_n_per_v=self.compensator.noise_gain.gain_n_per_v)
+                      noise_gain_n_per_v=self.compensator.noise_gain.gain_n_per_v,
+                      sensor_serial=self.live_serial if self.live_serial is not None else "unknown",
+                      model_sensor_serial=self.model_serial or "none", sensor_check=self._sensor_state[0])
         return self.diag.publish(level, message, values)
 
     def destroy_node(self):

@@ -58,8 +58,8 @@ def cases(split, seeds):
 
 def verdict(hidden, d, temperature):
     catalogue = [h for h in hidden if h in EFFECTS]
-    if not temperature:  # thermal cannot be seen without the topic: it is not expected
-        catalogue = [h for h in catalogue if h != "thermal_drift"]
+    if not temperature:  # a thermal effect cannot be seen without the topic: it is not expected
+        catalogue = [h for h in catalogue if not EFFECTS[h].needs_temperature]
     named = set(d.missing_effects)
     if any(h in OUT_OF_CATALOGUE for h in hidden):
         return "ok" if d.missing_effect == "unexplained" else ("none" if d.missing_effect == "none" else "wrong name")
@@ -73,7 +73,7 @@ def verdict(hidden, d, temperature):
 def run_case(i, hidden, fams, mag, seed, split, duration_s):
     """Simulate and diagnose case ``i`` (its recording condition is the i-th of :data:`CONDITIONS`, cycled)."""
     label, rate, jitter, drops, temperature = CONDITIONS[i % len(CONDITIONS)]
-    if "thermal_drift" in hidden and not temperature:  # a thermal effect needs the topic to be named
+    if any(EFFECTS[h].needs_temperature for h in hidden if h in EFFECTS) and not temperature:  # it needs the topic
         label, rate, jitter, drops, temperature = CONDITIONS[1]
     base = default_base(hidden)
     rec, case = bench_record(list(hidden) or "none", mag, base, duration_s, rate, seed, split=split,

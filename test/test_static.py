@@ -1,8 +1,11 @@
 """Habits that keep the code this way: lint, types, __all__ and docstrings of the ROS-free core."""
 import ast
+import io
 import os
+import re
 import subprocess
 import sys
+import tokenize
 from pathlib import Path
 
 import pytest
@@ -99,3 +102,70 @@ def test_the_unit_layer_needs_neither_rclpy_nor_a_process():
                           cwd=REPO, capture_output=True, text=True, timeout=900,
                           env={**os.environ, "POLYFORCE_UNIT_GUARD": "1"})
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-2000:]
+
+
+# ---------------------------------------------------------------- no development narration
+#: Words that narrate how the code was developed rather than what it does: numbered rounds or sessions of work,
+#: reviews, the discrepancy bench's tuning history, issue numbers, past states ("had been", "(was ...)").
+#: The history belongs in CHANGELOG.md and git, not in the README, the docs, comments or docstrings.
+NARRATION = re.compile(
+    r"tune[- ]split"
+    r"|\breview(s|ed|er|ers)?\b"
+    r"|\brounds? of (work|development|changes)\b"
+    r"|\b(first|second|third|fourth|fifth|sixth|seventh|eighth|ninth|tenth|\d+(st|nd|rd|th)|this|that|previous|last"
+    r"|earlier|next)\s+(round|session)\b"
+    r"|\bsession of \d{4}"
+    r"|\bissues? \d+"
+    r"|(?<![\w&#/])#\d+\b"
+    r"|\bhad been\b"
+    r"|\(was\b",
+    re.IGNORECASE)
+
+def _comments_and_docstrings(path):
+    """(line, text) of every comment and every module, class and function docstring line of a Python file."""
+    source = path.read_text()
+    for tok in tokenize.generate_tokens(io.StringIO(source).readline):
+        if tok.type == tokenize.COMMENT:
+            yield tok.start[0], tok.string
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body:
+            first = node.body[0]
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant) and isinstance(first.value.value, str):
+                for i, line in enumerate(first.value.value.splitlines()):
+                    yield first.value.lineno + i, line
+
+
+def _narration(lines):
+    return [f"{number}: [{match.group(0)}] {text.strip()[:120]}"
+            for number, text in lines for match in NARRATION.finditer(text)]
+
+
+def _narration_targets():
+    docs = [REPO / "README.md", *sorted((REPO / "docs").rglob("*.md"))]
+    code = [*sorted((REPO / "polyforce_ros").rglob("*.py")), *sorted((REPO / "bench").glob("*.py"))]
+    for path in docs + code:
+        yield pytest.param(path, id=str(path.relative_to(REPO)))
+
+
+def test_narration_finder_finds_narration():
+    """The check can fail: it finds the kinds of sentence it is for and passes product descriptions."""
+    narrated = ["tune split 53/59 -> 56/59", "found by the review", "the seventh session's figures", "see issue 28",
+                "fixed in #12", "the floor had been overestimated", "a partial fit must explain 80 % (was 60 %)",
+                "Third session (2026-11-23)", "after two rounds of work"]
+    plain = ["the tune and held-out splits", "what came before activation is not its history", "a 30 s run",
+             "each settling round refits the core", "colour #1f77b4", "10 interleaved rounds of 20 s"]
+    assert all(_narration([(1, text)]) for text in narrated), [t for t in narrated if not _narration([(1, t)])]
+    assert not _narration([(i, text) for i, text in enumerate(plain)])
+
+
+@pytest.mark.parametrize("path", list(_narration_targets()))
+def test_docs_and_code_describe_the_product_not_its_development(path):
+    """README.md, docs/ and the comments and docstrings of polyforce_ros/ and bench/ say what the product does;
+    history goes to CHANGELOG.md. The failure lists every line (file:line) that narrates."""
+    if path.suffix == ".md":
+        lines = enumerate(path.read_text().splitlines(), start=1)
+    else:
+        lines = _comments_and_docstrings(path)
+    found = _narration(lines)
+    rel = path.relative_to(REPO)
+    assert not found, f"{rel} narrates its development:\n" + "\n".join(f"{rel}:{line}" for line in found)

@@ -10,6 +10,7 @@
 [--save-model M.yaml]
     polyforce make-bags [--out bags/]
     polyforce bringup [--backend sim|serial] [--port DEV] [--model M.yaml] [--with-bridge] [--record BAG.mcap]
+    polyforce check-device --port DEV [--samples N]    bring-up checklist of a serial ADC device: PASS/FAIL per check
 """
 from __future__ import annotations
 
@@ -206,6 +207,27 @@ def cmd_bringup(args) -> int:
                    namespace=args.namespace, stop_timeout_s=args.stop_timeout, dry_run=args.dry_run)
 
 
+def cmd_check_device(args) -> int:
+    """The bring-up checklist of polyforce_ros.device_check: 0 when every check passes, 1 when one fails, 2 on bad
+    input (no such port, a bad option)."""
+    from .device_check import DeviceOpenError, Limits, evaluate, format_report, read_device
+
+    if args.samples < 2:
+        raise ValueError(f"--samples must be at least 2, got {args.samples}")
+    limits = Limits(max_noise_uv=args.max_noise_uv, max_offset_fraction=args.max_offset_percent / 100.0)
+    timeout_s = args.timeout if args.timeout is not None else 5.0 + 0.002 * args.samples
+    try:
+        reading = read_device(args.port, args.samples, baud=args.baud, timeout_s=timeout_s)
+    except DeviceOpenError as exc:
+        print(f"polyforce check-device: error: {exc}", file=sys.stderr)
+        return 2
+    results = evaluate(reading, args.samples, limits, volts_per_count=args.volts_per_count,
+                       expected_rate_hz=args.expected_rate)
+    print(f"{args.port}: {len(reading.frames)} samples, sensor unloaded")
+    print(format_report(results))
+    return 0 if all(r.passed for r in results) else 1
+
+
 def build_parser():
     parser = argparse.ArgumentParser(prog="polyforce", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -316,6 +338,21 @@ def build_parser():
     bu.add_argument("--stop-timeout", type=float, default=10.0, help="seconds a node gets to stop after SIGINT before SIGKILL")
     bu.add_argument("--dry-run", action="store_true", help="print the node commands and parameter sources, start nothing")
     bu.set_defaults(func=cmd_bringup)
+
+    cd = sub.add_parser("check-device", help="bring-up checklist of a serial ADC device, sensor unloaded: info, status, "
+                        "link, rate, zero-load counts and noise floor, PASS/FAIL each (exit 0 pass, 1 fail, 2 bad input)")
+    cd.add_argument("--port", required=True, help="serial device of the ADC, e.g. /dev/serial/by-id/usb-...")
+    cd.add_argument("--samples", type=int, default=1000, help="samples judged (default 1000: 1 s at 1 kHz)")
+    cd.add_argument("--baud", type=int, default=921600, help="serial baud rate (ignored by USB CDC devices)")
+    cd.add_argument("--timeout", type=float, help="seconds to wait for the info, a status and the samples "
+                    "(default 5 + 2 ms per sample)")
+    cd.add_argument("--max-noise-uv", type=float, default=5.0, help="noise limit, uV rms input-referred (default 5)")
+    cd.add_argument("--max-offset-percent", type=float, default=25.0,
+                    help="zero-load mean limit, %% of full scale (default 25)")
+    cd.add_argument("--volts-per-count", type=float,
+                    help="the driver's volts_per_count: checked against the device's (and used without an info message)")
+    cd.add_argument("--expected-rate", type=float, help="the driver's expected_rate_hz: checked against the device's")
+    cd.set_defaults(func=cmd_check_device)
     return parser
 
 

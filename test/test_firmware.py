@@ -24,7 +24,9 @@ import random
 import shutil
 import signal
 import subprocess
+import sys
 import threading
+import time
 from contextlib import contextmanager
 
 import numpy as np
@@ -805,3 +807,53 @@ def test_live_sensor_serial_reaches_the_compensation_node(build, tmp_path):
     assert status.level == DiagnosticStatus.ERROR and "'PF-LIVE-1' is not the one the model was calibrated on " \
         "('PF-OTHER'): zero force" in status.message
     assert warned.level == DiagnosticStatus.WARN and "not the one the model was calibrated on" in warned.message
+
+
+class _Waiter:
+    """Stands in for the ROS harness where VirtualDevice waits for its output without ROS."""
+
+    @staticmethod
+    def spin_until(predicate, timeout=5.0):
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            if predicate():
+                return True
+            time.sleep(0.01)
+        return predicate()
+
+
+def check_device(*args):
+    return subprocess.run([sys.executable, "-m", "polyforce_ros.cli", "check-device", *map(str, args)], cwd=REPO,
+                          capture_output=True, text=True, timeout=120)
+
+
+@pytest.mark.parametrize("device_args,failed", [
+    ([], []),
+    # a bridge far off zero with 50 Hz pickup, flashed without a serial
+    (["--offset", 3_000_000, "--amplitude", 20_000, "--freq", 50, "--serial", "unset"],
+     ["sensor serial", "zero offset", "noise"]),
+    (["--offset", 2**23 - 1, "--amplitude", 0], ["not railed", "zero offset"]),  # an input at full scale
+])
+def test_check_device_against_the_virtual_device(build, tmp_path, device_args, failed):
+    dev = VirtualDevice(build / "virtual_device_san", tmp_path, "--amplitude", 0, "--offset", 41_000, *device_args)
+    try:
+        dev.expect(_Waiter, "pty ")
+        proc = check_device("--port", dev.link, "--samples", 500, "--volts-per-count", 5 / 2**30,
+                            "--expected-rate", 1000)
+    finally:
+        dev.stop()
+    lines = proc.stdout.splitlines()
+    verdicts = {line[6:].split("  ")[0].strip(): line[:4] for line in lines if line[:4] in ("PASS", "FAIL")
+                and line[4:6] == "  "}
+    assert set(verdicts) == {"info", "sensor serial", "status", "link", "volts_per_count", "expected rate", "rate",
+                             "counts in range", "not railed", "zero offset", "noise"}, proc.stdout + proc.stderr
+    assert sorted(name for name, v in verdicts.items() if v == "FAIL") == sorted(failed), proc.stdout
+    assert proc.returncode == (1 if failed else 0), proc.stdout + proc.stderr
+    assert lines[-1].startswith("FAIL: " if failed else "PASS: all 11 checks")
+
+
+def test_check_device_refuses_bad_input(tmp_path):
+    proc = check_device("--port", tmp_path / "no-such-tty")
+    assert proc.returncode == 2 and "cannot open" in proc.stderr and not proc.stdout
+    proc = check_device("--port", tmp_path / "no-such-tty", "--samples", 1)
+    assert proc.returncode == 2 and "--samples must be at least 2" in proc.stderr

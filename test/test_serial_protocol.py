@@ -321,3 +321,50 @@ def test_a_sample_frame_ending_in_a5_is_not_held_back_and_a_cut_sync_still_finds
 
 def _seq_of(frame):
     return int.from_bytes(frame[2:4], "little")
+
+
+def _checks(results):
+    return {r.name: r.passed for r in results}
+
+
+def test_device_checklist_judges_a_byte_stream():
+    """polyforce check-device's checks on a recorded stream: a frame cut by the opening counts nothing; a CRC error
+    later, a railed sample, a wide zero and noise each fail their check, and only theirs."""
+    from polyforce_ros.device_check import DeviceReading, evaluate, format_report
+
+    healthy = DeviceStatus(t_us=5, reset_reason=1, watchdog_resets=0, overflows=0, adc_reconfigs=0, uptime_s=3)
+    rng = np.random.default_rng(4)
+    quiet = (1000 + rng.normal(0, 200, 400)).round().astype(int)  # 200 counts = 0.93 uV rms at 5 V / 2**30
+
+    def stream(counts, extra=b""):
+        frames = b"".join(encode_frame(100 + k, 7_000 + 1000 * k, int(c)) for k, c in enumerate(counts))
+        cut = SYNC + bytes(5)  # the end of a frame begun before the port was opened: a CRC error, not counted
+        return cut + encode_info(INFO) + encode_status(healthy) + frames + extra
+
+    def judged(data, samples=400, **kwargs):
+        reading = DeviceReading()
+        for i in range(0, len(data), 97):  # in reads of any size
+            reading.feed(data[i:i + 97])
+        return evaluate(reading, samples, **kwargs)
+
+    good = judged(stream(quiet))
+    assert all(r.passed for r in good), format_report(good)
+    assert "PASS: all 9 checks" in format_report(good)
+    corrupt = bytearray(encode_frame(500, 407_000, 1000))
+    corrupt[9] ^= 1
+    assert _checks(judged(stream(quiet[:399], bytes(corrupt)))) == {**_checks(good), "link": False}
+    railed = quiet.copy()
+    railed[17] = 2**23 - 1
+    assert [r.name for r in judged(stream(railed)) if not r.passed] == ["not railed", "noise"]
+    assert [r.name for r in judged(stream(quiet + 2_500_000)) if not r.passed] == ["zero offset"]
+    assert [r.name for r in judged(stream(quiet + 3 * rng.normal(0, 400, 400).round().astype(int)))
+            if not r.passed] == ["noise"]
+    # the driver's parameters disagreeing with the device; too few frames
+    failed = [r.name for r in judged(stream(quiet), volts_per_count=1e-6, expected_rate_hz=2000.0) if not r.passed]
+    assert failed == ["volts_per_count", "expected rate"]
+    assert [r.name for r in judged(stream(quiet), samples=500) if not r.passed] == ["link"]
+    # no messages at all (firmware without them): the noise in volts needs the scale given
+    bare = b"".join(encode_frame(k, 1000 * k, int(c)) for k, c in enumerate(quiet))
+    failed = [r.name for r in judged(bare) if not r.passed]
+    assert failed == ["info", "status", "rate", "noise"]
+    assert [r.name for r in judged(bare, volts_per_count=5 / 2**30) if not r.passed] == ["info", "status", "rate"]

@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from .physics.chain import ELEMENT_TYPES, ModelError, SensorChain, _short, _smoke_records
+from .physics.chain import ELEMENT_TYPES, ModelError, SensorChain, short_repr, smoke_records
 
 __all__ = ["FORMAT", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_NODES", "parse_model_yaml", "SensorModel",
     "model_from_mapping", "validate_chain_numerics", "load_model", "model_to_mapping", "save_model", "now_iso",
@@ -124,7 +124,7 @@ class _ModelLoader(yaml.SafeLoader):
         for key, _ in node.value:
             if isinstance(key, yaml.ScalarNode) and key.tag != _MERGE_TAG:
                 if (key.tag, key.value) in seen:
-                    self._refuse(f"duplicate key {_short(key.value)}", key)
+                    self._refuse(f"duplicate key {short_repr(key.value)}", key)
                 seen.add((key.tag, key.value))
         return node
 
@@ -173,7 +173,7 @@ class SensorModel:
 def _check_string_keys(where, mapping):
     bad = [k for k in mapping if not isinstance(k, str)]
     if bad:
-        raise ModelError(f"{where}: keys must be strings, got {_short(bad)}")
+        raise ModelError(f"{where}: keys must be strings, got {short_repr(bad)}")
 
 
 def model_from_mapping(data) -> SensorModel:
@@ -183,24 +183,24 @@ def model_from_mapping(data) -> SensorModel:
     _check_string_keys("model file", data)
     unknown = sorted(set(data) - _TOP_KEYS)
     if unknown:
-        raise ModelError(f"unknown top-level keys {_short(unknown, 200)} (expected {sorted(_TOP_KEYS)})")
+        raise ModelError(f"unknown top-level keys {short_repr(unknown, 200)} (expected {sorted(_TOP_KEYS)})")
     if data.get("format") != FORMAT:
-        raise ModelError(f"format must be {FORMAT!r}, got {_short(data.get('format'))}")
+        raise ModelError(f"format must be {FORMAT!r}, got {short_repr(data.get('format'))}")
     provenance = data.get("provenance") or {}
     if not isinstance(provenance, dict):
         raise ModelError("provenance must be a mapping")
     elements = data.get("elements")
     if not isinstance(elements, list):
-        raise ModelError(f"model must hold a list under 'elements', got {_short(elements)}")
+        raise ModelError(f"model must hold a list under 'elements', got {short_repr(elements)}")
     for i, item in enumerate(elements):
         if not isinstance(item, dict) or "type" not in item:
-            raise ModelError(f"element {i}: must be a mapping with a 'type', got {_short(item)}")
+            raise ModelError(f"element {i}: must be a mapping with a 'type', got {short_repr(item)}")
         _check_string_keys(f"element {i}", item)
         kind = item["type"]
         if not isinstance(kind, str):
-            raise ModelError(f"element {i}: type must be a string, one of {sorted(ELEMENT_TYPES)}; got {_short(kind)}")
+            raise ModelError(f"element {i}: type must be a string, one of {sorted(ELEMENT_TYPES)}; got {short_repr(kind)}")
         if kind not in ELEMENT_TYPES:
-            raise ModelError(f"element {i}: unknown type {_short(kind)}; known: {sorted(ELEMENT_TYPES)}")
+            raise ModelError(f"element {i}: unknown type {short_repr(kind)}; known: {sorted(ELEMENT_TYPES)}")
     try:
         chain = SensorChain.from_dict(data)
     except ModelError:
@@ -268,7 +268,7 @@ def validate_chain_numerics(chain) -> None:
     records. On a failure the stage is rerun element by element and the first
     element whose output is not finite is named in the ModelError.
     """
-    for t, force, aux, label in _smoke_records():
+    for t, force, aux, label in smoke_records():
         plain = 0.5 + 0.4 * np.cos(np.linspace(0.0, 5.0, t.size))
         stage, x, error = "forward", force, None
         with np.errstate(all="ignore"):
@@ -298,7 +298,7 @@ def validate_chain_numerics(chain) -> None:
         if culprit is not None:
             i, element, error = culprit[0], culprit[1], culprit[2] or error
             try:
-                described = _short(element.to_dict(), 300)
+                described = short_repr(element.to_dict(), 300)
             except Exception:  # noqa: BLE001
                 described = type(element).__name__
             who = f"element {i} ({getattr(element, 'kind', '?')}): {described}"

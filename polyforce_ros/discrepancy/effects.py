@@ -40,6 +40,7 @@ from ..physics.chain import (
     SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement, play_operator,
 )
 from ..physics.expconv import exp_convolve, exp_convolve_columns
+from ..physics.preisach import hysteretic_identity
 from ..physics.viscoelastic import Burgers, Burgers2, Maxwell, Zener, Zener2, simulate_deformation_columns
 
 #: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
@@ -187,8 +188,6 @@ def _random_play(rng, span, loop_fraction, n):
 
 
 def _hyst_preisach(rng, m, ctx):
-    from ..sim.bench import hysteretic_identity
-
     frac = np.interp(m, [0, 1], [0.01, 0.06])
     return Truth(before=[PreisachElement(hysteretic_identity(0.0, ctx["force_range_n"], frac / 1.0), continuous=True)])
 

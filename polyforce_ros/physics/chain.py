@@ -36,7 +36,8 @@ if TYPE_CHECKING:  # for annotations only: at run time scipy.interpolate and the
 
     from .preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
 
-__all__ = ["ModelError", "ElementStream", "Element", "PARAMETER_BOUNDS", "MAX_PREISACH_LEVELS", "ViscoelasticElement",
+__all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "Element", "PARAMETER_BOUNDS",
+    "MAX_PREISACH_LEVELS", "ViscoelasticElement",
     "OffsetElement", "GainElement", "NonlinearGainElement", "SensorLagElement", "TransportDelayElement",
     "ThermalDriftElement", "ThermalSensitivityElement",
     "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "ThermalLagElement",
@@ -260,9 +261,13 @@ _SMOKE_STEPS_S = (1e-4, 1e-3, 1e-2, 1e-1, 1.0, 10.0)
 _MAX_RATE_PER_S = 1e150 / _DAY_S
 
 
-def _short(value: object, limit: int = 60) -> str:
+def short_repr(value: object, limit: int = 60) -> str:
+    """``repr(value)`` cut to ``limit`` characters: a hostile value quoted in an error message stays one line."""
     text = repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+_short = short_repr
 
 
 def _range_text(key: str) -> str:
@@ -309,7 +314,7 @@ def _check_keys(kind: str, mapping: object, expected: Collection[str], optional:
                          + (f", optional {sorted(optional)})" if optional else ")"))
 
 
-def _smoke_records() -> list[tuple[npt.NDArray[np.floating[Any]], _FloatArray, dict[str, _FloatArray], str]]:
+def smoke_records() -> list[tuple[npt.NDArray[np.floating[Any]], _FloatArray, dict[str, _FloatArray], str]]:
     """Short records (t, force N, temperature degC) that every element must carry to finite output:
     uniform at each step of _SMOKE_STEPS_S, and one irregular record spanning 24 h."""
     records: list[tuple[npt.NDArray[np.floating[Any]], _FloatArray, str]] = []
@@ -368,7 +373,7 @@ def _check_core_numerics(kind: str, model: ViscoelasticModel) -> None:
     if not np.all(mismatch <= 1e-3):
         raise ModelError(f"{kind}: parameters {model.as_dict()} are too far apart for float64: the relaxation "
                          f"modulus does not invert the creep compliance (s G s J - 1 up to {np.nanmax(mismatch):.3g})")
-    for t, force, _, label in _smoke_records():
+    for t, force, _, label in smoke_records():
         stage = "forward"
         try:
             with np.errstate(all="ignore"):

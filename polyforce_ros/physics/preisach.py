@@ -30,7 +30,7 @@ import numpy.typing as npt
 from scipy import optimize
 
 __all__ = ["PreisachModel", "relay_states", "ramp_states", "identify", "PreisachStream", "ContinuousPreisachStream",
-    "hysteresis_error_percent"]
+    "hysteresis_error_percent", "hysteretic_identity"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -502,3 +502,20 @@ def hysteresis_error_percent(u: npt.ArrayLike, y: npt.ArrayLike) -> float:
     from .metrics import hysteresis_percent
 
     return hysteresis_percent(u, y)
+
+
+def hysteretic_identity(u_min: float, u_max: float, loop_fraction: float, n_levels: int = 24) -> PreisachModel:
+    """A continuous Preisach operator close to y = u (y = u_min at rest) with a loop of ``loop_fraction`` of the span.
+
+    Diagonal relays are reversible ramps (the identity part); weight moved to a
+    band off the diagonal opens the loop.
+    """
+    n = n_levels
+    i, j = np.tril_indices(n)
+    density = np.zeros((n, n))
+    off = np.exp(-(((i - j) - 0.3 * n) / (0.15 * n)) ** 2) * (i != j)
+    diag = (i == j).astype(float)
+    share = min(max(3.0 * loop_fraction, 0.0), 0.9)
+    density[i, j] = (1 - share) * diag / diag.sum() + share * off / off.sum()
+    density *= (u_max - u_min) / 2.0
+    return PreisachModel(u_min, u_max, density, offset=u_min + (u_max - u_min) / 2.0)

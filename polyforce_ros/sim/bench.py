@@ -21,7 +21,7 @@ import numpy as np
 
 from ..discrepancy.effects import EFFECTS as REGISTRY, NAMES, Additive, Truth
 from ..physics.chain import OffsetElement, SensorChain, ViscoelasticElement
-from ..physics.preisach import PreisachModel
+from ..physics.preisach import hysteretic_identity  # noqa: F401 - the bench's Preisach truths (re-exported)
 from ..physics.viscoelastic import PAPER_BURGERS, Burgers2, Elastic, KelvinVoigt, Maxwell, Zener, Zener2
 from .sensor import BridgeSimulator
 
@@ -87,23 +87,6 @@ def random_temperature(t_s, seed):
     rng = np.random.default_rng(seed + 99)
     period = rng.uniform(150.0, 400.0)
     return 24.0 + rng.uniform(2.0, 6.0) * np.sin(2 * np.pi * np.asarray(t_s) / period + rng.uniform(0, 2 * np.pi))
-
-
-def hysteretic_identity(u_min, u_max, loop_fraction, n_levels=24):
-    """A continuous Preisach operator close to y = u (y = u_min at rest) with a loop of ``loop_fraction`` of the span.
-
-    Diagonal relays are reversible ramps (the identity part); weight moved to a
-    band off the diagonal opens the loop.
-    """
-    n = n_levels
-    i, j = np.tril_indices(n)
-    density = np.zeros((n, n))
-    off = np.exp(-(((i - j) - 0.3 * n) / (0.15 * n)) ** 2) * (i != j)
-    diag = (i == j).astype(float)
-    share = min(max(3.0 * loop_fraction, 0.0), 0.9)
-    density[i, j] = (1 - share) * diag / diag.sum() + share * off / off.sum()
-    density *= (u_max - u_min) / 2.0
-    return PreisachModel(u_min, u_max, density, offset=u_min + (u_max - u_min) / 2.0)
 
 
 

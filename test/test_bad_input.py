@@ -1,4 +1,4 @@
-"""The bad-input matrix (README, "Bad input"): every case has a defined behaviour and a clear message,
+"""The bad-input matrix (docs/bad-input.md): every case has a defined behaviour and a clear message,
 no node crashes, nothing non-finite or out of range reaches `wrench`, a good model file is never lost."""
 import math
 import os

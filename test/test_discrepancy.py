@@ -35,7 +35,7 @@ def _magnitude(seed):
     return float(np.random.default_rng(seed + 1).uniform(0.5, 1.0))
 
 
-#: Known gaps (the README's held-out matrix shows them): family drawn -> why the case fails today.
+#: Known gaps (docs/discrepancy.md's held-out matrix shows them): family drawn -> why the case fails today.
 KNOWN_GAPS: dict = {}
 
 

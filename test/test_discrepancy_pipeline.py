@@ -26,7 +26,7 @@ from polyforce_ros.sim.recording import write_bench_bag
 from polyforce_ros.sim.sensor import BridgeSimulator
 
 FAMILIES = list(EFFECTS["hysteresis"].families)
-#: Known gaps (see the README's matrix): family -> why the whole pipeline fails for it today (none at present).
+#: Known gaps (see the matrix in docs/discrepancy.md): family -> why the whole pipeline fails for it today (none at present).
 KNOWN_GAPS: dict = {}
 
 

@@ -35,7 +35,7 @@ def test_paper_eq5_to_eq9_at_printed_precision():
     # The paper prints r2 = 0.173 1/s; eq. 8 with the printed eq. 5 gives 0.1742.
     # No parameter set within eq. 5's rounding reproduces 0.173 together with the
     # other printed values, so this is the paper's own rounding slip: we hold r2
-    # to 1 % (README, "Physics").
+    # to 1 % (docs/evaluation.md).
     assert r2 == pytest.approx(0.173, rel=0.01)
     assert r2 == pytest.approx(0.17421, abs=5e-5)
 

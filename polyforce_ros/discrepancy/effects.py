@@ -60,7 +60,7 @@ def lag_columns(t, x, tau_s):
     x = np.asarray(x, dtype=float)
     if x.ndim == 1:  # the design's columns, one by one: no stacking
         return exp_convolve(t, x, [1.0 / tau_s])[:, 0] / tau_s
-    return exp_convolve_columns(t, x, 1.0 / tau_s) / tau_s  # one filter over all columns (column_stack was row-major)
+    return exp_convolve_columns(t, x, 1.0 / tau_s) / tau_s  # one filter over all columns (column-major, contiguous)
 
 
 # --------------------------------------------------------------------------- simulate-only elements
@@ -453,8 +453,9 @@ def _thermal_elements(coef, variant, param, sig):
 
 
 #: Knot intervals over the record of the spline variants of offset_drift (a wandering drift). 12 and 16 follow drift
-#: events of 3-15 % of the record (with 8 at most, the ringing they left was taken by a lagged thermal drift or a
-#: slow delayed elasticity); the cross-validation keeps the finer ones from fitting what the coarse ones need not.
+#: events of 3-15 % of the record (with 8 at most, such an event leaves a ringing that a lagged thermal drift or a
+#: slow delayed elasticity would take); the cross-validation keeps the finer ones from fitting what the coarse ones
+#: need not.
 SPLINE_INTERVALS = (4, 6, 8, 12, 16)
 
 

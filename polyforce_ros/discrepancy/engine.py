@@ -15,7 +15,7 @@ Procedure (:func:`diagnose`):
    the last lies between fitted ones, so a drift-like term cannot win or lose
    on how it extrapolates alone
    (with one block per fold, a step of the drift inside a left-out block
-   could not be predicted from the others, and what it left was taken by
+   cannot be predicted from the others, and what it leaves would be taken by
    another effect that follows time).
 3. **Base model.** The base core (compliance form, linear in its compliances
    once its retardation times are fixed) is fitted; times from a grid, then
@@ -254,7 +254,7 @@ _ALL_ROWS = slice(None)
 
 def _stack(columns, rows=_ALL_ROWS):
     """The columns (rows ``rows`` of each) as one column-major matrix: each column is one contiguous copy
-    (``np.column_stack`` writes row-major, a strided store per element, and was a fifth of a diagnosis)."""
+    (``np.column_stack`` writes row-major, a strided store per element, which costs a fifth of a diagnosis)."""
     first = columns[0][rows]
     a = np.empty((first.size, len(columns)), order="F")
     for j, c in enumerate(columns):

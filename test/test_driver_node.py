@@ -104,7 +104,8 @@ def test_serial_backend_scales_counts_and_survives_unplug(tmp_path):
         for i in range(100):
             device.send(1000 * i, corrupt=(i == 50))
             h.spin_for(0.001)
-        assert h.spin_until(lambda: len(lis.raw) >= 99, 5.0)
+        # each wait returns as soon as its condition holds; a loaded machine needs the margin
+        assert h.spin_until(lambda: len(lis.raw) >= 99, 30.0)
         values = [m.position[0] for m in lis.raw]
         assert values == pytest.approx([1000 * i * scale + offset for i in range(100) if i != 50])
         stamps = [stamp_to_ns(m.header.stamp) for m in lis.raw]
@@ -112,17 +113,17 @@ def test_serial_backend_scales_counts_and_survives_unplug(tmp_path):
         assert node.parser.crc_errors == 1 and node.parser.lost_frames == 1
 
         device.unplug()
-        assert h.spin_until(lambda: not node.connected, 5.0)
-        assert h.spin_until(lambda: any(d.status[0].level == DiagnosticStatus.ERROR for d in lis.diags), 5.0)
+        assert h.spin_until(lambda: not node.connected, 30.0)
+        assert h.spin_until(lambda: any(d.status[0].level == DiagnosticStatus.ERROR for d in lis.diags), 30.0)
         assert node.outages == 1
 
         device.plug()
-        assert h.spin_until(lambda: node.connected, 5.0)
+        assert h.spin_until(lambda: node.connected, 30.0)
         before = len(lis.raw)
         for _ in range(20):
             device.send(7)
             h.spin_for(0.001)
-        assert h.spin_until(lambda: len(lis.raw) >= before + 20, 5.0)
+        assert h.spin_until(lambda: len(lis.raw) >= before + 20, 30.0)
         assert lis.raw[-1].position[0] == pytest.approx(7 * scale + offset)
         device.unplug()
 

@@ -162,7 +162,8 @@ def cmd_diagnose(args) -> int:
         bar.set_postfix_str(step)
         bar.update(1)
 
-    diag, data = run(args.bag, args.base, args.json, args.report, args.save_model, progress, args.folds, args.effects)
+    diag, data = run(args.bag, args.base, args.json, args.report, args.save_model, progress, args.folds, args.effects,
+                     args.sensor_serial)
     bar.close()
     print(f"missing effect: {diag.missing_effect}  (base {diag.base})")
     for name in diag.missing_effects:
@@ -317,6 +318,8 @@ def build_parser():
     dg.add_argument("--json", help="write the diagnosis as JSON")
     dg.add_argument("--report", help="write report.md and figures into this folder")
     dg.add_argument("--save-model", help="write the model with every named effect (loads in compensation_node)")
+    dg.add_argument("--sensor-serial", help="serial number of the sensor the bag was recorded on, written into the "
+                    "saved model's provenance (compensation_node compares it with the live device's)")
     dg.add_argument("--effects", nargs="+", choices=list(EFFECT_NAMES), help="consider only these effects (default: all)")
     dg.add_argument("--folds", type=int, default=5,
                     help="folds of the cross-validation, each made of interleaved time blocks (default 5)")

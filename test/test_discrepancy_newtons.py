@@ -126,3 +126,25 @@ def test_a_span_that_follows_temperature_is_named_and_its_saved_model_compensate
     used, out = comp.run(np.round(t * 1e9).astype(np.int64), volts, temperature_c=temp)
     assert used.all()
     assert np.sqrt(np.mean((out - force) ** 2)) <= 0.01 * np.ptp(force)  # within 1 % of full scale
+
+
+def test_diagnose_save_model_names_its_sensor_and_carries_the_force_figures(tmp_path):
+    import subprocess
+    import sys
+
+    from polyforce_ros.model_file import load_model
+    from polyforce_ros.sim.bench import write_bench_bag
+
+    bag = tmp_path / "bench.mcap"
+    write_bench_bag(bag, "sensor_lag", 0.6, duration_s=120.0, rate_hz=200.0, seed=12, families={"sensor_lag": "first_order"})
+    out = tmp_path / "model.yaml"
+    proc = subprocess.run([sys.executable, "-m", "polyforce_ros.cli", "diagnose", str(bag), "--base", "burgers",
+                           "--save-model", str(out), "--sensor-serial", "PF-0042"], capture_output=True, text=True,
+                          timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert "compensated force, left-out blocks, saved model" in proc.stdout and "noise gain" in proc.stdout
+    provenance = load_model(out).provenance
+    assert provenance["sensor_serial"] == "PF-0042"
+    saved = provenance["compensated_force"]["saved"]
+    assert saved["rmse_n"] <= provenance["compensated_force"]["base"]["rmse_n"]
+    assert provenance["noise_gain"]["gain_n_per_v"] <= CompensatorConfig.max_noise_gain

@@ -132,7 +132,8 @@ def write_report(diag, rec, out_dir, bag_name=""):
     return out / "report.md"
 
 
-def run(bag, base, json_path=None, report_dir=None, save_model_path=None, progress=None, n_folds=5, effects=None):
+def run(bag, base, json_path=None, report_dir=None, save_model_path=None, progress=None, n_folds=5, effects=None,
+        sensor_serial=None):
     rec = load_record(bag)
     diag = diagnose(rec, base=base, n_folds=n_folds, effects=effects, progress=progress)
     data = diag.to_json()
@@ -153,5 +154,7 @@ def run(bag, base, json_path=None, report_dir=None, save_model_path=None, progre
                       "compensated_force": {k: {m: v for m, v in diag.newtons[k].items() if m != "noise_gain"}
                                             for k in ("base", "saved")},
                       "noise_gain": diag.newtons["saved"]["noise_gain"]}
+        if sensor_serial and str(sensor_serial).strip():  # compensation_node compares it with the live device's
+            provenance["sensor_serial"] = str(sensor_serial).strip()
         save_model(save_model_path, SensorModel(diag.chain, provenance))
     return diag, data

@@ -40,8 +40,8 @@ from conftest import REPO
 from polyforce_ros import contract
 from polyforce_ros.nodes.common import stamp_to_ns
 from polyforce_ros.nodes.driver_node import DriverNode
-from polyforce_ros.serial_protocol import (FRAME_SIZE, DeviceInfo, DeviceStatus, FrameParser, MessageDemux,
-                                           encode_frame, encode_info, encode_message, encode_status)
+from polyforce_ros.serial_protocol import (FRAME_SIZE, DeviceInfo, DeviceStatus, DeviceTemperature, FrameParser,
+                                           MessageDemux, encode_frame, encode_info, encode_message, encode_status)
 from ros_harness import ros
 from test_serial_protocol import GOLDEN_INFO, GOLDEN_INFO_STUFFED, GOLDEN_STATUS, GOLDEN_TEMPERATURE
 
@@ -388,6 +388,116 @@ def test_arduino_sketch_watchdog_and_reset_reason(build):
     assert [FrameParser().feed(stream[i:i + FRAME_SIZE])[0].counts for i in range(0, len(stream), FRAME_SIZE)] == [1, 2]
 
 
+def _ads1220_temp_c(word):
+    """The ADS1220 temperature word (24 bits, 14-bit two's complement left-justified) in degC."""
+    raw = word >> 10
+    return (raw - (1 << 14) if raw & (1 << 13) else raw) * 0.03125
+
+
+def _sim_isr(out):
+    """(micros, is_temperature) of each DRDY, in order."""
+    return [(int(line.split()[1]), line.endswith(" ts")) for line in out if line.startswith("isr")]
+
+
+@pytest.mark.skipif(CXX is None, reason="g++ is needed to compile the Arduino sketch for the PC")
+def test_arduino_sketch_reads_the_adc_temperature_once_a_second(build):
+    rnd = random.Random(31)
+    # the temperature sensor's words: 25, -25.03125 (low bits are no data), 127.96875, -0.03125 degC
+    temp_words = [0x0C8000, 0xF37FFF, 0x3FFC00, 0xFFFC00]
+    words = [rnd.randrange(2**24) for _ in range(4300)]  # the bridge's words (unused by a temperature conversion)
+    script = []
+    for i, w in enumerate(words):
+        if i % 1000 == 500:  # the sensor's word changes between two temperature conversions
+            script.append(f"tempword {temp_words[i // 1000]:06x}\n")
+        script.append(f"conv {w:06x}\nloop\n")
+    out = run(build, "arduino_sim", 2**32 - 500_000, stdin="".join(script)).splitlines()
+    assert not [line for line in out if line.startswith("error")], out
+    isr = _sim_isr(out)
+    ts_at = [k for k, (_, ts) in enumerate(isr) if ts]
+    # once a second of device time (the first a second after start), 4.3 s of conversions: 4 of them
+    assert len(ts_at) == 4 and all(1000 <= b - a <= 1002 for a, b in zip(ts_at, ts_at[1:])), ts_at
+    assert isr[ts_at[0]][0] - isr[0][0] >= 1000_000 - 15_000
+    # the register writes: right after a bridge read, register 1 with TS = 1 (C4 | 02) and START/SYNC;
+    # after the temperature read, register 1 as configured (C4) and START/SYNC; nothing else
+    spi = [line for line in out if line.startswith(("spi", "isr"))]
+    for k in ts_at:
+        at = [j for j, line in enumerate(spi) if line.startswith("isr")][k]
+        assert spi[at - 4:at] == ["isr " + str(isr[k - 1][0]), "spi 00 00 00", "spi 44 c6", "spi 08"], spi[at - 4:at + 4]
+        assert spi[at:at + 5] == [f"isr {isr[k][0]} ts", "spi 00 00 00", "spi 44 c4", "spi 08", f"isr {isr[k + 1][0]}"]
+    assert len([line for line in spi if line.startswith("spi 44")]) == 2 * len(ts_at)
+    stream, messages = MessageDemux().feed(bytes.fromhex(out[-1].split()[1]))
+    temps = [m for m in messages if isinstance(m, DeviceTemperature)]
+    # the temperature conversion, decoded (0.03125 degC per 14-bit LSB), stamped at its DRDY on the device clock
+    assert [t.celsius for t in temps] == [_ads1220_temp_c(w) for w in temp_words] == [25.0, -25.03125, 127.96875,
+                                                                                     -0.03125]
+    parser = FrameParser()
+    frames = parser.feed(stream)
+    assert parser.crc_errors == 0 and parser.lost_frames == 0
+    t0 = frames[0].t_us - isr[0][0]
+    assert [t.t_us for t in temps] == [(isr[k][0] + t0) % 2**32 for k in ts_at]
+    # no sample is published from a temperature conversion; every bridge conversion is, numbered without a gap
+    bridge = [k for k in range(len(words)) if k not in ts_at]
+    assert [f.counts for f in frames] == [int.from_bytes(words[k].to_bytes(3, "big"), "big", signed=True) for k in bridge]
+    assert [f.seq for f in frames] == list(range(len(bridge)))
+    assert [f.t_us for f in frames] == [(isr[k][0] + t0) % 2**32 for k in bridge]
+
+
+@pytest.mark.skipif(CXX is None, reason="g++ is needed to compile the Arduino sketch for the PC")
+def test_arduino_sketch_temperature_survives_a_silent_adc(build):
+    # DRDY falls silent right after the switch to the temperature sensor: the ADC is configured again
+    # (register 1 without TS), the next conversion is a bridge sample, then the lost temperature is taken
+    script = [f"conv {i:06x}\nloop\n" for i in range(1, 1002)]  # setup() ends at 11 ms: TS after the last
+    script += ["advance 150000\n", "loop\n"]  # silent for 150 periods
+    script += [f"conv {i:06x}\nloop\n" for i in range(0x1000, 0x1010)] + ["host 53\n", "loop\n"]  # a status
+    out = run(build, "arduino_sim", 0, stdin="".join(script)).splitlines()
+    assert not [line for line in out if line.startswith("error")], out
+    spi = [line for line in out if line.startswith(("spi", "isr"))]
+    switch = spi.index("spi 44 c6")
+    assert spi[switch - 2:switch + 10] == [
+        "isr 1012000", "spi 00 00 00", "spi 44 c6", "spi 08",  # the bridge sample 1001, then TS on
+        "spi 06", "spi 43 3e c4 40 00", "spi 08",  # silent: configured again, TS off
+        "isr 1164000", "spi 00 00 00", "spi 44 c6", "spi 08",  # a bridge sample, then TS on again
+        "isr 1165000 ts"]
+    assert [line for line in spi if line.startswith("isr") and line.endswith("ts")] == ["isr 1165000 ts"]
+    stream, messages = MessageDemux().feed(bytes.fromhex(out[-1].split()[1]))
+    frames = FrameParser().feed(stream)
+    assert [f.counts for f in frames] == list(range(1, 1002)) + [0x1000] + list(range(0x1002, 0x1010))
+    assert [m.celsius for m in messages if isinstance(m, DeviceTemperature)] == [25.0]
+    assert [m.adc_reconfigs for m in messages if isinstance(m, DeviceStatus)][-1:] == [1]
+
+
+@pytest.mark.skipif(CXX is None, reason="g++ is needed to compile the Arduino sketch for the PC")
+def test_arduino_sketch_with_mains_rejection(build):
+    # PFW_MAINS_REJECTION=1: 20 SPS normal mode with simultaneous 50/60 Hz rejection, announced in the info
+    rnd = random.Random(41)
+    words = [rnd.randrange(2**23) for _ in range(230)]  # 11.5 s at 20 SPS
+    script = [f"advance 49000\nconv {w:06x}\nloop\n" for w in words] + ["host 49\n", "loop\n"]
+    out = run(build, "arduino_sim_mains", 0, stdin="".join(script)).splitlines()
+    # the scripted ADC refuses the 50/60 Hz bits at any other rate ("error ...")
+    assert not [line for line in out if line.startswith("error")], out
+    # register 1 = 04: DR 000 (20 SPS), normal mode, continuous; register 2 = 50: REFP0/REFN0, 50/60 = 01
+    assert out[1:4] == ["spi 06", "spi 43 3e 04 50 00", "spi 08"]
+    spi = [line for line in out if line.startswith("spi 44")]
+    assert spi == ["spi 44 06", "spi 44 04"]  # one temperature in 11.5 s: every 10 s at this rate
+    stream, messages = MessageDemux().feed(bytes.fromhex(out[-1].split()[1]))
+    infos = [m for m in messages if isinstance(m, DeviceInfo)]
+    assert len(infos) == 2 and all(i.rate_hz == 20 and i.mains_filter == 1 for i in infos)
+    assert infos[0].volts_per_count == 5 / 2**30
+    assert [m.celsius for m in messages if isinstance(m, DeviceTemperature)] == [25.0]
+    frames = FrameParser().feed(stream)
+    assert len(frames) == len(words) - 1
+    assert "watchdog expired" not in out  # fed at 20 SPS: conversions 50 ms apart keep the loop healthy
+
+
+@pytest.mark.skipif(CXX is None, reason="g++ is needed to compile the Arduino sketch for the PC")
+def test_sketch_mains_rejection_differs_from_the_default_build(build):
+    # the default build must not set the 50/60 Hz bits (the datasheet allows them only at 20 SPS)
+    out = run(build, "arduino_sim", 0, stdin="").splitlines()
+    assert out[1:4] == ["spi 06", "spi 43 3e c4 40 00", "spi 08"]
+    info = MessageDemux().feed(bytes.fromhex(out[-1].split()[1]))[1][0]
+    assert (info.rate_hz, info.mains_filter) == (1000, 0)
+
+
 # ---------------------------------------------------------------------------------------- live
 class Listener(Node):
     """The driver's diagnostics over DDS; its samples as handed to its publisher (``raw``).
@@ -647,8 +757,10 @@ def test_live_faults_are_counted_and_never_publish_a_corrupt_sample(build, tmp_p
         flowing()
         # device reset: sequence and clock restart at 0; the stamps re-anchor after 0.2 s of agreement
         implausible, reanchored, lost, jumps = node.clock.implausible, node.clock.reanchored, p.lost_frames, p.seq_jumps
+        resets = node.sensor_resets
         dev.command(h, "reset")
         assert h.spin_until(lambda: node.clock.reanchored == reanchored + 1, 20.0)
+        assert node.sensor_resets == resets + 1  # sensor_reset sent: the compensation clears its history and re-zeroes
         flowing(500)
         assert node.clock.implausible > implausible
         assert h.spin_until(lambda: last_diag(lis)[2].get("reanchored") == "1", 10.0)

@@ -106,8 +106,12 @@ class _DriverLogic(PolyforceNode):
         self._joint, self._frame = self._param("joint_name"), self._param("frame_id")
         qos = data_qos(self)
         self.pub_raw = create_publisher(JointState, contract.Rel.BRIDGE_VOLTAGE, qos)
+        # a (re)start of the simulated profile or a device reset: compensation_node clears its history and zeroes
+        # again from this stamp on
+        self.pub_reset = create_publisher(Header, contract.Rel.SENSOR_RESET, 10)
         self._open_diagnostics()
         self.published = 0
+        self.sensor_resets = 0
         if backend == "sim":
             self._init_sim(qos)
         elif backend == "serial":
@@ -133,8 +137,6 @@ class _DriverLogic(PolyforceNode):
     def _init_sim(self, qos):
         self.pub_ref = self._make_publisher(WrenchStamped, contract.Rel.REFERENCE_FORCE, qos)
         self.pub_temp = self._make_publisher(Temperature, contract.Rel.TEMPERATURE, 10)
-        # each (re)start of the profile: the sensor is relaxed again from this stamp on (compensation_node follows)
-        self.pub_reset = self._make_publisher(Header, contract.Rel.SENSOR_RESET, 10)
         path = self._param("truth_model_file") or str(default_model_path())
         chain = load_model(path).chain.with_offset(self._param("offset_v"))  # the bridge zero is a property of this sensor
         self.rate_hz = float(self._param("rate_hz"))
@@ -177,9 +179,7 @@ class _DriverLogic(PolyforceNode):
             if self.pub_raw.get_subscription_count() < self._param("wait_for_subscribers"):
                 return  # matched readers are counted by DDS itself: what is published next reaches them
             self.source.start(now)
-            reset = Header(frame_id=self._frame)
-            ns_to_stamp(now, reset.stamp)
-            self.pub_reset.publish(reset)
+            self._publish_sensor_reset(now)
         block = self.source.due(now)
         if block is None:
             return
@@ -251,6 +251,12 @@ class _DriverLogic(PolyforceNode):
         self.connected = False
         self._last_error = reason
 
+    def _publish_sensor_reset(self, stamp_ns):
+        reset = Header(frame_id=self._frame)
+        ns_to_stamp(stamp_ns, reset.stamp)
+        self.pub_reset.publish(reset)
+        self.sensor_resets += 1
+
     def _serial_tick(self):
         if not self.connected or not self._active:
             return
@@ -265,7 +271,11 @@ class _DriverLogic(PolyforceNode):
             return
         if not data:
             return
-        for stamp, volts in self.source.feed(data, self.get_clock().now().nanoseconds):
+        reanchored = self.clock.reanchored
+        samples = self.source.feed(data, self.get_clock().now().nanoseconds)
+        if self.clock.reanchored != reanchored and samples:  # the device restarted its clock: it was reset
+            self._publish_sensor_reset(samples[0][0])
+        for stamp, volts in samples:
             self.pub_raw.publish(self._raw_message(stamp, volts))
             self.published += 1
         self._publish_device_messages()

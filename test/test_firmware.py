@@ -9,7 +9,9 @@
   buffer, the device clock and the pacer against exact references (ASan + UBSan builds);
   the device clock refuses counters it could not serve in constant time;
 * the ADS1220 board sketch, compiled for the PC against stub Arduino headers and run with a
-  scripted ADC: register bytes, SPI reads, frames, overflow and the DRDY watchdog;
+  scripted ADC: register bytes, SPI reads, frames, overflow and the DRDY watchdog; the
+  temperature conversion once a second (register writes, decoding, never a sample); the
+  50/60 Hz rejection build (20 SPS, register bytes, the info);
 * the virtual device (same core) streaming into a pty read by a running DriverNode (serial
   backend): values and stamps match what the device sent, 1 kHz without loss through
   sequence and clock wraps, a 100 ppm fast device clock is followed, and the faults

@@ -2,21 +2,26 @@
  * board_ads1220_arduino.ino - polyforce bridge ADC: TI ADS1220 on an Arduino-compatible board.
  *
  * A thin shell over the portable core (polyforce_fw.h/.c, linked into this
- * folder from firmware/): the ADS1220 converts continuously at 1000 SPS with
- * the bridge excitation as its reference (ratiometric); its DRDY falling edge
- * interrupts; the interrupt stamps the conversion with the device clock, reads
- * the 24-bit result over SPI and records it in the ring; loop() pops frames and
- * writes them to the USB serial port. Between frames loop() sends the messages of
+ * folder from firmware/): the ADS1220 converts continuously at 1000 SPS (20 SPS
+ * with simultaneous 50/60 Hz rejection when built with PFW_MAINS_REJECTION=1)
+ * with the bridge excitation as its reference (ratiometric); its DRDY falling
+ * edge interrupts; the interrupt stamps the conversion with the device clock,
+ * reads the 24-bit result over SPI and records it in the ring; loop() pops
+ * frames and writes them to the USB serial port. Once a second (every 10 s with
+ * mains rejection) the interrupt switches the ADC to its internal temperature
+ * sensor for one conversion and back; that conversion becomes a temperature
+ * message, never a sample. Between frames loop() sends the messages of
  * polyforce_fw.h: info at start and when the host writes 'I', status at start,
- * every second and when the host writes 'S'. Where the board has a watchdog hook
- * below (AVR), loop() feeds it only while conversions arrive, and the status
- * reports why the board last started. Wiring, driver parameters and the rate
- * budget: firmware/README.md.
+ * every second and when the host writes 'S', and the temperature. Where the
+ * board has a watchdog hook below (AVR, SAMD21, RP2040), loop() feeds it only
+ * while conversions arrive, and the status reports why the board last started.
+ * Wiring, driver parameters and the rate budget: firmware/README.md.
  *
  * Tested boards are none (no hardware in CI); the sketch is compiled and run on
  * the PC against stub Arduino/SPI headers by test/test_firmware.py
  * (firmware/host/arduino_sim.cpp), which checks the register bytes, the SPI
- * read, the frames and the watchdog. Intended targets: 32-bit boards with
+ * read, the frames, the temperature conversions, the mains-rejection
+ * configuration and the watchdog. Intended targets: 32-bit boards with
  * native USB (Arduino Zero/MKR, Teensy 3.x/4.x, RP2040 boards) — USB CDC is not
  * limited by a baud rate; a hardware UART must run at >= 230400 baud (README).
  */
@@ -37,15 +42,35 @@ static const uint32_t LINK_BAUD = 921600; // ignored by USB CDC; used by hardwar
 static const uint8_t ADS_CMD_RESET = 0x06;
 static const uint8_t ADS_CMD_START = 0x08;
 static const uint8_t ADS_CMD_WREG_0_4 = 0x43;  // WREG from register 0, 4 registers (0100 rrnn: rr = 0, nn = 3)
+static const uint8_t ADS_CMD_WREG_1_1 = 0x44;  // WREG register 1 only (rr = 1, nn = 0)
 // Register 0: MUX = 0011 (AINP = AIN1, AINN = AIN2), GAIN = 111 (128), PGA_BYPASS = 0 (PGA on)
 static const uint8_t ADS_REG0 = 0x3E;
+// 50/60 Hz rejection (register 2, bits 5:4) is allowed only at 20 SPS in normal mode (and 5 SPS in
+// duty-cycle mode): build with -DPFW_MAINS_REJECTION=1 for 20 SPS with simultaneous 50 and 60 Hz
+// rejection, or keep the default 1000 SPS with no mains filter. Trade-off: docs/firmware.md.
+#ifndef PFW_MAINS_REJECTION
+#define PFW_MAINS_REJECTION 0
+#endif
+#if PFW_MAINS_REJECTION
+// Register 1: DR = 000 (20 SPS in normal mode), MODE = 00 (normal), CM = 1 (continuous), TS = 0, BCS = 0
+static const uint8_t ADS_REG1 = 0x04;
+// Register 2: VREF = 01 (external REFP0/REFN0 = bridge excitation: ratiometric), 50/60 = 01
+// (simultaneous 50 and 60 Hz rejection), PSW = 0, IDAC = 000
+static const uint8_t ADS_REG2 = 0x50;
+static const uint32_t ADS_RATE_HZ = 20;
+static const uint8_t ADS_MAINS_FILTER = PFW_MAINS_50_60;
+#else
 // Register 1: DR = 110 (1000 SPS in normal mode), MODE = 00 (normal), CM = 1 (continuous), TS = 0, BCS = 0
 static const uint8_t ADS_REG1 = 0xC4;
 // Register 2: VREF = 01 (external REFP0/REFN0 = bridge excitation: ratiometric), 50/60 = 00, PSW = 0, IDAC = 000
 static const uint8_t ADS_REG2 = 0x40;
+static const uint32_t ADS_RATE_HZ = 1000;  // must match REG1 (and the driver's expected_rate_hz)
+static const uint8_t ADS_MAINS_FILTER = PFW_MAINS_OFF;
+#endif
+// Register 1, TS = 1: the internal temperature sensor instead of the inputs (register 0 has no effect)
+static const uint8_t ADS_REG1_TS = 0x02;
 // Register 3: I1MUX = I2MUX = 000 (IDACs off), DRDYM = 0 (DRDY on its own pin), reserved 0
 static const uint8_t ADS_REG3 = 0x00;
-static const uint32_t ADS_RATE_HZ = 1000;  // must match REG1 (and the driver's expected_rate_hz)
 static const uint32_t ADS_VREF_UV = 5000000;  // the reference = bridge excitation (uV): reported in the info
 static const uint16_t ADS_GAIN = 128;         // must match REG0
 static const uint32_t ADS_SPI_HZ = 4000000;  // SCLK period 250 ns; the ADS1220 allows 150 ns
@@ -75,6 +100,9 @@ static const uint32_t WATCHDOG_PERIODS = 100;
 #define BOARD_NAME "arduino"
 #endif
 static const uint32_t STATUS_PERIOD_US = 1000000;  // a status message every second
+// A temperature conversion takes the place of about one bridge sample (plus the restart after each
+// switch): once a second at 1000 SPS (0.1 % of the samples), every 10 s at 20 SPS (0.5 %).
+static const uint32_t TEMP_PERIOD_US = PFW_MAINS_REJECTION ? 10000000 : 1000000;
 
 // ---------------------------------------------------------------- MCU watchdog and reset reason
 // The watchdog is fed by loop() only while conversions arrive (or the ADC is being configured
@@ -139,6 +167,15 @@ static uint32_t g_adc_reconfigs;   // DRDY fell silent and the ADC was configure
 static uint32_t g_start_us;        // device time at the end of setup()
 static uint32_t g_next_status_us;  // device time of the next periodic status
 static uint32_t g_uptime_s;        // whole seconds since setup(), counted from the periodic status
+static uint32_t g_next_temp_us;    // device time of the next temperature request
+// The temperature sensor. loop() sets g_temp_wanted; the interrupt, right after reading a bridge
+// sample, switches the ADC to TS and sets g_temp_converting; the next conversion is the temperature,
+// which the interrupt decodes into g_temp_q5 / g_temp_t_us (then g_temp_ready) before switching back.
+static volatile bool g_temp_wanted;
+static volatile bool g_temp_converting;
+static volatile bool g_temp_ready;
+static volatile int16_t g_temp_q5;     // 1/32 degC
+static volatile uint32_t g_temp_t_us;  // device time of the temperature conversion
 
 static void ads_command(uint8_t cmd)
 {
@@ -165,6 +202,20 @@ static void ads_configure()
     ads_command(ADS_CMD_START);  // continuous mode: converts until the next RESET/POWERDOWN
 }
 
+// Register 1 alone, then START/SYNC. A register write restarts the conversion in progress with the
+// new setting (datasheet, continuous conversion mode); START/SYNC restarts it once more, as the
+// datasheet recommends after writing CM = 1. The next DRDY is the first conversion in the new mode.
+static void ads_write_reg1(uint8_t value)
+{
+    SPI.beginTransaction(ADS_SPI);
+    digitalWrite(PIN_ADS_CS, LOW);
+    SPI.transfer(ADS_CMD_WREG_1_1);
+    SPI.transfer(value);
+    digitalWrite(PIN_ADS_CS, HIGH);
+    SPI.endTransaction();
+    ads_command(ADS_CMD_START);
+}
+
 // The device clock, read from loop() (the interrupt updates it too).
 static uint32_t clock_now_masked()
 {
@@ -174,7 +225,9 @@ static uint32_t clock_now_masked()
     return now_us;
 }
 
-// DRDY falling edge: one conversion is ready. The producer side of the ring.
+// DRDY falling edge: one conversion is ready. The producer side of the ring. A temperature
+// conversion is never recorded as a sample; its sequence number is not taken either, so the host
+// sees a longer step of t_us between two consecutive samples, not a sequence gap.
 static void on_drdy()
 {
     const uint32_t t_us = pfw_clock_update(&g_clock, hw_ticks());
@@ -186,7 +239,20 @@ static void on_drdy()
     b0 = SPI.transfer(0x00);
     digitalWrite(PIN_ADS_CS, HIGH);
     SPI.endTransaction();
-    (void)pfw_ring_record(&g_ring, t_us, pfw_counts_from_be24(b2, b1, b0));  // full ring: counted, seq gap
+    if (g_temp_converting) {
+        g_temp_q5 = pfw_ads1220_temp_q5(b2, b1);  // 14 bits, left-justified
+        g_temp_t_us = t_us;
+        g_temp_ready = true;
+        g_temp_converting = false;
+        ads_write_reg1(ADS_REG1);  // back to the bridge
+    } else {
+        (void)pfw_ring_record(&g_ring, t_us, pfw_counts_from_be24(b2, b1, b0));  // full ring: counted, seq gap
+        if (g_temp_wanted) {
+            g_temp_wanted = false;
+            g_temp_converting = true;
+            ads_write_reg1((uint8_t)(ADS_REG1 | ADS_REG1_TS));  // the next conversion: the temperature
+        }
+    }
     g_last_drdy_us = t_us;
 }
 
@@ -222,6 +288,9 @@ void setup()
 {
     g_adc_reconfigs = 0;
     g_uptime_s = 0;
+    g_temp_wanted = false;
+    g_temp_converting = false;
+    g_temp_ready = false;
     g_reset_reason = board_reset_reason();
     if (*board_watchdog_magic() != WD_MAGIC || g_reset_reason == PFW_RESET_POWER_ON) {
         *board_watchdog_magic() = WD_MAGIC;  // RAM content is random after power-on
@@ -246,7 +315,7 @@ void setup()
     g_info.vref_uv = ADS_VREF_UV;
     g_info.gain = ADS_GAIN;
     g_info.adc_bits = 24;
-    g_info.mains_filter = PFW_MAINS_OFF;  // REG2 bits 5:4 = 00
+    g_info.mains_filter = ADS_MAINS_FILTER;  // REG2 bits 5:4
     copy_text(g_info.adc, "ADS1220", sizeof g_info.adc);
     copy_text(g_info.board, BOARD_NAME, sizeof g_info.board);
     copy_text(g_info.serial, SENSOR_SERIAL, sizeof g_info.serial);
@@ -258,6 +327,7 @@ void setup()
     g_start_us = pfw_clock_update(&g_clock, hw_ticks());
     send_status(g_start_us);
     g_next_status_us = g_start_us + STATUS_PERIOD_US;
+    g_next_temp_us = g_start_us + TEMP_PERIOD_US;
     board_watchdog_begin();
 }
 
@@ -284,6 +354,12 @@ void loop()
     last_us = g_last_drdy_us;
     interrupts();
     if (pfw_time_diff_us(now_us, last_us) > (int32_t)(WATCHDOG_PERIODS * g_period_us)) {
+        noInterrupts();
+        if (g_temp_converting) {  // the configuration below clears TS: ask for the lost temperature again
+            g_temp_converting = false;
+            g_temp_wanted = true;
+        }
+        interrupts();
         ads_configure();
         g_adc_reconfigs++;
         noInterrupts();
@@ -296,5 +372,19 @@ void loop()
         g_next_status_us += STATUS_PERIOD_US;
         g_uptime_s++;
         send_status(now_us);
+    }
+    if (pfw_time_diff_us(now_us, g_next_temp_us) >= 0) {
+        g_next_temp_us += TEMP_PERIOD_US;
+        g_temp_wanted = true;  // taken by the interrupt after the next bridge sample
+    }
+    noInterrupts();
+    const bool temp_ready = g_temp_ready;
+    const int16_t temp_q5 = g_temp_q5;
+    const uint32_t temp_t_us = g_temp_t_us;
+    g_temp_ready = false;
+    interrupts();
+    if (temp_ready) {
+        uint8_t msg[PFW_MSG_MAX_SIZE];
+        LINK.write(msg, pfw_encode_temperature(msg, temp_t_us, temp_q5));
     }
 }

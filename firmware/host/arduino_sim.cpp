@@ -5,15 +5,22 @@
  *
  * setup() runs first, then the script (one command per line):
  *   conv HEX6     one period (1000 us) passes, the ADC has the 24-bit word HEX6 ready: DRDY falls
+ *                 (in temperature-sensor mode the ADC has the sensor's word instead, and HEX6 is unused)
+ *   tempword HEX6 the 24-bit word of the temperature sensor from now on (default 0c8000: 25 degC)
  *   loop          loop() runs once
  *   advance US    time passes without conversions
  *   host HEX      the host writes these bytes to the serial port (e.g. 49 = 'I')
  *   reboot CODE   the board restarts with reset reason CODE (PFW_RESET_*): no-init RAM is kept,
  *                 setup() runs again
+ * The scripted ADS1220 keeps its four configuration registers from the commands it receives (RESET,
+ * WREG, START/SYNC): a conversion made while register 1 has TS set is a temperature conversion, and
+ * the 50/60 Hz bits of register 2 are refused at any rate but 20 SPS normal / 5 SPS duty-cycle mode
+ * (datasheet SBAS501, register 2).
  * Output: "spi AA BB .." (MOSI bytes of each SPI transaction), "isr MICROS" (micros() at each
- * DRDY), "serial HEX" (all bytes the sketch wrote, at the end), "baud N", "attach PIN MODE",
- * "watchdog MS" (enabled), "watchdog expired" (not fed for its period: the board would reset),
- * and "error ..." for any misuse (transfer with CS high, wrong SPI mode, unbalanced masking).
+ * DRDY; "isr MICROS ts" for a temperature conversion), "serial HEX" (all bytes the sketch wrote,
+ * at the end), "baud N", "attach PIN MODE", "watchdog MS" (enabled), "watchdog expired" (not fed
+ * for its period: the board would reset), and "error ..." for any misuse (transfer with CS high,
+ * wrong SPI mode, unbalanced masking, 50/60 Hz rejection at a rate that does not allow it).
  */
 #include <cstdio>
 #include <cstdlib>
@@ -41,6 +48,39 @@ static uint16_t g_noinit[2] = {0x1234, 0x4321}; // random after power-on
 static unsigned g_wd_ms = 0;                    // 0 = watchdog off
 static unsigned long long g_wd_fed = 0;
 static bool g_wd_expired = false;
+static uint8_t g_ads_reg[4] = {0, 0, 0, 0};     // the ADS1220's configuration registers (reset values)
+static unsigned long long g_temp_word = 0x0C8000; // the temperature sensor's conversion result
+
+// The ADS1220's side of one SPI transaction: commands change its registers.
+static void ads_receive(const std::vector<uint8_t> &mosi)
+{
+    for (size_t i = 0; i < mosi.size(); ++i) {
+        const uint8_t b = mosi[i];
+        if ((b & 0xFE) == 0x06) {  // RESET
+            std::memset(g_ads_reg, 0, sizeof g_ads_reg);
+        } else if ((b & 0xF0) == 0x40) {  // WREG 0100 rrnn: nn + 1 registers from rr
+            const unsigned first = (b >> 2) & 3u, count = (b & 3u) + 1u;
+            for (unsigned k = 0; k < count; ++k) {
+                if (i + 1 >= mosi.size() || first + k > 3) {
+                    std::printf("error WREG %02x without its data\n", b);
+                    break;
+                }
+                g_ads_reg[first + k] = mosi[++i];
+            }
+        }  // START/SYNC (08) restarts the conversion; 00 clocks data out
+    }
+}
+
+// 50/60 Hz rejection (register 2, bits 5:4) only with DR = 000 in normal or duty-cycle mode.
+static void ads_check_mains()
+{
+    const bool mains = (g_ads_reg[2] & 0x30) != 0;
+    const uint8_t dr_mode = g_ads_reg[1] & 0xF8;
+    if (mains && dr_mode != 0x00 && dr_mode != 0x08) {
+        std::printf("error 50/60 Hz rejection with register 1 = %02x (only 20 SPS normal, 5 SPS duty-cycle)\n",
+                    g_ads_reg[1]);
+    }
+}
 
 StubSerial Serial;
 SPIClass SPI;
@@ -147,6 +187,7 @@ void SPIClass::endTransaction()
         std::printf(" %02x", b);
     }
     std::printf("\n");
+    ads_receive(g_mosi);
     g_in_transaction = false;
 }
 
@@ -164,18 +205,25 @@ int main(int argc, char **argv)
         }
         if (std::strcmp(cmd, "conv") == 0 && n == 2) {
             g_micros += 1000u;
+            const bool ts = (g_ads_reg[1] & 0x02) != 0;  // set before this conversion started
+            if (ts) {
+                arg = g_temp_word;
+            }
             g_miso = {uint8_t(arg >> 16), uint8_t(arg >> 8), uint8_t(arg)};
             if (g_isr == nullptr || g_masked) {
                 std::printf("error DRDY with no handler or interrupts masked\n");
                 continue;
             }
-            std::printf("isr %llu\n", g_micros);
+            ads_check_mains();
+            std::printf("isr %llu%s\n", g_micros, ts ? " ts" : "");
             g_in_isr = 1;
             g_isr();
             g_in_isr = 0;
             if (!g_miso.empty()) {
                 std::printf("error conversion not read\n");
             }
+        } else if (std::strcmp(cmd, "tempword") == 0 && n == 2) {
+            g_temp_word = arg;
         } else if (std::strcmp(cmd, "loop") == 0) {
             loop();
         } else if (std::strcmp(cmd, "advance") == 0) {
@@ -196,6 +244,7 @@ int main(int argc, char **argv)
             g_wd_ms = 0;
             g_wd_expired = false;
             g_rx.clear();
+            std::memset(g_ads_reg, 0, sizeof g_ads_reg);  // the ADS1220 restarts with the board (same supply)
             setup();
         }
         check_watchdog();

@@ -33,6 +33,7 @@ bench: $(STAMP)
 	$(PY) bench/bench_offline.py
 	$(PY) bench/bench_live.py
 	$(PY) bench/bench_bridge.py
+	$(PY) bench/bench_chain.py
 
 bags: $(STAMP)
 	$(VENV)/bin/polyforce make-bags --out bags

@@ -43,12 +43,13 @@ LAYERS = {
                 "test_discrepancy_elements.py", "test_discrepancy_pipeline.py",
                 "test_discrepancy_newtons.py", "test_evaluate.py", "test_node_processes.py",
                 "test_package_build.py", "test_ros_free_physics.py", "test_bag_fuzz.py", "test_bringup.py", "test_firmware.py",
-                "test_static.py", "test_cdr.py", "test_bag_conventions.py", "test_layers.py"],
+                "test_static.py", "test_cdr.py", "test_bag_conventions.py", "test_layers.py",
+                "test_bench_chain.py"],
     "netns": ["test_two_namespaces.py"],
 }
 SLOW = {"test_discrepancy.py", "test_discrepancy_pipeline.py", "test_discrepancy_newtons.py",
         "test_evaluate.py", "test_package_build.py",
-        "test_two_namespaces.py", "test_cli_demo.py", "test_bringup.py", "test_firmware.py"}
+        "test_two_namespaces.py", "test_cli_demo.py", "test_bringup.py", "test_firmware.py", "test_bench_chain.py"}
 _LAYER_OF = {name: layer for layer, names in LAYERS.items() for name in names}
 import subprocess  # noqa: E402
 

@@ -108,8 +108,9 @@ static const uint32_t TEMP_PERIOD_US = PFW_MAINS_REJECTION ? 10000000 : 1000000;
 // The watchdog is fed by loop() only while conversions arrive (or the ADC is being configured
 // again): a hang in the link write, a hard fault or a dead loop resets the board. Its period,
 // 1 s, is longer than the ring's 256 ms: a link that stalls for less costs frames (counted as
-// overflows), not a reset. Hooks exist for AVR (and for the PC stubs); on other cores there is
-// none yet and the reset reason is "unknown".
+// overflows), not a reset. Hooks exist for AVR, SAMD21 (Zero, MKR), RP2040 (arduino-pico) and the
+// PC stubs; on other cores (Teensy, SAMD51, ESP32) there is none and the reset reason is "unknown".
+// Only the AVR hook keeps the watchdog-reset count across resets (no-init RAM); see README.
 static const unsigned WATCHDOG_MS = 1000;
 #if defined(__AVR__)
 #include <avr/wdt.h>
@@ -130,6 +131,71 @@ static uint16_t *board_watchdog_count() { return &g_wd_resets; }  // survives a 
 static uint16_t *board_watchdog_magic() { return &g_wd_magic; }
 static void board_watchdog_begin() { wdt_enable(WDTO_1S); }
 static void board_watchdog_feed() { wdt_reset(); }
+#elif defined(ARDUINO_ARCH_SAMD) && !defined(__SAMD51__)
+// SAMD21 (arduino:samd core, CMSIS register names). The core's linker script has no no-init
+// section, so the count lives in .bss: after a watchdog reset it is 1, not the count since power-on.
+static uint16_t g_wd_resets;
+static uint16_t g_wd_magic;
+static uint8_t board_reset_reason()
+{
+    const uint8_t rcause = PM->RCAUSE.reg;  // the cause of the last reset (the bootloader keeps it)
+    if (rcause & PM_RCAUSE_WDT) return PFW_RESET_WATCHDOG;
+    if (rcause & PM_RCAUSE_SYST) return PFW_RESET_SOFTWARE;  // NVIC_SystemReset, e.g. the 1200-baud upload touch
+    if (rcause & PM_RCAUSE_EXT) return PFW_RESET_EXTERNAL;
+    if (rcause & PM_RCAUSE_POR) return PFW_RESET_POWER_ON;
+    if (rcause & (PM_RCAUSE_BOD12 | PM_RCAUSE_BOD33)) return PFW_RESET_BROWN_OUT;
+    return PFW_RESET_UNKNOWN;
+}
+static uint16_t *board_watchdog_count() { return &g_wd_resets; }
+static uint16_t *board_watchdog_magic() { return &g_wd_magic; }
+static void board_watchdog_begin()
+{
+    // The WDT's clock: generator 2 = OSCULP32K / 2^(4 + 1) = 1024 Hz; 1024 cycles = 1 s (WATCHDOG_MS)
+    GCLK->GENDIV.reg = GCLK_GENDIV_ID(2) | GCLK_GENDIV_DIV(4);
+    GCLK->GENCTRL.reg = GCLK_GENCTRL_ID(2) | GCLK_GENCTRL_GENEN | GCLK_GENCTRL_SRC_OSCULP32K | GCLK_GENCTRL_DIVSEL;
+    while (GCLK->STATUS.bit.SYNCBUSY) {
+    }
+    GCLK->CLKCTRL.reg = GCLK_CLKCTRL_ID_WDT | GCLK_CLKCTRL_CLKEN | GCLK_CLKCTRL_GEN_GCLK2;
+    WDT->CTRL.reg = 0;
+    while (WDT->STATUS.bit.SYNCBUSY) {
+    }
+    WDT->CONFIG.reg = WDT_CONFIG_PER_1K;
+    WDT->CTRL.reg = WDT_CTRL_ENABLE;
+    while (WDT->STATUS.bit.SYNCBUSY) {
+    }
+}
+static void board_watchdog_feed()
+{
+    // A clear takes a few WDT clock cycles (ms) to synchronise; one still under way is a feed already,
+    // and waiting for it would stall the 1 kHz loop.
+    if (!WDT->STATUS.bit.SYNCBUSY) {
+        WDT->CLEAR.reg = WDT_CLEAR_CLEAR_KEY;
+    }
+}
+#elif defined(ARDUINO_ARCH_RP2040) && !defined(ARDUINO_ARCH_MBED)
+// RP2040 with the arduino-pico core: the pico SDK's watchdog. The count lives in the SDK's
+// uninitialized RAM section, which a watchdog reset leaves as it was.
+#include <hardware/watchdog.h>
+#if !defined(PICO_RP2350)
+#include <hardware/structs/vreg_and_chip_reset.h>
+#endif
+static uint16_t __uninitialized_ram(g_wd_resets);
+static uint16_t __uninitialized_ram(g_wd_magic);
+static uint8_t board_reset_reason()
+{
+    if (watchdog_enable_caused_reboot()) return PFW_RESET_WATCHDOG;  // our watchdog_enable() ran out
+    if (watchdog_caused_reboot()) return PFW_RESET_SOFTWARE;          // watchdog_reboot(): upload, rp2040.reboot()
+#if !defined(PICO_RP2350)
+    const uint32_t chip_reset = vreg_and_chip_reset_hw->chip_reset;
+    if (chip_reset & VREG_AND_CHIP_RESET_CHIP_RESET_HAD_RUN_BITS) return PFW_RESET_EXTERNAL;  // RUN pin
+    if (chip_reset & VREG_AND_CHIP_RESET_CHIP_RESET_HAD_POR_BITS) return PFW_RESET_POWER_ON;  // or brown-out
+#endif
+    return PFW_RESET_UNKNOWN;
+}
+static uint16_t *board_watchdog_count() { return &g_wd_resets; }
+static uint16_t *board_watchdog_magic() { return &g_wd_magic; }
+static void board_watchdog_begin() { watchdog_enable(WATCHDOG_MS, true); }  // paused while a debugger halts
+static void board_watchdog_feed() { watchdog_update(); }
 #elif defined(POLYFORCE_HOST_STUB)
 static uint8_t board_reset_reason() { return stub_reset_reason(); }
 static uint16_t *board_watchdog_count() { return stub_noinit_u16(0); }

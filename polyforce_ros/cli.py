@@ -263,7 +263,8 @@ def build_parser():
     comp.add_argument("input")
     comp.add_argument("output")
     comp.add_argument("--model", help="model YAML (default: the shipped paper model)")
-    comp.add_argument("--force-limit", type=float, default=12.0, help="clamp |force| to this (N), like the node")
+    comp.add_argument("--force-limit", type=float, default=CompensatorConfig.force_limit_n,
+                      help="clamp |force| to this (N), like the node's force_limit_n (default %(default)s)")
     comp.add_argument("--directory", action="store_true",
                       help="write OUT as a rosbag2 bag directory (OUT/OUT_0.mcap + metadata.yaml)")
     comp.add_argument("--no-auto-tare", action="store_true",

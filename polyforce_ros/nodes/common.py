@@ -33,6 +33,14 @@ def declare(node, name, default, description, low=None, high=None, read_only=Fal
     return node.declare_parameter(name, default, desc).value
 
 
+def declare_settings(node, config_type) -> None:
+    """Declare a parameter of every field of a configuration dataclass (its default, description and range)."""
+    from ..settings import settings_of
+
+    for f, meta in settings_of(config_type):
+        declare(node, f.name, f.default, meta["description"], meta["low"], meta["high"], read_only=meta["read_only"])
+
+
 def data_qos(node) -> QoSProfile:
     """QoS of the data topics from the node's ``qos_reliable`` / ``qos_depth`` parameters.
 

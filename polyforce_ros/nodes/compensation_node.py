@@ -41,8 +41,8 @@ from ..physics.chain import ModelError
 from ..runtime import Compensator, CompensatorConfig
 from ..runtime.compensator import WARN_COUNTERS
 from .. import contract
-from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, latched_qos,
-                     ns_to_stamp, run, send_last_zero, stamp_to_ns)
+from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, declare_settings,
+                     latched_qos, ns_to_stamp, run, send_last_zero, stamp_to_ns)
 
 
 class _CompensationLogic(PolyforceNode):
@@ -54,39 +54,7 @@ class _CompensationLogic(PolyforceNode):
 
     def _declare_parameters(self):
         declare(self, "model_file", "", "Sensor model YAML; empty = the shipped paper model (seed 000 eq. 5)")
-        declare(self, "force_limit_n", 12.0, "Output clamp: |force.z| never exceeds this (N)", 0.1, 1000.0)
-        declare(self, "input_limit_v", 10.0, "Samples with |voltage| above this are dropped (V)", 0.001, 1000.0)
-        declare(self, "stale_timeout_s", 0.1, "No valid input for this long -> zero wrench and ERROR (s)", 0.002, 60.0)
-        declare(self, "gap_warn_s", 0.05, "Stamp gaps longer than this are counted as gaps (s)", 0.0001, 3600.0)
-        declare(self, "stamp_tolerance_s", 1.0,
-                "A sample stamped further ahead of its arrival than any used sample by more than this is an implausible "
-                "stamp and is dropped (s); 0 = no check (fast replays of bags with gaps)", 0.0, 3600.0)
-        declare(self, "reanchor_after_s", 0.2,
-                "Rejected but self-consistent samples for this long re-anchor the stamp history (s)", 0.001, 60.0)
-        declare(self, "tare_window", 200, "Samples averaged by ~/tare", 1, 100000)
-        declare(self, "auto_tare", True,
-                "Zero the bridge offset from the first auto_tare_s of samples at start and after ~/reset, if the "
-                "sensor rests (refused with WARN if loaded); false for a sensor that starts under load")
-        declare(self, "auto_tare_s", 0.5, "Window of the start-up zeroing (s)", 0.01, 60.0)
-        declare(self, "auto_tare_max_std_v", 0.005, "At rest: spread and drift of the bridge output below this (V)",
-                1e-6, 1.0)
-        declare(self, "auto_tare_max_shift_v", 0.1,
-                "At rest: mean output within this of the model's offset (V); a load shifts it further", 1e-4, 10.0)
-        declare(self, "auto_tare_timeout_s", 10.0,
-                "Retry the zeroing at the first rest within this long after start or reset; then use the model's "
-                "offset, WARN, and diagnostics ERROR until ~/tare (s)", 0.01, 3600.0)
-        declare(self, "publish_zero_before_tare", True,
-                "Until the zeroing decided: publish zero force (true) or nothing (false)")
-        declare(self, "max_noise_gain", 10.0,
-                "Refuse a model whose inverse turns white bridge noise into more than this force (N per V rms); "
-                "10: 2 mV of noise reaches the master as at most 0.02 N", 0.1, 1e6, read_only=True)
-        declare(self, "noise_gain_rate_hz", 1000.0, "Sample rate at which max_noise_gain is judged (Hz)", 1.0, 1e6,
-                read_only=True)
-        declare(self, "drift_tracking", False,
-                "Re-zero the bridge offset whenever the force rests inside +-drift_band_n for drift_window_s "
-                "(tracks slow baseline drift; off by default: it would also zero a real steady load that small)")
-        declare(self, "drift_band_n", 0.05, "Force band counted as 'at rest' for drift tracking (N)", 0.001, 5.0)
-        declare(self, "drift_window_s", 5.0, "Rest time before a drift correction (s)", 0.1, 3600.0)
+        declare_settings(self, CompensatorConfig)  # the runtime's policy: one declaration per field
         declare(self, "require_matching_sensor", False,
                 "Publish force only while the live device's sensor serial (sensor_serial, from the driver) equals the "
                 "one the model's provenance names; otherwise zero force and diagnostics ERROR. False: a different "

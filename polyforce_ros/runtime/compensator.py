@@ -62,6 +62,7 @@ import numpy.typing as npt
 
 from ..physics.chain import ModelError, SensorChain
 from ..physics.noise_gain import NoiseGain, backward_noise_gain
+from ..settings import setting
 
 __all__ = ["CompensatorConfig", "SampleGate", "Compensator", "check_noise_gain",
            "GATE_COUNTERS", "COMPENSATOR_COUNTERS", "WARN_COUNTERS",
@@ -82,29 +83,44 @@ AUTO_TARE_MAX_SAMPLES = 100_000
 
 @dataclass(frozen=True)
 class CompensatorConfig:
-    """Policy settings; the compensation node declares each as a parameter of the same name."""
+    """Policy settings, each declared once with its description and range (:func:`~polyforce_ros.settings.setting`);
+    the compensation node declares a parameter of each, ``polyforce compensate`` takes its defaults from them."""
 
-    force_limit_n: float = 12.0       #: output clamp, N
-    input_limit_v: float = 10.0       #: samples with |V| above this are dropped, V
-    gap_warn_s: float = 0.05          #: stamp gaps longer than this are counted, s
-    stale_timeout_s: float = 0.1      #: no valid sample this long -> zero output, s
-    stamp_tolerance_s: float = 1.0    #: allowed change of (stamp - receive time) between samples, s; 0 = off
-    reanchor_after_s: float = 0.2     #: consistent rejected samples this long -> re-anchor the stamps, s
-    tare_window: int = 200            #: raw samples averaged by a tare
-    drift_tracking: bool = False      #: fold resting forces into the bridge offset
-    drift_band_n: float = 0.05        #: |F| counted as at rest, N
-    drift_window_s: float = 5.0       #: rest time before a drift correction, s
-    auto_tare: bool = True            #: zero the bridge offset from the first samples if the sensor rests
-    auto_tare_s: float = 0.5          #: length of that window, s
-    auto_tare_max_std_v: float = 0.005   #: rest: spread and drift of the output below this, V (~5x bridge noise)
-    auto_tare_max_shift_v: float = 0.1   #: rest: mean within this of the model's offset, V (0.5 N at 4.8 N/V)
-    #: no rest window within this long after start or reset -> the model's offset, flagged until a tare, s
-    auto_tare_timeout_s: float = 10.0
-    publish_zero_before_tare: bool = True  #: until the auto-tare decided: zero force (True) or no output (False)
-    #: a model whose inverse amplifies white bridge noise more than this is refused, N/V (RMS/RMS): 2 mV of bridge
-    #: noise (twice the simulated amplifier's) then reaches the master as at most 0.02 N, the haptic bridge's deadband
-    max_noise_gain: float = 10.0
-    noise_gain_rate_hz: float = 1000.0   #: sample rate the noise gain is judged at, Hz (the driver's rate)
+    force_limit_n: float = setting(12.0, "Output clamp: |force.z| never exceeds this (N)", 0.1, 1000.0)
+    input_limit_v: float = setting(10.0, "Samples with |voltage| above this are dropped (V)", 0.001, 1000.0)
+    stale_timeout_s: float = setting(0.1, "No valid input for this long -> zero wrench and ERROR (s)", 0.002, 60.0)
+    gap_warn_s: float = setting(0.05, "Stamp gaps longer than this are counted as gaps (s)", 0.0001, 3600.0)
+    stamp_tolerance_s: float = setting(
+        1.0, "A sample stamped further ahead of its arrival than any used sample by more than this is an implausible "
+        "stamp and is dropped (s); 0 = no check (fast replays of bags with gaps)", 0.0, 3600.0)
+    reanchor_after_s: float = setting(
+        0.2, "Rejected but self-consistent samples for this long re-anchor the stamp history (s)", 0.001, 60.0)
+    tare_window: int = setting(200, "Samples averaged by ~/tare", 1, 100000)
+    auto_tare: bool = setting(
+        True, "Zero the bridge offset at the first rest of auto_tare_s after start, ~/reset or sensor_reset (zero "
+        "force until then); false for a sensor that starts under load")
+    auto_tare_s: float = setting(0.5, "Window of the start-up zeroing (s)", 0.01, 60.0)
+    auto_tare_max_std_v: float = setting(  # ~5x the bridge noise
+        0.005, "At rest: spread and drift of the bridge output below this (V)", 1e-6, 1.0)
+    auto_tare_max_shift_v: float = setting(  # 0.5 N at 4.8 N/V
+        0.1, "At rest: mean output within this of the model's offset (V); a load shifts it further", 1e-4, 10.0)
+    auto_tare_timeout_s: float = setting(
+        10.0, "Retry the zeroing at the first rest within this long after start or reset; then use the model's "
+        "offset, WARN, and diagnostics ERROR until ~/tare (s)", 0.01, 3600.0)
+    publish_zero_before_tare: bool = setting(
+        True, "Until the zeroing decided: publish zero force (true) or nothing (false)")
+    # 2 mV of bridge noise (twice the simulated amplifier's) then reaches the master as at most 0.02 N, the haptic
+    # bridge's deadband
+    max_noise_gain: float = setting(
+        10.0, "Refuse a model whose inverse turns white bridge noise into more than this force (N per V rms); "
+        "10: 2 mV of noise reaches the master as at most 0.02 N", 0.1, 1e6, read_only=True)
+    noise_gain_rate_hz: float = setting(
+        1000.0, "Sample rate at which max_noise_gain is judged (Hz)", 1.0, 1e6, read_only=True)
+    drift_tracking: bool = setting(
+        False, "Re-zero the bridge offset whenever the force rests inside +-drift_band_n for drift_window_s "
+        "(tracks slow baseline drift; off by default: it would also zero a real steady load that small)")
+    drift_band_n: float = setting(0.05, "Force band counted as 'at rest' for drift tracking (N)", 0.001, 5.0)
+    drift_window_s: float = setting(5.0, "Rest time before a drift correction (s)", 0.1, 3600.0)
 
     @classmethod
     def names(cls) -> tuple[str, ...]:
@@ -140,6 +156,7 @@ class SampleGate(_Configured):
         self.last_stamp_ns: Optional[int] = None
         self._skew_ns = 0                          # largest stamp - receive of this history's used samples
         self._run: Optional[list] = None           # [first receive, last stamp, skew] of rejected samples
+        self._fresh = False                        # the next used sample starts a new history (ACCEPT_FRESH)
 
     def _keep(self, config: CompensatorConfig) -> None:
         # per-sample comparisons at 1 kHz: attribute chains and unit conversions done once, not per sample
@@ -147,9 +164,16 @@ class SampleGate(_Configured):
         self._tol_ns = config.stamp_tolerance_s * 1e9
         self._gap_s = config.gap_warn_s
 
-    def restart(self) -> None:
-        """Forget the stamp history: the next finite sample starts a fresh one."""
-        self.last_stamp_ns, self._run = None, None
+    def restart(self, keep_stamps: bool = False) -> None:
+        """Forget the stamp history: the next finite sample starts a fresh one.
+
+        With ``keep_stamps`` only the history restarts: the next used sample is still later than the
+        last used stamp (the compensator's deformation history restarts, the stamps go on), and is
+        admitted as ACCEPT_FRESH.
+        """
+        if not keep_stamps:
+            self.last_stamp_ns = None
+        self._run, self._fresh = None, True
 
     def admit(self, stamp_ns: int, voltage_v: float, receive_ns: Optional[int] = None) -> Any:
         """ACCEPT, ACCEPT_FRESH, or the name of the counter of the drop."""
@@ -180,6 +204,9 @@ class SampleGate(_Configured):
             if skew > self._skew_ns:
                 self._skew_ns = skew
             self.last_stamp_ns = stamp_ns
+            if self._fresh:
+                self._fresh = False
+                return ACCEPT_FRESH
             return ACCEPT
         c[reason] += 1
         if self._heals(stamp_ns, skew, receive_ns, tol_ns):
@@ -188,7 +215,7 @@ class SampleGate(_Configured):
         return reason
 
     def _anchor(self, stamp_ns: int, skew: int) -> int:
-        self.last_stamp_ns, self._skew_ns, self._run = stamp_ns, skew, None
+        self.last_stamp_ns, self._skew_ns, self._run, self._fresh = stamp_ns, skew, None, False
         return ACCEPT_FRESH
 
     def _heals(self, stamp_ns: int, skew: int, receive_ns: int, tol_ns: float) -> bool:
@@ -446,7 +473,7 @@ class Compensator(_Configured):
         ``from_stamp_ns``: the sensor restarted at this acquisition time (a device reset, a restarted
         simulator); samples stamped before it belong to the old history and are dropped as ``backwards``.
         """
-        self._restart()
+        self._restart(stamps=True)
         if from_stamp_ns is not None:
             self.gate.last_stamp_ns = int(from_stamp_ns) - 1
         if self.config.auto_tare:
@@ -491,9 +518,12 @@ class Compensator(_Configured):
                                  f"{cfg.auto_tare_timeout_s} s ({reason}); the model's offset is used until a tare")
         return True
 
-    def _restart(self) -> None:
+    def _restart(self, stamps: bool = False) -> None:
+        """Restart the deformation history (a tare, a new model, a non-finite force); with ``stamps`` the stamp
+        history too (a sensor restart): otherwise the next used sample is still later than the last one used,
+        so no wrench repeats a stamp or goes back across a tare."""
         self._stream.reset()
-        self.gate.restart()
+        self.gate.restart(keep_stamps=not stamps)
         self._epoch_ns = 0
         self._rest_since_ns, self._rest_force_sum, self._rest_count = None, 0.0, 0
 

@@ -137,7 +137,8 @@ def test_launch_defaults_start_driver_and_compensation_with_the_shipped_paramete
     for n in nodes:
         assert n.kwargs["package"] == "polyforce_ros" and n.kwargs["namespace"] == contract.NAMESPACE
     comp, driver = (n.kwargs["parameters"] for n in nodes)
-    assert comp == [shipped("compensation.yaml")] and driver == [shipped("driver.yaml")]
+    # the simulated profile waits for the compensation node, the one reader of bridge_voltage
+    assert comp == [shipped("compensation.yaml")] and driver == [dict(shipped("driver.yaml"), wait_for_subscribers=1)]
 
 
 def test_launch_arguments_add_bridge_and_recorder_and_override_parameters(monkeypatch, tmp_path):
@@ -147,7 +148,8 @@ def test_launch_arguments_add_bridge_and_recorder_and_override_parameters(monkey
     by_exe = {n.kwargs["executable"]: n.kwargs for n in nodes}
     assert [n.kwargs["executable"] for n in nodes] == ["recorder_node", "haptic_bridge_node", "compensation_node", "driver_node"]
     assert all(k["namespace"] == "/left" for k in by_exe.values())
-    assert by_exe["driver_node"]["parameters"] == [dict(shipped("driver.yaml"), backend="serial", port="/dev/ttyUSB3")]
+    assert by_exe["driver_node"]["parameters"] == [dict(shipped("driver.yaml"), backend="serial", port="/dev/ttyUSB3",
+                                                        wait_for_subscribers=2)]  # compensation and recorder
     assert by_exe["compensation_node"]["parameters"] == [dict(shipped("compensation.yaml"), model_file=str(model))]
     assert by_exe["haptic_bridge_node"]["parameters"] == [shipped("haptic_bridge.yaml")]
     assert by_exe["recorder_node"]["parameters"] == [{"bag_path": str(tmp_path / "run.mcap")}]

@@ -60,7 +60,7 @@ def bag_reading(n, tmp):
 def preisach_inverse(n):
     from baseline_cma import NaiveCMA
 
-    from polyforce_ros.evaluation.seed001 import fsr_truth, grip_profile
+    from polyforce_ros.evaluation.fsr_preisach import fsr_truth, grip_profile
 
     model = fsr_truth(seed=0)
     _, force = grip_profile(duration_s=n / 50.0)

@@ -98,7 +98,7 @@ def test_yaml_round_trip_and_validation(tmp_path):
 
 
 def test_preisach_element_in_a_chain_yaml_and_streaming(tmp_path):
-    from polyforce_ros.evaluation.seed001 import fsr_truth, grip_profile
+    from polyforce_ros.evaluation.fsr_preisach import fsr_truth, grip_profile
     from polyforce_ros.physics.chain import PreisachElement
 
     element = PreisachElement(fsr_truth(seed=2), continuous=True)

@@ -233,7 +233,7 @@ def test_thermal_drift_model_uses_the_temperature_topic(tmp_path):
 
 def test_hysteresis_model_by_configuration(tmp_path):
     """Any chain runs in the node: here an FSR-like Preisach sensor (seed 001) with its continuous inverse."""
-    from polyforce_ros.evaluation.seed001 import fsr_truth
+    from polyforce_ros.evaluation.fsr_preisach import fsr_truth
     from polyforce_ros.physics.chain import OffsetElement, PreisachElement
 
     chain = SensorChain([PreisachElement(fsr_truth(seed=3), continuous=True), OffsetElement(0.0)])

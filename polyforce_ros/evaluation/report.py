@@ -15,10 +15,10 @@ from ..model_file import default_model_path, load_model
 from ..physics.metrics import error_summary
 from ..record import load_record
 from ..workflows import compensate_record
-from . import seed000, seed001, seed002
+from . import fsr_preisach, polymer_sarrus_sensor, thinfilm_muscle
 from .common import Row, Section, Settings, figure, finite_or_text
 
-EXPERIMENTS = (("seed000", seed000.run), ("seed001", seed001.run), ("seed002", seed002.run))
+EXPERIMENTS = (("seed000", polymer_sarrus_sensor.run), ("seed001", fsr_preisach.run), ("seed002", thinfilm_muscle.run))
 
 
 def evaluate_bag(path, model_path=None) -> Section:

@@ -27,7 +27,7 @@ from .physics.chain import ModelError
 from .physics.metrics import error_summary
 from .sim import profiles
 from .sim.sensor import BridgeSimulator
-from .workflows import compensate_record
+from .workflows import CalibrationConfig, compensate_record
 from .runtime import CompensatorConfig
 
 def _print_row(profile, label, e):
@@ -252,8 +252,10 @@ def build_parser():
     cal = sub.add_parser("calibrate", help="fit the model from a creep bag and write the model YAML")
     cal.add_argument("bag")
     cal.add_argument("--output", required=True, help="model YAML to write (kept if the new fit is worse)")
-    cal.add_argument("--candidates", nargs="+", default=["maxwell", "kelvin", "zener", "burgers"])
-    cal.add_argument("--min-r2", type=float, default=0.9)
+    cal.add_argument("--candidates", nargs="+", default=list(CalibrationConfig.candidates),
+                     help="model types to fit; the lowest BIC wins (default: %(default)s)")
+    cal.add_argument("--min-r2", type=float, default=CalibrationConfig.min_r2,
+                     help="a best fit below this R^2 is not written (default %(default)s)")
     cal.add_argument("--json", help="also write the fit report as JSON")
     cal.add_argument("--sensor-serial", help="serial number of the sensor the bag was recorded on, written into the "
                      "model's provenance (compensation_node compares it with the live device's)")

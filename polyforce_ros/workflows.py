@@ -19,11 +19,12 @@ from . import bags, contract
 from .model_file import SensorModel, load_model, now_iso, save_model
 from .physics.chain import ModelError, SensorChain
 from .physics.fitting import information_criteria
-from .physics.identification import select_model
+from .physics.identification import DEFAULT_CANDIDATES, select_model
 from .physics.viscoelastic import ViscoelasticModel, simulate_deformation
 from .record import load_record
 from .runtime import Compensator, CompensatorConfig, SampleGate
 from .runtime.compensator import WARN_COUNTERS
+from .settings import setting
 
 __all__ = ["clean_samples", "static_force_n", "static_and_compensated", "RecordCompensation", "compensate_record",
            "CalibrationResult", "rmse_of_model", "calibrate_record", "calibrate_bag", "compensate_bag", "runtime_warnings"]
@@ -150,6 +151,15 @@ def compensate_record(chain: SensorChain, t_s: npt.ArrayLike, voltage_v: npt.Arr
                               zeroed_how)
 
 
+@dataclass(frozen=True)
+class CalibrationConfig:
+    """Calibration settings, each declared once (:func:`~polyforce_ros.settings.setting`): calibration_node
+    declares a parameter of each, ``polyforce calibrate`` takes its defaults from them."""
+
+    candidates: tuple = setting(DEFAULT_CANDIDATES, "Model types to fit; the lowest BIC wins")
+    min_r2: float = setting(0.9, "A best fit below this R^2 is not written", 0.0, 1.0)
+
+
 @dataclass
 class CalibrationResult:
     """Outcome of a calibration: whether the model file was written and why, and every fit."""
@@ -176,8 +186,8 @@ def rmse_of_model(model: ViscoelasticModel, t_s: np.ndarray, force_n: np.ndarray
 
 
 def calibrate_record(t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray, output: str | Path,
-                     source: str | Path, candidates: Sequence[str] = ("maxwell", "kelvin", "zener", "burgers"),
-                     min_r2: float = 0.9, progress: Optional[Callable[[str], Any]] = None,
+                     source: str | Path, candidates: Sequence[str] = CalibrationConfig.candidates,
+                     min_r2: float = CalibrationConfig.min_r2, progress: Optional[Callable[[str], Any]] = None,
                      warnings: Iterable[str] = (), sensor_serial: Optional[str] = None) -> CalibrationResult:
     """Fit and select a model; write it to ``output`` only if it is good and better.
 

@@ -34,10 +34,10 @@ from std_srvs.srv import Trigger
 
 from ..physics.fitting import check_model_types
 from ..record import record_from_samples
-from ..workflows import calibrate_bag, calibrate_record
+from ..workflows import CalibrationConfig, calibrate_bag, calibrate_record
 from .. import contract
-from .common import (DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, latched_qos, run,
-                     stamp_to_ns)
+from .common import (DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, declare_settings,
+                     latched_qos, run, stamp_to_ns)
 
 DEFAULT_OUTPUT = str(Path.home() / ".ros" / "polyforce_model.yaml")
 
@@ -48,8 +48,7 @@ class CalibrationNode(Node):
         super().__init__("calibration_node", **kwargs)
         declare(self, "bag_path", "", "Creep bag (mcap) fitted by ~/calibrate (and at start if calibrate_on_start)")
         declare(self, "output_path", DEFAULT_OUTPUT, "Model YAML written by a successful calibration")
-        declare(self, "candidates", ["maxwell", "kelvin", "zener", "burgers"], "Model types to fit; the lowest BIC wins")
-        declare(self, "min_r2", 0.9, "A best fit below this R^2 is not written", 0.0, 1.0)
+        declare_settings(self, CalibrationConfig)  # candidates, min_r2
         declare(self, "calibrate_on_start", False, "Fit bag_path once at start-up", read_only=True)
         declare(self, "sensor_serial", "",
                 "Serial number of the calibrated sensor, written into the model's provenance; empty = for a live "

@@ -38,7 +38,8 @@ def declare_settings(node, config_type) -> None:
     from ..settings import settings_of
 
     for f, meta in settings_of(config_type):
-        declare(node, f.name, f.default, meta["description"], meta["low"], meta["high"], read_only=meta["read_only"])
+        default = list(f.default) if isinstance(f.default, tuple) else f.default  # a ROS array parameter is a list
+        declare(node, f.name, default, meta["description"], meta["low"], meta["high"], read_only=meta["read_only"])
 
 
 def data_qos(node) -> QoSProfile:

@@ -301,8 +301,12 @@ def _check_record(t: np.ndarray, f: np.ndarray, v: np.ndarray) -> None:
         raise ValueError("record time goes backwards; sort it first")
 
 
+#: The model types a calibration fits by default (the lowest BIC wins).
+DEFAULT_CANDIDATES = ("maxwell", "kelvin", "zener", "burgers")
+
+
 def select_model(t_s: npt.ArrayLike, force_n: npt.ArrayLike, voltage_v: npt.ArrayLike,
-                 candidates: Iterable[str] = ("maxwell", "kelvin", "zener", "burgers"),
+                 candidates: Iterable[str] = DEFAULT_CANDIDATES,
                  segments: Optional[list[CreepSegment]] = None, fit_rate_hz: float = DEFAULT_FIT_RATE_HZ,
                  progress: Optional[Callable[[str], object]] = None) -> Selection:
     """Fit every candidate and rank them by BIC (best first).

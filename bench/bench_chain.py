@@ -15,14 +15,17 @@ arrival time) in both arms.
 End-to-end latency of a sample: its stamp (the driver's host-time mapping of the device's acquisition
 instant) -> arrival of the first command carrying it. The bridge stamps its command when it publishes, so
 commands are paired with wrenches by value, in order (:func:`match_in_order`); in the relay arm the
-command keeps the sample's stamp, which checks that pairing (``stamp_agrees``). Delivered share: the
-measured samples whose command arrived, over the frames the device acquired in the measured window (its
-log; the window's edges are exact to the stamp's offset from the acquisition, about a frame).
+command keeps the sample's stamp: it is timed by that stamp, and the pairing by value is checked against
+it (``stamp_agrees``). Delivered share: the measured samples whose command arrived, over the frames the
+device acquired in the measured window (its log; the window's edges are exact to the stamp's offset from
+the acquisition, about a frame).
 
 Each arm waits until the whole chain flows (the sink holds a command that is not zero), then 1 s more,
 then measures ``--seconds / --pairs`` s. Relay and chain arms are interleaved in pairs (both see the same
 machine state); latencies are pooled per arm. Reported: p50, p99, max and the delivered share per arm,
-and as ratios chain / relay in one run (the p99 ratio with a 90 % bootstrap interval over pairs).
+and as ratios chain / relay in one run (the p99 ratio with a 90 % bootstrap interval over pairs, and over
+the pairs without a stall, a latency over 100 ms in either arm, beside it); the 1-minute load average
+after each arm tells what else the machine was doing.
 
     .venv/bin/python bench/bench_chain.py [--seconds 30] [--pairs 3] [--rate 1000] [--relays 2]
 DDS stays on loopback in an isolated domain (chosen by main(); the processes it starts inherit it).
@@ -93,31 +96,47 @@ def chain_latency(in_stamp_ns, in_value, out_value, out_ns, t0_ns, t1_ns, frames
 
     ``in_*``: the second stage's messages (sample stamp, value) in arrival order; ``out_*``: the commands
     (value, arrival time, and for a relay its header stamp) in arrival order; ``frames``: the device's
-    conversions in the window. Returns ``p50_us``/``p99_us``/``max_us`` (stamp -> first command carrying
-    the sample), ``hist`` (1 us bins, for :func:`pooled_p99_ratio`), ``lat_us``, ``frames``, ``delivered``
-    (distinct measured samples with a command), ``delivered_share``, ``commands``, ``unmatched_commands``
-    (non-zero commands arriving from t0_ns on that no sample explains), and ``stamp_agrees`` (the share of matched commands whose
-    header stamp is their sample's: 1.0 for a relay; None without stamps).
+    conversions in the window.
+
+    With ``out_stamp_ns`` (a relay: the command keeps its sample's stamp) the commands are timed by their
+    own stamps, and the pairing by value is only checked against them (``stamp_agrees``: the share of
+    paired commands whose stamp is their sample's). Without, each sample is timed by the first command
+    paired with it (:func:`match_in_order`); a non-zero command arriving in the window that no sample
+    explains (the sink missed that ``wrench``) still delivered a sample, untimed (``delivered_untimed``).
+
+    Returns ``p50_us``/``p99_us``/``max_us`` (stamp -> first command carrying the sample), ``hist`` (1 us
+    bins, for :func:`pooled_p99_ratio`), ``lat_us``, ``frames``, ``delivered`` (distinct measured samples
+    whose command arrived), ``delivered_share``, ``delivered_untimed``, ``commands``,
+    ``unmatched_commands`` (non-zero commands arriving from t0_ns on that no ``wrench`` explains) and
+    ``stamp_agrees`` (None without stamps).
     """
     in_stamp_ns, out_ns = np.asarray(in_stamp_ns, dtype=np.int64), np.asarray(out_ns, dtype=np.int64)
     out_value = np.asarray(out_value, dtype=float)
     idx = match_in_order(in_value, out_value)
     hit = idx >= 0
-    samples, first = np.unique(idx[hit], return_index=True)  # the first command carrying each sample
-    first_ns = out_ns[hit][first]
-    stamps = in_stamp_ns[samples]
+    unmatched = ~hit & (out_value != 0.0)
+    untimed = 0
+    if out_stamp_ns is not None:
+        out_stamp_ns = np.asarray(out_stamp_ns, dtype=np.int64)
+        stamps, first = np.unique(out_stamp_ns[out_value != 0.0], return_index=True)  # first command per stamp
+        first_ns = out_ns[out_value != 0.0][first]
+    else:
+        samples, first = np.unique(idx[hit], return_index=True)  # the first command carrying each sample
+        first_ns, stamps = out_ns[hit][first], in_stamp_ns[samples]
+        untimed = int(np.sum(unmatched & (out_ns >= t0_ns) & (out_ns < t1_ns)))
     measured = (stamps >= t0_ns) & (stamps < t1_ns)
     stamps, first_ns = stamps[measured], first_ns[measured]
-    # one sample may reach the sink's `wrench` more than once only as a DDS duplicate: count stamps once
+    # a sample that reached the sink's `wrench` twice (a DDS duplicate) counts once
     unique_stamps, keep = np.unique(stamps, return_index=True)
     lat_us = (first_ns[keep] - unique_stamps) / 1e3
+    delivered = int(unique_stamps.size) + untimed
     out = dict(percentiles(lat_us, ""), hist=np.histogram(lat_us, HIST_EDGES_US)[0], lat_us=lat_us,
-               frames=int(frames), delivered=int(unique_stamps.size),
-               delivered_share=float(unique_stamps.size / frames) if frames else float("nan"),
-               commands=int(out_value.size), unmatched_commands=int(np.sum(~hit & (out_value != 0.0) & (out_ns >= t0_ns))))
+               frames=int(frames), delivered=delivered, delivered_untimed=untimed,
+               delivered_share=float(delivered / frames) if frames else float("nan"),
+               commands=int(out_value.size), unmatched_commands=int(np.sum(unmatched & (out_ns >= t0_ns))))
     out["stamp_agrees"] = None
     if out_stamp_ns is not None and hit.any():
-        out["stamp_agrees"] = float(np.mean(np.asarray(out_stamp_ns, dtype=np.int64)[hit] == in_stamp_ns[idx[hit]]))
+        out["stamp_agrees"] = float(np.mean(out_stamp_ns[hit] == in_stamp_ns[idx[hit]]))
     return out
 
 
@@ -256,7 +275,7 @@ def run_arm(kind, exe, seconds, rate_hz, relays, tmp, flow_timeout=60.0, settle_
     with np.load(out) as d:
         stats = chain_latency(d["in_stamp_ns"], d["in_value"], d["out_value"], d["out_ns"], t0_ns, t1_ns,
                               device_frames(device.log, t0_ns, t1_ns), d["out_stamp_ns"] if kind == "relay" else None)
-    stats.update(kind=kind, rate_hz=rate_hz, seconds=seconds, warmup_s=warmup_s)
+    stats.update(kind=kind, rate_hz=rate_hz, seconds=seconds, warmup_s=warmup_s, load1=os.getloadavg()[0])
     shutil.rmtree(folder, ignore_errors=True)
     return stats
 
@@ -273,8 +292,9 @@ def interleaved_pairs(exe, pairs, seconds, rate_hz, relays, tmp, log=print):
             pooled[kind]["frames"] += r["frames"]
             pooled[kind]["delivered"] += r["delivered"]
             log(f"{kind:<5} p50 {r['p50_us']:7.0f} us  p99 {r['p99_us']:7.0f} us  max {r['max_us']:8.0f} us  "
-                f"delivered {r['delivered']} of {r['frames']} ({100 * r['delivered_share']:.2f} %)  commands "
-                f"{r['commands']}, unmatched {r['unmatched_commands']}  flowing after {r['warmup_s']:.1f} s"
+                f"delivered {r['delivered']} of {r['frames']} ({100 * r['delivered_share']:.2f} %, untimed "
+                f"{r['delivered_untimed']})  commands {r['commands']}, unmatched {r['unmatched_commands']}  "
+                f"flowing after {r['warmup_s']:.1f} s  load {r['load1']:.1f}"
                 + (f"  stamps agree {100 * r['stamp_agrees']:.2f} %" if kind == "relay" else ""))
         report[f"pair{rep}"] = pair
     summary = {}
@@ -284,6 +304,12 @@ def interleaved_pairs(exe, pairs, seconds, rate_hz, relays, tmp, log=print):
                              delivered_share=p["delivered"] / p["frames"] if p["frames"] else float("nan"))
     chain, relay = summary["chain"], summary["relay"]
     ratio, low, high = pooled_p99_ratio(pooled["chain"]["hist"], pooled["relay"]["hist"])
+    stalled = {kind: [rep for rep in range(pairs) if report[f"pair{rep}"][kind]["max_us"] > 100_000] for kind in KINDS}
+    calm = [rep for rep in range(pairs) if not any(rep in stalled[kind] for kind in KINDS)]  # pairs without a stall
+    ratio_calm = (pooled_p99_ratio([pooled["chain"]["hist"][rep] for rep in calm],
+                                   [pooled["relay"]["hist"][rep] for rep in calm]) if calm else (float("nan"),) * 3)
+    summary.update(pairs_with_a_stall=stalled, ratio_p99_without_stalls=ratio_calm[0],
+                   ratio_p99_without_stalls_interval=list(ratio_calm[1:]))
     summary.update(ratio_p50=chain["p50_us"] / relay["p50_us"], ratio_p99=ratio, ratio_p99_interval=[low, high],
                    ratio_delivered=chain["delivered_share"] / relay["delivered_share"],
                    added_p50_us=chain["p50_us"] - relay["p50_us"], pairs=pairs, seconds_per_arm=seconds,
@@ -294,6 +320,11 @@ def interleaved_pairs(exe, pairs, seconds, rate_hz, relays, tmp, log=print):
             f"max {s['max_us']:.0f} us, delivered {s['delivered']} of {s['frames']} ({100 * s['delivered_share']:.2f} %)")
     log(f"chain / relay: p50 {summary['ratio_p50']:.2f} ({summary['added_p50_us']:+.0f} us), p99 {ratio:.2f} "
         f"(90 % bootstrap interval over pairs {low:.2f}-{high:.2f}), delivered {summary['ratio_delivered']:.4f}")
+    if any(stalled.values()):
+        log("pairs with a latency over 100 ms (a stall: the pooled p99 is the stall's): "
+            + ", ".join(f"{kind} {stalled[kind]}" for kind in KINDS if stalled[kind])
+            + f"; p99 ratio over the {len(calm)} pairs without one: {ratio_calm[0]:.2f} "
+            f"(interval {ratio_calm[1]:.2f}-{ratio_calm[2]:.2f})")
     report["pooled"] = summary
     return report
 

@@ -40,12 +40,17 @@ def test_chain_latency_counts_each_measured_sample_once_from_its_stamp():
     assert s["lat_us"].tolist() == pytest.approx([400.0, 200.0, 600.0, 100.0, 200.0])  # samples 2, 3, 5, 6, 7
     assert (s["delivered"], s["frames"], s["delivered_share"]) == (5, 6, pytest.approx(5 / 6))
     assert (s["commands"], s["unmatched_commands"]) == (9, 0)
+    assert s["p50_us"] == pytest.approx(200.0) and s["max_us"] == pytest.approx(600.0)
+    assert s["hist"].sum() == 5 and s["stamp_agrees"] == 1.0
     # a stranger before the window (a warm-up command whose wrench the sink missed) is not counted, one in it is
     strangers = cmd_values.copy()
     strangers[[0, 3]] = 42.0
-    assert bench_chain.chain_latency(stamps, values, strangers, cmd_ns, 2 * MS, 8 * MS, 6)["unmatched_commands"] == 1
-    assert s["p50_us"] == pytest.approx(200.0) and s["max_us"] == pytest.approx(600.0)
-    assert s["hist"].sum() == 5 and s["stamp_agrees"] == 1.0
+    s = bench_chain.chain_latency(stamps, values, strangers, cmd_ns, 2 * MS, 8 * MS, 6)
+    assert s["unmatched_commands"] == 1  # and it delivered a sample in the window, untimed
+    assert (s["delivered"], s["delivered_untimed"], s["lat_us"].size) == (5, 1, 4)
+    # a relay's command is timed by its own stamp, whether or not the sink saw the sample's `wrench`
+    s = bench_chain.chain_latency(stamps[:4], values[:4], cmd_values, cmd_ns, 2 * MS, 8 * MS, 6, out_stamp_ns=cmd_stamps)
+    assert s["lat_us"].tolist() == pytest.approx([400.0, 200.0, 600.0, 100.0, 200.0]) and s["unmatched_commands"] == 4
     # a command carrying another sample's stamp shows in stamp_agrees
     cmd_stamps[3] = 4 * MS
     assert bench_chain.chain_latency(stamps, values, cmd_values, cmd_ns, 2 * MS, 8 * MS, 6,

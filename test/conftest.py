@@ -36,7 +36,7 @@ LAYERS = {
     "unit": ["test_bags.py", "test_bench_bridge.py", "test_bench_stats.py", "test_chain_elements.py", "test_expconv.py",
              "test_identification.py", "test_metrics.py", "test_model_file.py", "test_fitting.py", "test_record.py",
              "test_preisach.py", "test_properties.py", "test_runtime.py", "test_serial_protocol.py", "test_thinfilm.py",
-             "test_viscoelastic.py", "test_model_fuzz.py", "test_noise_gain.py", "test_offline_gate.py"],
+             "test_viscoelastic.py", "test_model_fuzz.py", "test_noise_gain.py", "test_offline_gate.py", "test_probe_startup.py"],
     "ros": ["test_teleop_files.py", "test_compensation_node.py", "test_contract.py", "test_driver_node.py",
             "test_live_attacks.py", "test_param_files.py", "test_replay.py", "test_haptic_bridge.py", "test_lifecycle.py"],
     "process": ["test_bad_input.py", "test_calibration.py", "test_cli_demo.py", "test_discrepancy.py",

@@ -25,6 +25,8 @@ from collections import deque
 from dataclasses import dataclass
 from typing import Any, Callable
 
+from .stamps import REANCHOR_AFTER_S, STAMP_TOLERANCE_S, ConsistentRun
+
 __all__ = ["SYNC", "FRAME_SIZE", "crc16_ccitt", "encode_frame", "Frame", "FrameParser", "DeviceClock", "REORDER_WINDOW"]
 
 SYNC = b"\xa5\x5a"
@@ -190,10 +192,12 @@ class DeviceClock:
 
     _REANCHOR = object()
 
-    def __init__(self, window_s: float = 10.0, tolerance_s: float = 1.0, reanchor_after_s: float = 0.2):
+    def __init__(self, window_s: float = 10.0, tolerance_s: float = STAMP_TOLERANCE_S,
+                 reanchor_after_s: float = REANCHOR_AFTER_S):
         self.window_ns = int(window_s * 1e9)
         self.tolerance_ns = int(tolerance_s * 1e9)
         self.reanchor_after_ns = int(reanchor_after_s * 1e9)
+        self._run = ConsistentRun(self.tolerance_ns, self.reanchor_after_ns)  # implausible frames that agree
         self.implausible = 0
         self.reanchored = 0
         self.reset()
@@ -205,7 +209,7 @@ class DeviceClock:
         self._window_start = None
         self._min_now = None
         self._min_prev = None
-        self._run = None  # [first arrival, last t_us, delay of a raw t_us] of implausible frames
+        self._run.reset()
         self._stamped = None  # (device ns, stamp ns) of the last frame stamped under this anchor
 
     def _offset(self):
@@ -255,7 +259,7 @@ class DeviceClock:
         if self._min_now is not None and abs(delay - self._offset()) > self.tolerance_ns:
             self.implausible += 1
             return self._REANCHOR if self._heals(t_us, arrival_ns) else None
-        self._run = None
+        self._run.reset()
         self._wraps, self._last_us = wraps, t_us
         if self._window_start is None or arrival_ns - self._window_start > self.window_ns:
             self._min_prev, self._min_now, self._window_start = self._min_now, delay, arrival_ns
@@ -277,13 +281,7 @@ class DeviceClock:
         self._stamped = (pending[-1][1], stamps[pending[-1][0]])
 
     def _heals(self, t_us, arrival_ns) -> bool:
-        raw_delay = arrival_ns - t_us * 1000
-        run = self._run
-        if run is None or t_us <= run[1] or abs(raw_delay - run[2]) > self.tolerance_ns:
-            self._run = [arrival_ns, t_us, raw_delay]
-            return False
-        run[1], run[2] = t_us, raw_delay
-        return arrival_ns - run[0] >= self.reanchor_after_ns
+        return self._run.add(t_us, arrival_ns - t_us * 1000, arrival_ns)
 
 
 # ------------------------------------------------------------------------------------ messages

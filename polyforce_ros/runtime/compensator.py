@@ -63,6 +63,7 @@ import numpy.typing as npt
 from ..physics.chain import ModelError, SensorChain
 from ..physics.noise_gain import NoiseGain, backward_noise_gain
 from ..settings import setting
+from ..stamps import REANCHOR_AFTER_S, STAMP_TOLERANCE_S, ConsistentRun
 
 __all__ = ["CompensatorConfig", "SampleGate", "Compensator", "check_noise_gain",
            "GATE_COUNTERS", "COMPENSATOR_COUNTERS", "WARN_COUNTERS",
@@ -91,10 +92,10 @@ class CompensatorConfig:
     stale_timeout_s: float = setting(0.1, "No valid input for this long -> zero wrench and ERROR (s)", 0.002, 60.0)
     gap_warn_s: float = setting(0.05, "Stamp gaps longer than this are counted as gaps (s)", 0.0001, 3600.0)
     stamp_tolerance_s: float = setting(
-        1.0, "A sample stamped further ahead of its arrival than any used sample by more than this is an implausible "
-        "stamp and is dropped (s); 0 = no check (fast replays of bags with gaps)", 0.0, 3600.0)
+        STAMP_TOLERANCE_S, "A sample stamped further ahead of its arrival than any used sample by more than this is an "
+        "implausible stamp and is dropped (s); 0 = no check (fast replays of bags with gaps)", 0.0, 3600.0)
     reanchor_after_s: float = setting(
-        0.2, "Rejected but self-consistent samples for this long re-anchor the stamp history (s)", 0.001, 60.0)
+        REANCHOR_AFTER_S, "Rejected but self-consistent samples for this long re-anchor the stamp history (s)", 0.001, 60.0)
     tare_window: int = setting(200, "Samples averaged by ~/tare", 1, 100000)
     auto_tare: bool = setting(
         True, "Zero the bridge offset at the first rest of auto_tare_s after start, ~/reset or sensor_reset (zero "
@@ -155,7 +156,7 @@ class SampleGate(_Configured):
         self.counts = dict.fromkeys(GATE_COUNTERS, 0)
         self.last_stamp_ns: Optional[int] = None
         self._skew_ns = 0                          # largest stamp - receive of this history's used samples
-        self._run: Optional[list] = None           # [first receive, last stamp, skew] of rejected samples
+        self._run = ConsistentRun(self._tol_ns, self.config.reanchor_after_s * 1e9)  # rejected samples that agree
         self._fresh = False                        # the next used sample starts a new history (ACCEPT_FRESH)
 
     def _keep(self, config: CompensatorConfig) -> None:
@@ -163,6 +164,8 @@ class SampleGate(_Configured):
         self._limit_v = config.input_limit_v
         self._tol_ns = config.stamp_tolerance_s * 1e9
         self._gap_s = config.gap_warn_s
+        if hasattr(self, "_run"):  # a new config: the run of rejected samples is judged by its limits from now on
+            self._run.tolerance_ns, self._run.after_ns = self._tol_ns, config.reanchor_after_s * 1e9
 
     def restart(self, keep_stamps: bool = False) -> None:
         """Forget the stamp history: the next finite sample starts a fresh one.
@@ -173,7 +176,8 @@ class SampleGate(_Configured):
         """
         if not keep_stamps:
             self.last_stamp_ns = None
-        self._run, self._fresh = None, True
+        self._run.reset()
+        self._fresh = True
 
     def admit(self, stamp_ns: int, voltage_v: float, receive_ns: Optional[int] = None) -> Any:
         """ACCEPT, ACCEPT_FRESH, or the name of the counter of the drop."""
@@ -198,7 +202,7 @@ class SampleGate(_Configured):
         elif stamp_ns == last:
             reason = "duplicate"
         else:
-            self._run = None
+            self._run.reset()
             if (stamp_ns - last) * 1e-9 > self._gap_s:  # the arithmetic of mask(): counts agree at the boundary
                 c["gaps"] += 1
             if skew > self._skew_ns:
@@ -215,17 +219,13 @@ class SampleGate(_Configured):
         return reason
 
     def _anchor(self, stamp_ns: int, skew: int) -> int:
-        self.last_stamp_ns, self._skew_ns, self._run, self._fresh = stamp_ns, skew, None, False
+        self.last_stamp_ns, self._skew_ns, self._fresh = stamp_ns, skew, False
+        self._run.reset()
         return ACCEPT_FRESH
 
     def _heals(self, stamp_ns: int, skew: int, receive_ns: int, tol_ns: float) -> bool:
         """Whether this rejected sample completes a run of consistent ones long enough to re-anchor on."""
-        run = self._run
-        if run is None or stamp_ns <= run[1] or (tol_ns > 0 and abs(skew - run[2]) > tol_ns):
-            self._run = [receive_ns, stamp_ns, skew]
-            return False
-        run[1], run[2] = stamp_ns, skew
-        return (receive_ns - run[0]) * 1e-9 >= self.config.reanchor_after_s
+        return self._run.add(stamp_ns, skew, receive_ns)
 
     def mask(self, stamp_ns: npt.ArrayLike, voltage_v: npt.ArrayLike,
              receive_ns: Optional[npt.ArrayLike] = None) -> np.ndarray:

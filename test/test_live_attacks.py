@@ -84,23 +84,13 @@ def test_offline_compensation_of_a_bag_with_a_spike_equals_the_node_bit_for_bit(
 def test_driver_and_compensation_with_defaults_track_the_reference_within_a_second():
     """Started as a user would (defaults, no service call): the start-up zeroing removes the
     simulator's 0.05 V bridge offset that the shipped model does not know (was R^2 0.945)."""
-    from geometry_msgs.msg import WrenchStamped
-    from rclpy.node import Node
-    from rclpy.qos import QoSProfile, ReliabilityPolicy
-
     from polyforce_ros.nodes.compensation_node import CompensationNode
     from polyforce_ros.nodes.driver_node import DriverNode
     from polyforce_ros.physics.metrics import error_summary
 
     with ros() as h:
         comp = h.add(CompensationNode(context=h.context))
-        sink = h.add(Node("sink", namespace="/polyforce", context=h.context))
-        qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE)
-        wrench, ref = {}, {}
-        sink.create_subscription(WrenchStamped, "wrench",
-                                 lambda m: wrench.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
-        sink.create_subscription(WrenchStamped, "reference_force",
-                                 lambda m: ref.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+        wrench, ref = _chain_sink(h)
         h.add(DriverNode(context=h.context))
         # wait for the chain to flow, then for 3 s of samples after the first one
         assert h.spin_until(lambda: len(set(wrench) & set(ref)) > 0, 20.0)

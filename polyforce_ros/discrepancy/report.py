@@ -24,19 +24,25 @@ def write_report(diag, rec, out_dir, bag_name=""):
     before = rec.voltage_v - diag.simulated_before_v
     after = rec.voltage_v - diag.simulated_after_v
 
-    fig, ax = plt.subplots(2, 1, figsize=(11, 6), sharex=True)
-    ax[0].plot(t, rec.voltage_v, "k", lw=0.8, label="measured")
-    ax[0].plot(t, diag.simulated_before_v, "r", lw=0.8, label=f"base {diag.base} (RMSE {diag.rmse_before:.2e} V)")
-    ax[0].plot(t, diag.simulated_after_v, "b--", lw=0.8, label=f"with {named} (RMSE {diag.rmse_after:.2e} V)")
-    ax[0].set(ylabel="bridge output [V]",
-              title=f"Out-of-sample predictions ({diag.folds} folds of interleaved time blocks, each block predicted by "
-                    "the fit that left its fold out)")
-    ax[0].legend(fontsize=8)
-    ax[1].plot(t, rec.force_n, "g", lw=0.8)
-    ax[1].set(xlabel="time [s]", ylabel="reference force [N]")
-    fig.tight_layout()
-    fig.savefig(out / "figures" / "measured_vs_simulated.png", dpi=100)
-    plt.close(fig)
+    def over_the_reference(traces, ylabel, title, name):
+        """A figure of ``traces`` (y, style, width, label) above the reference force, saved as figures/``name``."""
+        fig, ax = plt.subplots(2, 1, figsize=(11, 6), sharex=True)
+        for y, style, width, label in traces:
+            ax[0].plot(t, y, style, lw=width, label=label)
+        ax[0].set(ylabel=ylabel, title=title)
+        ax[0].legend(fontsize=8)
+        ax[1].plot(t, rec.force_n, "g", lw=0.8)
+        ax[1].set(xlabel="time [s]", ylabel="reference force [N]")
+        fig.tight_layout()
+        fig.savefig(out / "figures" / name, dpi=100)
+        plt.close(fig)
+
+    over_the_reference(
+        [(rec.voltage_v, "k", 0.8, "measured"),
+         (diag.simulated_before_v, "r", 0.8, f"base {diag.base} (RMSE {diag.rmse_before:.2e} V)"),
+         (diag.simulated_after_v, "b--", 0.8, f"with {named} (RMSE {diag.rmse_after:.2e} V)")],
+        "bridge output [V]", f"Out-of-sample predictions ({diag.folds} folds of interleaved time blocks, each block "
+        "predicted by the fit that left its fold out)", "measured_vs_simulated.png")
 
     conc = diag.localisation["concentration"]
     top = max(conc, key=lambda k: conc[k]["rms_ratio"]) if conc else None
@@ -75,19 +81,13 @@ def write_report(diag, rec, out_dir, bag_name=""):
     plt.close(fig)
 
     base_q, saved_q = diag.newtons["base"], diag.newtons["saved"]
-    fig, ax = plt.subplots(2, 1, figsize=(11, 6), sharex=True)
-    ax[0].plot(t, diag.compensated_before_n - rec.force_n, "r", lw=0.6,
-               label=f"base {diag.base} (RMSE {base_q['rmse_n']:.3f} N, R2 {base_q['r2']:.4f})")
-    ax[0].plot(t, diag.compensated_after_n - rec.force_n, "b", lw=0.6,
-               label=f"saved model (RMSE {saved_q['rmse_n']:.3f} N, R2 {saved_q['r2']:.4f})")
-    ax[0].set(ylabel="compensated - reference [N]",
-              title="Force error at the haptic master (each block compensated by the model fitted without it)")
-    ax[0].legend(fontsize=8)
-    ax[1].plot(t, rec.force_n, "g", lw=0.8)
-    ax[1].set(xlabel="time [s]", ylabel="reference force [N]")
-    fig.tight_layout()
-    fig.savefig(out / "figures" / "force_error.png", dpi=100)
-    plt.close(fig)
+    over_the_reference(
+        [(diag.compensated_before_n - rec.force_n, "r", 0.6,
+          f"base {diag.base} (RMSE {base_q['rmse_n']:.3f} N, R2 {base_q['r2']:.4f})"),
+         (diag.compensated_after_n - rec.force_n, "b", 0.6,
+          f"saved model (RMSE {saved_q['rmse_n']:.3f} N, R2 {saved_q['r2']:.4f})")],
+        "compensated - reference [N]",
+        "Force error at the haptic master (each block compensated by the model fitted without it)", "force_error.png")
 
     data = diag.to_json()
     u = diag.unexplained

@@ -1060,24 +1060,8 @@ class TransportDelayElement(_SimpleElement):
 
     def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
                 state: Optional[_DelayForwardState] = None) -> _FloatArray:
-        """The input delayed by ``delay_s`` (linear interpolation; the first input before the record).
-
-        Parameters
-        ----------
-        t_s : (n,) array_like of float
-            Sample times [s], non-decreasing.
-        x : (n,) array_like of float
-            Input [any unit].
-        aux : mapping, optional
-            Not used.
-        state : dict, optional
-            From :meth:`forward_state`, carries the last ``delay_s`` of input across blocks (updated in place).
-
-        Returns
-        -------
-        (n,) ndarray of float
-            Output [the input's unit].
-        """
+        """The input delayed by ``delay_s`` (linear interpolation; the first input before the record); ``state``
+        carries the last ``delay_s`` of input across blocks (see :meth:`Element.forward`)."""
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         st = state if state is not None else self.forward_state()
         if t.size == 0:

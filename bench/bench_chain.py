@@ -20,8 +20,9 @@ it (``stamp_agrees``). Delivered share: the measured samples whose command arriv
 device acquired in the measured window (its log; the window's edges are exact to the stamp's offset from
 the acquisition, about a frame).
 
-Each arm waits until the whole chain flows (the sink holds a command that is not zero), then 1 s more,
-then measures ``--seconds / --pairs`` s. Relay and chain arms are interleaved in pairs (both see the same
+Each arm runs in a ROS domain of its own (nothing of the previous arm is discovered) and waits until the
+whole chain flows (the sink holds a command that is not zero), then 1 s more, then measures
+``--seconds / --pairs`` s. Relay and chain arms are interleaved in pairs (both see the same
 machine state); latencies are pooled per arm. Reported: p50, p99, max and the delivered share per arm,
 and as ratios chain / relay in one run (the p99 ratio with a 90 % bootstrap interval over pairs, and over
 the pairs without a stall, a latency over 100 ms in either arm, beside it); the 1-minute load average
@@ -229,8 +230,12 @@ def stage_cmds(kind, relays):
     return [[sys.executable, str(Path(__file__).resolve()), "part", "relay", str(i), str(relays)] for i in range(relays)]
 
 
-def run_arm(kind, exe, seconds, rate_hz, relays, tmp, flow_timeout=60.0, settle_s=1.0):
-    """One run of ``kind``: device, sink, stages, driver; waits for the flow, measures ``seconds``; returns stats."""
+def run_arm(kind, exe, seconds, rate_hz, relays, tmp, flow_timeout=60.0, settle_s=1.0, domain=None):
+    """One run of ``kind``: device, sink, stages, driver; waits for the flow, measures ``seconds``; returns stats.
+
+    ``domain``: the ROS domain of this run's processes (default: the environment's).
+    """
+    env = dict(os.environ) if domain is None else dict(os.environ, ROS_DOMAIN_ID=str(domain))
     folder = Path(tempfile.mkdtemp(prefix=f"{kind}_", dir=tmp))
     out = folder / "sink.npz"
     procs, logs, device = [], [], None
@@ -238,7 +243,7 @@ def run_arm(kind, exe, seconds, rate_hz, relays, tmp, flow_timeout=60.0, settle_
     def spawn(name, argv):
         log = open(folder / f"{name}.log", "w")
         logs.append(log)
-        procs.append((name, subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT)))
+        procs.append((name, subprocess.Popen(argv, stdout=log, stderr=subprocess.STDOUT, env=env)))
 
     try:
         device = Device(exe, folder, rate_hz)
@@ -275,6 +280,12 @@ def run_arm(kind, exe, seconds, rate_hz, relays, tmp, flow_timeout=60.0, settle_
     with np.load(out) as d:
         stats = chain_latency(d["in_stamp_ns"], d["in_value"], d["out_value"], d["out_ns"], t0_ns, t1_ns,
                               device_frames(device.log, t0_ns, t1_ns), d["out_stamp_ns"] if kind == "relay" else None)
+        # where a delay arises: the sample's stamp -> its `wrench` reaching the sink (device, driver, first stage)
+        wrench = (d["in_stamp_ns"] >= t0_ns) & (d["in_stamp_ns"] < t1_ns)
+        to_wrench_us = (d["in_ns"][wrench] - d["in_stamp_ns"][wrench]) / 1e3
+        stats.update(percentiles(to_wrench_us, "to_wrench_"))
+        if to_wrench_us.size:
+            stats["to_wrench_max_at_s"] = float((d["in_stamp_ns"][wrench][np.argmax(to_wrench_us)] - t0_ns) / 1e9)
     stats.update(kind=kind, rate_hz=rate_hz, seconds=seconds, warmup_s=warmup_s, load1=os.getloadavg()[0])
     shutil.rmtree(folder, ignore_errors=True)
     return stats
@@ -286,7 +297,9 @@ def interleaved_pairs(exe, pairs, seconds, rate_hz, relays, tmp, log=print):
     for rep in range(pairs):
         pair = {}
         for kind in KINDS:
-            r = pair[kind] = run_arm(kind, exe, seconds, rate_hz, relays, tmp)
+            # each arm in a domain of its own: nothing of the previous arm is discovered or matched
+            domain = 100 + (int(os.environ.get("ROS_DOMAIN_ID", "100")) + 2 * rep + KINDS.index(kind)) % 100
+            r = pair[kind] = run_arm(kind, exe, seconds, rate_hz, relays, tmp, domain=domain)
             pooled[kind]["lat"].append(r.pop("lat_us"))
             pooled[kind]["hist"].append(r.pop("hist"))
             pooled[kind]["frames"] += r["frames"]
@@ -294,7 +307,8 @@ def interleaved_pairs(exe, pairs, seconds, rate_hz, relays, tmp, log=print):
             log(f"{kind:<5} p50 {r['p50_us']:7.0f} us  p99 {r['p99_us']:7.0f} us  max {r['max_us']:8.0f} us  "
                 f"delivered {r['delivered']} of {r['frames']} ({100 * r['delivered_share']:.2f} %, untimed "
                 f"{r['delivered_untimed']})  commands {r['commands']}, unmatched {r['unmatched_commands']}  "
-                f"flowing after {r['warmup_s']:.1f} s  load {r['load1']:.1f}"
+                f"flowing after {r['warmup_s']:.1f} s  load {r['load1']:.1f}  stamp -> `wrench` at the sink: "
+                f"p50 {r['to_wrench_p50_us']:.0f} us, max {r['to_wrench_max_us']:.0f} us"
                 + (f"  stamps agree {100 * r['stamp_agrees']:.2f} %" if kind == "relay" else ""))
         report[f"pair{rep}"] = pair
     summary = {}
@@ -363,10 +377,11 @@ def part(role, args):
         elif role == "sink":  # `wrench` (stamp, force) and `haptic_command` (force, stamp, arrival), saved on SIGINT
             path = args[0]
             node = Node("bench_chain_sink", namespace=NS)
-            ins, outs = ([], []), ([], [], [])
+            ins, outs = ([], [], []), ([], [], [])
             flowing = {"path": path + ".flowing"}
 
             def on_wrench(msg):
+                ins[2].append(time.time_ns())
                 ins[0].append(msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec)
                 ins[1].append(msg.wrench.force.z)
 
@@ -382,6 +397,7 @@ def part(role, args):
             node.create_subscription(WrenchStamped, HAPTIC_COMMAND, on_command, QOS)
             run(node)
             np.savez(path, in_stamp_ns=np.array(ins[0], dtype=np.int64), in_value=np.array(ins[1]),
+                     in_ns=np.array(ins[2], dtype=np.int64),
                      out_value=np.array(outs[0]), out_stamp_ns=np.array(outs[1], dtype=np.int64),
                      out_ns=np.array(outs[2], dtype=np.int64))
         else:

@@ -441,12 +441,13 @@ def test_zero_before_force_no_phantom_load_while_the_auto_tare_decides():
     comp = Compensator(CHAIN)  # model offset 0 V; the sensor rests at 0.05 V, which reads as ~0.24 N untared
     out = np.array(_feed(comp, 0.05 + rng.normal(0, 1e-3, 1500)))
     decided = comp.counts["zero_before_tare"]
-    assert decided == 500 and comp.counts["auto_tares"] == 1  # one window of auto_tare_s at 1 kHz
+    # one window of auto_tare_s at 1 kHz: the 501 samples from 0 to 0.5 s, the last of which decides
+    assert decided == 501 and comp.counts["auto_tares"] == 1
     assert np.all(out[:decided] == 0.0)
     assert np.abs(out[decided:]).max() < 0.03  # noise only after it
     quiet = Compensator(CHAIN, CompensatorConfig(publish_zero_before_tare=False))
     out = _feed(quiet, 0.05 + rng.normal(0, 1e-3, 1500))
-    assert all(f is None for f in out[:500]) and all(f is not None for f in out[500:])
+    assert all(f is None for f in out[:501]) and all(f is not None for f in out[501:])
 
 
 @pytest.mark.parametrize("moving_s", [0.3, 1.7, 4.2])

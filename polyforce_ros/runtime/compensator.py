@@ -372,17 +372,18 @@ class Compensator(_Configured):
         elif verdict != ACCEPT:
             return None
         self._recent_v.append(voltage_v)
-        pending = self._auto is not None
-        if pending:
-            pending = not self._collect_auto_tare(stamp_ns, voltage_v)
+        zeroing = self._collect_auto_tare(stamp_ns, voltage_v) if self._auto is not None else "off"
         self.last_valid_receive_ns = stamp_ns if receive_ns is None else receive_ns
+        if zeroing == "zeroed":  # this sample closed the rest window; the history starts at the next one
+            self.counts["zero_before_tare"] += 1
+            return 0.0 if self.config.publish_zero_before_tare else None
         force = self._stream.step((stamp_ns - self._epoch_ns) * 1e-9, voltage_v - self._shift_v,
                                   self._aux if aux is None else aux)
         if force is None or not math.isfinite(force):
             self.counts["nonfinite_output"] += 1
             self._restart()
             return None
-        if pending:  # zero before force: an untared bridge offset reads as a phantom load
+        if zeroing == "pending":  # zero before force: an untared bridge offset reads as a phantom load
             self.counts["zero_before_tare"] += 1
             return 0.0 if self.config.publish_zero_before_tare else None
         if self._drift_tracking:
@@ -479,8 +480,8 @@ class Compensator(_Configured):
         if self.config.auto_tare:
             self._auto, self.auto_tare_status, self._auto_since_ns = [], "pending", None
 
-    def _collect_auto_tare(self, stamp_ns: int, voltage_v: float) -> bool:
-        """Add a sample to the rest window; True once the auto-tare has decided (zeroed or given up)."""
+    def _collect_auto_tare(self, stamp_ns: int, voltage_v: float) -> str:
+        """Add a sample to the rest window: "pending", "zeroed" (the history restarted) or "failed" (given up)."""
         window = self._auto
         assert window is not None  # called only while armed
         if self._auto_since_ns is None:
@@ -488,7 +489,7 @@ class Compensator(_Configured):
         if len(window) < AUTO_TARE_MAX_SAMPLES:
             window.append((stamp_ns, voltage_v))
         if (stamp_ns - window[0][0]) * 1e-9 < self.config.auto_tare_s:
-            return False
+            return "pending"
         data = np.array(window, dtype=float)
         t, v = (data[:, 0] - data[0, 0]) * 1e-9, data[:, 1]
         cfg = self.config
@@ -504,19 +505,19 @@ class Compensator(_Configured):
             self.auto_tare_status = (f"zeroed: bridge offset {v.mean():.6f} V from {v.size} samples at rest "
                                      f"({waited_s:.2f} s after start)")
             self._restart()
-            return True
+            return "zeroed"
         reason = self.auto_tare_reason = f"spread {spread:.4f} V, drift {drift:.4f} V, offset shift {shift:+.4f} V"
         if waited_s < cfg.auto_tare_timeout_s:  # slide on by half a window: a rest as long as 1.5 windows is found
             self.counts["auto_tare_retries"] += 1
             del window[: len(window) // 2]
             self.auto_tare_status = f"pending: waiting for the sensor to rest ({reason})"
-            return False
+            return "pending"
         self._auto = None
         self.auto_tare_failed = True
         self.counts["auto_tare_refused"] += 1
         self.auto_tare_status = (f"not zeroed: the sensor did not rest for {cfg.auto_tare_s} s within "
                                  f"{cfg.auto_tare_timeout_s} s ({reason}); the model's offset is used until a tare")
-        return True
+        return "failed"
 
     def _restart(self, stamps: bool = False) -> None:
         """Restart the deformation history (a tare, a new model, a non-finite force); with ``stamps`` the stamp

@@ -19,6 +19,7 @@ from launch.substitutions import LaunchConfiguration
 from launch_ros.actions import Node
 
 from polyforce_ros import contract
+from polyforce_ros.bringup import driver_waits_for, node_set
 
 PACKAGE = "polyforce_ros"
 #: share/polyforce_ros/config next to share/polyforce_ros/launch (also true in the source tree).
@@ -44,20 +45,16 @@ def _nodes(context):
     compensation = _params(arg("compensation_params"))
     if arg("model_file"):
         compensation = dict(compensation, model_file=str(Path(arg("model_file")).expanduser().resolve()))
-    nodes = []
-    if arg("record"):  # first, so it records the compensation node's last zero wrench
-        nodes.append(Node(package=PACKAGE, executable="recorder_node", namespace=namespace, output="screen",
-                          parameters=[{"bag_path": str(Path(arg("record")).expanduser().resolve())}]))
-    if arg("with_bridge").lower() in ("true", "1", "yes"):
-        nodes.append(Node(package=PACKAGE, executable="haptic_bridge_node", namespace=namespace, output="screen",
-                          parameters=[_params(arg("bridge_params"))]))
-    nodes.append(Node(package=PACKAGE, executable="compensation_node", namespace=namespace, output="screen",
-                      parameters=[compensation]))
-    # the simulated profile starts once the compensation node (and the recorder) listen: a late compensation
-    # node would see a moving sensor and could not zero
-    driver = dict(driver, wait_for_subscribers=1 + bool(arg("record")))
-    nodes.append(Node(package=PACKAGE, executable="driver_node", namespace=namespace, output="screen",
-                      parameters=[driver]))
+    names = node_set(with_bridge=arg("with_bridge").lower() in ("true", "1", "yes"), record=bool(arg("record")))
+    params = {
+        "recorder_node": {"bag_path": str(Path(arg("record")).expanduser().resolve())} if arg("record") else {},
+        "haptic_bridge_node": _params(arg("bridge_params")) if "haptic_bridge_node" in names else {},
+        "compensation_node": compensation,
+        "driver_node": dict(driver, wait_for_subscribers=driver_waits_for(names)),
+    }
+    # in bringup's start order (the recorder first, so it records the compensation node's last zero wrench)
+    nodes = [Node(package=PACKAGE, executable=name, namespace=namespace, output="screen", parameters=[params[name]])
+             for name in names]
     return nodes
 
 

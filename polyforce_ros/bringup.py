@@ -41,6 +41,21 @@ PARAM_FILES = {
 STOP_TIMEOUT_S = 10.0
 
 
+def node_set(with_bridge: bool = False, record: bool = False) -> list[str]:
+    """The node executables of a bring-up, in start order (shutdown runs in reverse): the recorder first, so it
+    records every last zero; the haptic bridge; the compensation node; the driver last. Read by ``plan`` and by
+    launch/polyforce.launch.py."""
+    return ((["recorder_node"] if record else []) + (["haptic_bridge_node"] if with_bridge else [])
+            + ["compensation_node", "driver_node"])
+
+
+def driver_waits_for(names) -> int:
+    """How many readers of bridge_voltage among ``names`` the simulated profile waits for before it starts: a
+    compensation node that joined late would see a moving sensor and could not zero; a late recorder would miss
+    the first samples."""
+    return sum(name in ("compensation_node", "recorder_node") for name in names)
+
+
 @dataclass
 class ChildSpec:
     """One node process: executable name, full argv and where its parameters came from."""
@@ -112,13 +127,10 @@ def plan(workdir, backend=None, port=None, model=None, with_bridge=False, record
         if not model.is_file():
             raise FileNotFoundError(f"model file {model} not found")
         overrides["compensation_node"]["model_file"] = str(model)
-    names = ((["recorder_node"] if record else []) + (["haptic_bridge_node"] if with_bridge else [])
-             + ["compensation_node", "driver_node"])
+    names = node_set(with_bridge, bool(record))
     if record:
         overrides["recorder_node"]["bag_path"] = str(Path(record).expanduser().resolve())
-    # the simulated profile starts once every node that reads bridge_voltage listens: a compensation node that
-    # joined late would see a moving sensor and could not zero (the recorder would miss its first samples)
-    overrides["driver_node"]["wait_for_subscribers"] = sum(n in ("compensation_node", "recorder_node") for n in names)
+    overrides["driver_node"]["wait_for_subscribers"] = driver_waits_for(names)
     specs = []
     for name in names:
         source = config / PARAM_FILES[name] if name in PARAM_FILES else None

@@ -41,14 +41,19 @@ def test_launch_file_names_only_existing_executables_and_parameter_files():
     tree = ast.parse(LAUNCH.read_text())
     functions = {n.name for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)}
     assert "generate_launch_description" in functions
+    from polyforce_ros.bringup import node_set
+
+    # the launch file starts bringup's node set (one description of it) with a parameter set for each
     executables, packages = set(), set()
     for node in ast.walk(tree):
         if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "Node":
             kw = {k.arg: k.value for k in node.keywords}
-            executables.add(ast.literal_eval(kw["executable"]))
             packages.add(kw["package"].id if isinstance(kw["package"], ast.Name) else ast.literal_eval(kw["package"]))
-    assert executables == NODES
-    assert executables <= entry_points()
+        if isinstance(node, ast.Dict) and all(isinstance(k, ast.Constant) and str(k.value).endswith("_node")
+                                              for k in node.keys if k is not None) and node.keys:
+            executables |= {k.value for k in node.keys}
+    assert executables == set(node_set(with_bridge=True, record=True)) == NODES
+    assert executables <= entry_points() and packages == {"PACKAGE"}
     yamls = {n.value for n in ast.walk(tree)
              if isinstance(n, ast.Constant) and isinstance(n.value, str) and n.value.endswith(".yaml")}
     assert yamls == {"driver.yaml", "compensation.yaml", "haptic_bridge.yaml"}

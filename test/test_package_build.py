@@ -70,9 +70,9 @@ def test_launch_file_urdf_and_layouts_are_installed_with_everything_they_name(co
     launch_file = share / "launch" / "polyforce.launch.py"
     assert launch_file.is_file()
     tree = ast.parse(launch_file.read_text())
-    executables = {ast.literal_eval(k.value) for n in ast.walk(tree)
-                   if isinstance(n, ast.Call) and getattr(n.func, "id", None) == "Node"
-                   for k in n.keywords if k.arg == "executable"}
+    # the launch file starts bringup's node set, with a parameter set keyed by each executable
+    executables = {k.value for n in ast.walk(tree) if isinstance(n, ast.Dict) and n.keys
+                   for k in n.keys if isinstance(k, ast.Constant) and str(k.value).endswith("_node")}
     assert executables == {"driver_node", "compensation_node", "haptic_bridge_node", "recorder_node"}
     for exe in executables:
         path = prefix / "lib" / "polyforce_ros" / exe

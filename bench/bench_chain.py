@@ -39,7 +39,6 @@ import json
 import os
 import queue
 import shutil
-import signal
 import subprocess
 import sys
 import tempfile
@@ -48,6 +47,8 @@ import time
 from pathlib import Path
 
 import numpy as np
+
+from processes import isolate_dds, stop_pid
 
 from polyforce_ros.evaluation.latency import BRIDGE_PARAMETERS, HIST_EDGES_US, percentiles, pooled_p99_ratio
 
@@ -204,18 +205,6 @@ def with_suppressed(fn):
         fn()
     except OSError:
         pass
-
-
-def stop_pid(proc, timeout=10.0):
-    """SIGINT to the process's PID, SIGKILL if it is still there after ``timeout`` s; returns its exit status."""
-    if proc.poll() is None:
-        proc.send_signal(signal.SIGINT)
-        try:
-            proc.wait(timeout)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
-    return proc.returncode
 
 
 def ros_args(params):
@@ -417,9 +406,7 @@ def main(argv=None):
     ap.add_argument("--rate", type=float, default=1000.0, help="the device's conversion rate (Hz)")
     ap.add_argument("--relays", type=int, default=2, help="bare relays in the baseline (2: one per node they stand for)")
     args = ap.parse_args(argv)
-    os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
-    os.environ["ROS_DOMAIN_ID"] = str(100 + os.getpid() % 100)
-    os.environ.setdefault("AMENT_PREFIX_PATH", sys.prefix)
+    isolate_dds()
     if args.pairs < 1 or args.seconds <= 0 or args.relays < 2:
         ap.error("--pairs must be >= 1, --relays >= 2 (the sink reads the last but one's `wrench`), --seconds > 0")
     with tempfile.TemporaryDirectory() as tmp:

@@ -26,13 +26,13 @@ from pathlib import Path
 
 import numpy as np
 
+from processes import isolate_dds
+
 from polyforce_ros.evaluation.latency import HIST_EDGES_US, latency_stats, pooled_p99_ratio  # noqa: F401
 
 HERE = Path(__file__).resolve().parent
 BIN = Path(sys.executable).parent
-os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
-os.environ["ROS_DOMAIN_ID"] = str(100 + os.getpid() % 100)
-os.environ.setdefault("AMENT_PREFIX_PATH", sys.prefix)
+isolate_dds()
 
 
 def spawn(args):

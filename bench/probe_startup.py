@@ -43,32 +43,19 @@ from pathlib import Path
 
 import numpy as np
 
+from processes import isolate_dds, stop_pid
+
 from polyforce_ros import bringup
 from polyforce_ros.physics.metrics import error_summary
 
 PHANTOM_N = 0.05
 MIN_R2 = 0.99
-STOP_TIMEOUT_S = 10.0
 HOG = ("import sys, time\nduty = float(sys.argv[1])\nwhile True:\n    t = time.monotonic()\n"
        "    while time.monotonic() - t < 0.1 * duty:\n        pass\n    if duty < 1.0:\n"
        "        time.sleep(0.1 * (1.0 - duty))\n")
 
 
 # ---------------------------------------------------------------------- processes
-def stop_pid(proc, timeout=STOP_TIMEOUT_S):
-    """SIGINT to the process's PID, SIGKILL after ``timeout`` s; returns (exit status, killed)."""
-    if proc.poll() is not None:
-        return proc.returncode, False
-    proc.send_signal(signal.SIGINT)
-    try:
-        proc.wait(timeout)
-        return proc.returncode, False
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        proc.wait()
-        return proc.returncode, True
-
-
 def start_hogs(load):
     """``int(load)`` processes spinning all the time and one spinning ``load - int(load)`` of the time."""
     duties = [1.0] * int(load) + ([load - int(load)] if load - int(load) > 1e-9 else [])
@@ -233,9 +220,7 @@ def main(argv=None):
     ap.add_argument("--after-s", type=float, default=4.0, help="seconds of samples after the zeroing judged by R^2")
     ap.add_argument("--max-s", type=float, default=40.0, help="longest a run waits for the decision and its samples")
     args = ap.parse_args(argv)
-    os.environ["ROS_AUTOMATIC_DISCOVERY_RANGE"] = "LOCALHOST"
-    os.environ["ROS_DOMAIN_ID"] = str(100 + os.getpid() % 100)
-    os.environ.setdefault("AMENT_PREFIX_PATH", sys.prefix)
+    isolate_dds()
     hogs = start_hogs(args.load)
     results = []
     try:

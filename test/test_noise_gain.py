@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 
 from polyforce_ros.physics.chain import (ModelError, OffsetElement, PlayHysteresisElement, SensorChain,
                                          SensorLagElement, ViscoelasticElement)
-from polyforce_ros.physics.noise_gain import backward_noise_gain
+from polyforce_ros.physics.noise_gain import backward_noise_gain, white_noise_gain
 from polyforce_ros.physics.viscoelastic import PAPER_BURGERS, Elastic
 from polyforce_ros.runtime import Compensator, CompensatorConfig
 from polyforce_ros.runtime.compensator import check_noise_gain
@@ -26,6 +26,7 @@ def test_the_gain_of_an_exact_lag_inverse_is_its_difference_equations(tau_s, k, 
     a = tau_s * rate_hz
     gain = backward_noise_gain(_lagged(tau_s, k), rate_hz)
     assert gain.gain_n_per_v == pytest.approx(k * math.hypot(1 + a, a), rel=0.05)
+    assert white_noise_gain(_lagged(tau_s, k), rate_hz) == gain.gain_n_per_v  # the same probe, the gain alone
     if a > 0.5:
         assert gain.element == "sensor_lag" and gain.element_factor == pytest.approx(math.hypot(1 + a, a), rel=0.05)
     # the response rises towards Nyquist, where the difference of alternate samples is largest

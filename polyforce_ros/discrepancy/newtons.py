@@ -23,7 +23,7 @@ from typing import Any, Callable, Optional, Sequence
 import numpy as np
 
 from ..physics.chain import SensorChain, SensorLagElement
-from ..physics.noise_gain import NoiseGain, backward_noise_gain
+from ..physics.noise_gain import NoiseGain, backward_noise_gain, white_noise_gain
 from ..runtime import CompensatorConfig
 
 __all__ = ["ForceQuality", "force_quality", "with_safe_bandwidth", "with_filter", "fold_chains", "rate_of", "FILTER_FACTORS"]
@@ -173,7 +173,7 @@ def with_safe_bandwidth(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarr
     best: Optional[tuple[int, float]] = None
     for key in [(1, 0.0)] + [(order, f) for order in (1, 2) for f in FILTER_FACTORS if f > 0]:
         candidate = with_filter(chain, key[1], key[0])
-        gains[key] = [backward_noise_gain(candidate, r).gain_n_per_v for r in rates]
+        gains[key] = [white_noise_gain(candidate, r) for r in rates]
         with np.errstate(all="ignore"):
             tried[key] = _errors(candidate.backward(t_s, voltage_v, aux), late)[0]
         if max(gains[key]) <= SAVE_MARGIN * max_noise_gain and (best is None or tried[key] < tried[best]):

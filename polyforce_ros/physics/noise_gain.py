@@ -22,7 +22,7 @@ from scipy import signal
 from .chain import (OffsetElement, SensorChain, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
                     ViscoelasticElement)
 
-__all__ = ["NoiseGain", "backward_noise_gain"]
+__all__ = ["NoiseGain", "backward_noise_gain", "white_noise_gain"]
 
 #: Samples of the white-noise probe (a power of two: whole Welch segments).
 PROBE_SAMPLES = 8192
@@ -89,9 +89,27 @@ def _response(chain: SensorChain, t_s: np.ndarray, noise_v: np.ndarray, aux: Opt
     return signal.detrend(out)  # a slow walk of an integrating element is not noise at the master
 
 
-def _gain(chain: SensorChain, t_s: np.ndarray, noise_v: np.ndarray, aux: Optional[dict]) -> float:
-    out = _response(chain, t_s, noise_v, aux)
+def _gain(out: np.ndarray, noise_v: np.ndarray) -> float:
+    """Output RMS per input RMS (inf for a non-finite response)."""
+    if not np.all(np.isfinite(out)):
+        return float("inf")
     return float(np.sqrt(np.mean(out ** 2)) / np.sqrt(np.mean(noise_v ** 2)))
+
+
+def _probe(chain: SensorChain, rate_hz: float, seed: int) -> tuple[np.ndarray, np.ndarray, Optional[dict]]:
+    """Sample times [s], white noise [V] and the auxiliary signals (the thermal reference) of the probe."""
+    if not (np.isfinite(rate_hz) and rate_hz > 0):
+        raise ValueError(f"rate_hz must be positive and finite, got {rate_hz!r}")
+    t_s = np.arange(PROBE_SAMPLES) / float(rate_hz)
+    noise_v = PROBE_RMS_V * np.random.default_rng(seed).standard_normal(PROBE_SAMPLES)
+    temp_c = _reference_temperature(chain)
+    return t_s, noise_v, None if temp_c is None else {"temperature_c": np.full(PROBE_SAMPLES, temp_c)}
+
+
+def white_noise_gain(chain: SensorChain, rate_hz: float, seed: int = 0) -> float:
+    """The gain of :func:`backward_noise_gain` alone [N/V RMS/RMS]: one backward run, no response or attribution."""
+    t_s, noise_v, aux = _probe(chain, rate_hz, seed)
+    return _gain(_response(chain, t_s, noise_v, aux), noise_v)
 
 
 def backward_noise_gain(chain: SensorChain, rate_hz: float, seed: int = 0) -> NoiseGain:
@@ -111,14 +129,9 @@ def backward_noise_gain(chain: SensorChain, rate_hz: float, seed: int = 0) -> No
     NoiseGain
         The gain [N/V RMS/RMS], the response's magnitude over frequency, and the element that amplifies most.
     """
-    if not (np.isfinite(rate_hz) and rate_hz > 0):
-        raise ValueError(f"rate_hz must be positive and finite, got {rate_hz!r}")
-    t_s = np.arange(PROBE_SAMPLES) / float(rate_hz)
-    noise_v = PROBE_RMS_V * np.random.default_rng(seed).standard_normal(PROBE_SAMPLES)
-    temp_c = _reference_temperature(chain)
-    aux = None if temp_c is None else {"temperature_c": np.full(PROBE_SAMPLES, temp_c)}
+    t_s, noise_v, aux = _probe(chain, rate_hz, seed)
     out = _response(chain, t_s, noise_v, aux)
-    gain = float(np.sqrt(np.mean(out ** 2)) / PROBE_RMS_V) if np.all(np.isfinite(out)) else float("inf")
+    gain = _gain(out, noise_v)
     if np.isfinite(gain):
         freq, pxy = signal.csd(noise_v, out, fs=rate_hz, nperseg=512)
         _, pxx = signal.welch(noise_v, fs=rate_hz, nperseg=512)
@@ -134,7 +147,7 @@ def backward_noise_gain(chain: SensorChain, rate_hz: float, seed: int = 0) -> No
         if isinstance(e, (ViscoelasticElement, OffsetElement)):
             continue
         rest = SensorChain([x for j, x in enumerate(chain.elements) if j != i])
-        without = _gain(rest, t_s, noise_v, aux)
+        without = _gain(_response(rest, t_s, noise_v, aux), noise_v)
         ratio = gain / without if without > 0 else float("inf")
         if ratio > factor * 1.05:  # 5 %: a probe's own scatter does not name an element
             element, factor = e.kind, ratio

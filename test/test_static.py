@@ -13,9 +13,10 @@ import pytest
 from conftest import REPO
 
 BIN = Path(sys.executable).parent
-CORE = [*sorted((REPO / "polyforce_ros" / "physics").glob("[!_]*.py")),
+CORE = [*sorted((REPO / "polyforce_ros" / "physics").rglob("[!_]*.py")),
         REPO / "polyforce_ros" / "runtime" / "compensator.py", REPO / "polyforce_ros" / "runtime" / "sources.py",
-        *[REPO / "polyforce_ros" / f for f in ("record.py", "contract.py", "workflows.py", "model_file.py", "cdr.py",
+        *sorted((REPO / "polyforce_ros").glob("**/cdr.py")),
+        *[REPO / "polyforce_ros" / f for f in ("record.py", "contract.py", "workflows.py", "model_file.py",
                                                 "serial_protocol.py", "haptics.py", "evaluation/latency.py")]]
 
 

@@ -1,0 +1,42 @@
+"""A sensor as a chain of elements between applied force and measured voltage.
+
+    force -> [viscoelastic core] -> ... -> [offset] -> voltage
+
+Each element runs forward (simulate), backward in batch (compensate an array) and backward per sample
+(``streaming()``, O(1) state), and describes itself as a plain mapping for the YAML model file.
+
+Modules: :mod:`.base` (protocols, bounds, validation), :mod:`.core` (the viscoelastic core), :mod:`.static`
+(offset and gains), :mod:`.dynamics` (lag, delay), :mod:`.drift` (thermal and time drifts),
+:mod:`.hysteresis` (Preisach, play operator) and :mod:`.sensor_chain` (the chain, its stream and the
+registry of element types).
+"""
+from .base import (
+                   MAX_PREISACH_LEVELS,
+                   PARAMETER_BOUNDS,
+                   Element,
+                   ElementStream,
+                   ForwardElement,
+                   ModelError,
+                   short_repr,
+                   smoke_records,
+)
+from .core import ViscoelasticElement
+from .drift import (
+                   ExponentialDriftElement,
+                   OffsetDriftElement,
+                   PolynomialDriftElement,
+                   SplineDriftElement,
+                   ThermalDriftElement,
+                   ThermalLagElement,
+)
+from .dynamics import SensorLagElement, TransportDelayElement
+from .hysteresis import PlayHysteresisElement, PreisachElement, play_operator
+from .sensor_chain import ELEMENT_TYPES, ChainStream, SensorChain
+from .static import GainElement, NonlinearGainElement, OffsetElement, PolynomialGainElement, ThermalSensitivityElement
+
+__all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "ForwardElement", "Element", "PARAMETER_BOUNDS",
+           "MAX_PREISACH_LEVELS", "ViscoelasticElement", "OffsetElement", "GainElement", "NonlinearGainElement",
+           "SensorLagElement", "TransportDelayElement", "ThermalDriftElement", "ThermalSensitivityElement",
+           "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "ThermalLagElement",
+           "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement",
+           "ELEMENT_TYPES", "SensorChain", "ChainStream"]

@@ -1,0 +1,141 @@
+"""The viscoelastic core: applied force (N) <-> deformation read as bridge volts, with the numerical checks
+a core's parameters must pass before it is used.
+"""
+from __future__ import annotations
+
+import math
+from typing import Any, Mapping, Optional, Self
+
+import numpy as np
+import numpy.typing as npt
+
+from ..viscoelastic import (
+    MODEL_TYPES,
+    CreepCompliance,
+    ForwardState,
+    RelaxationModulus,
+    StreamingCompensator,
+    ViscoelasticModel,
+    compensate,
+    simulate_deformation,
+)
+from .base import DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, ModelError, check_keys, check_number, short_repr, smoke_records
+
+__all__ = ["ViscoelasticElement"]
+
+
+def _laplace_mismatch(rel: RelaxationModulus, comp: CreepCompliance, s: npt.ArrayLike) -> FloatArray:
+    """|s G(s) * s J(s) - 1| at Laplace variable(s) s > 0: zero for a relaxation that matches its compliance."""
+    s = np.asarray(s, dtype=float)
+    sg = rel.g_inf_n_per_v + rel.eta_impulse_n_s_per_v * s
+    for a, r in zip(rel.a_n_per_v, rel.r_per_s):
+        sg = sg + a * s / (s + r)
+    sj = comp.j0_v_per_n + comp.fluidity_v_per_n_s / s
+    for c, tau in zip(comp.c_v_per_n, comp.tau_s):
+        sj = sj + c / (1.0 + tau * s)
+    return np.abs(sg * sj - 1.0)
+
+
+def _check_core_numerics(kind: str, model: ViscoelasticModel) -> None:
+    """Derived quantities of a viscoelastic core, checked once after it is built.
+
+    * ``relaxation()`` (roots of the relaxation polynomial, residues) must succeed and give
+      finite G(0), G(inf), amplitudes, rates and impulse term;
+    * every rate r >= 0: a negative one is a growing mode, exp(+|r| t) over a record;
+    * r * 86400 s < 1e150 and a * r finite: the recursion squares z = r h in its step weights.
+      No lower limit on r is needed: when r h is below float64 resolution exp(-r h) rounds to 1
+      and the series/expm1 forms turn the mode into an exact integral, off by at most r * 24 h
+      relative, which is then below 1e-7 (r h < 1.1e-16 at h >= 1e-4 s);
+    * the relaxation must be the inverse of the creep compliance, s G(s) s J(s) = 1 to 1e-3
+      over s = 1/(24 h) .. 1e4 /s (a relaxation whose rates or residues were lost to cancellation
+      fails this although every number in it is finite);
+    * forward, batch backward and streaming backward runs on short uniform records (10 kHz to
+      0.1 Hz) and an irregular 24-hour record must give finite output and raise nothing.
+    """
+    try:
+        with np.errstate(all="ignore"):
+            rel = model.relaxation()
+            comp = model.compliance()
+            values = [rel.g0_n_per_v, rel.g_inf_n_per_v, rel.eta_impulse_n_s_per_v, *rel.a_n_per_v, *rel.r_per_s]
+            products = [a * r for a, r in zip(rel.a_n_per_v, rel.r_per_s)]
+            mismatch = _laplace_mismatch(rel, comp, np.logspace(-math.log10(DAY_S), 4.0, 25))
+    except (ArithmeticError, ValueError, LookupError, TypeError) as exc:  # LinAlgError is a ValueError
+        raise ModelError(f"{kind}: parameters {model.as_dict()} give no relaxation modulus "
+                         f"({type(exc).__name__}: {exc}); they are too far apart for float64") from None
+    if not all(math.isfinite(v) for v in values + products):
+        raise ModelError(f"{kind}: parameters {model.as_dict()} give a non-finite relaxation modulus {rel}")
+    if any(r < 0.0 or r * DAY_S >= 1e150 for r in rel.r_per_s):
+        raise ModelError(f"{kind}: parameters {model.as_dict()} give relaxation rates {rel.r_per_s} 1/s; "
+                         f"each must be within [0, {MAX_RATE_PER_S:.3g}] 1/s")
+    if not np.all(mismatch <= 1e-3):
+        raise ModelError(f"{kind}: parameters {model.as_dict()} are too far apart for float64: the relaxation "
+                         f"modulus does not invert the creep compliance (s G s J - 1 up to {np.nanmax(mismatch):.3g})")
+    for t, force, _, label in smoke_records():
+        stage = "forward"
+        try:
+            with np.errstate(all="ignore"):
+                volts = simulate_deformation(model, t, force)
+                ok = bool(np.all(np.isfinite(volts)))
+                if ok:
+                    stage = "backward"
+                    ok = bool(np.all(np.isfinite(compensate(model, t, volts))))
+                if ok and label.startswith(("irregular", "uniform, step 0.001 ")):
+                    stage = "streaming backward"
+                    stream = StreamingCompensator(model)
+                    out = [stream.step(float(ti), float(vi)) for ti, vi in zip(t, volts)]
+                    ok = all(o is not None and math.isfinite(o) for o in out)
+        except (ArithmeticError, ValueError, LookupError, TypeError) as exc:
+            raise ModelError(f"{kind}: parameters {model.as_dict()} are too far apart for float64: the {stage} "
+                             f"run on a test record ({label}) failed ({type(exc).__name__}: {exc})") from None
+        if not ok:
+            raise ModelError(f"{kind}: parameters {model.as_dict()} are too far apart for float64: the {stage} "
+                             f"run on a test record ({label}) is not finite")
+
+
+class ViscoelasticElement(Frozen):
+    """The viscoelastic core: force (N) <-> deformation read as volts (seed 000)."""
+
+    model: ViscoelasticModel
+    kind: str
+
+    def __init__(self, model: ViscoelasticModel) -> None:
+        self._freeze(model=model, kind=model.kind)
+
+    def forward_state(self) -> ForwardState:
+        """A fresh forward state of the core (relaxed, unloaded sensor)."""
+        return ForwardState(self.model)
+
+    def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[ForwardState] = None) -> FloatArray:
+        """Deformation for a force history, by :func:`~.viscoelastic.simulate_deformation`."""
+        return simulate_deformation(self.model, t_s, force_n, state=state)
+
+    def backward(self, t_s: npt.ArrayLike, deformation_v: npt.ArrayLike,
+                 aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """Force for a deformation record from a relaxed sensor, by :func:`~.viscoelastic.compensate`."""
+        return compensate(self.model, t_s, deformation_v)
+
+    def streaming(self) -> StreamingCompensator:
+        """The per-sample inverse of the core."""
+        return StreamingCompensator(self.model)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The core as a model-file mapping."""
+        return {"type": self.kind, **self.model.as_dict()}
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The core from a model-file mapping whose ``type`` is a viscoelastic model kind."""
+        kind = d.get("type") if isinstance(d, dict) else None
+        if not isinstance(kind, str) or kind not in MODEL_TYPES:
+            raise ModelError(f"viscoelastic core: type must be one of {sorted(MODEL_TYPES)}, got {short_repr(kind)}")
+        model_type = MODEL_TYPES[kind]
+        names = model_type.parameter_names()
+        check_keys(kind, d, names)
+        values = [check_number(kind, n, d[n], positive=True) for n in names]
+        try:
+            model = model_type(*values)
+        except (TypeError, ValueError) as exc:
+            raise ModelError(f"{kind}: {exc}") from None
+        _check_core_numerics(kind, model)
+        return cls(model)

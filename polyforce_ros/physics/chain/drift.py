@@ -1,0 +1,291 @@
+"""Offset drifts: with temperature (immediate or lagged) and with time (linear, polynomial, exponential,
+spline).
+"""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Mapping, Optional, Self, TypedDict
+
+import numpy as np
+import numpy.typing as npt
+
+from ..expconv import ExpConvState, exp_convolve
+from .base import (
+    ElementStream,
+    FloatArray,
+    FloatOrArray,
+    FunctionStream,
+    Numbers,
+    SimpleElement,
+    abscissae_and_values,
+    check_keys,
+    temperature_c_of,
+)
+
+if TYPE_CHECKING:  # for annotations only: at run time scipy.interpolate loads when first used
+    from scipy.interpolate import CubicSpline
+
+__all__ = ["ThermalDriftElement", "OffsetDriftElement", "ThermalLagElement", "ExponentialDriftElement",
+           "PolynomialDriftElement", "SplineDriftElement"]
+
+
+class _ThermalForwardState(TypedDict):
+    y: FloatArray  # the lag's integral state, degC * s
+    t_prev: Optional[float]  # s; None before the first sample
+    temp_prev: float  # degC
+
+
+
+class ThermalDriftElement(SimpleElement):
+    """Output that follows temperature: y = x + coefficient_v_per_c * (T - reference_c).
+
+    T comes from ``aux['temperature_c']``; without it T is taken as the
+    reference (no correction), which the node reports.
+    """
+
+    kind = "thermal_drift"
+    PARAMS = (("coefficient_v_per_c", False), ("reference_c", False))
+    coefficient_v_per_c: float
+    reference_c: float
+
+    def _term(self, y: FloatArray, aux: Optional[Mapping[str, Any]]) -> FloatOrArray:
+        temp = temperature_c_of(aux, np.size(y))
+        return 0.0 if temp is None else self.coefficient_v_per_c * (temp - self.reference_c)
+
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: object = None) -> FloatArray:
+        """The input plus the thermal term, ``x + coefficient_v_per_c * (T - reference_c)``."""
+        x = np.asarray(x, dtype=float)
+        return x + self._term(x, aux)
+
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """The output less the thermal term, ``y - coefficient_v_per_c * (T - reference_c)``."""
+        y = np.asarray(y, dtype=float)
+        return y - self._term(y, aux)
+
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`; a sample without ``aux['temperature_c']`` passes unchanged."""
+        c, ref = self.coefficient_v_per_c, self.reference_c
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+            temp = None if not aux else aux.get("temperature_c")
+            return y if temp is None else y - c * (temp - ref)
+
+        return FunctionStream(step)
+
+
+
+class _DriftForwardState(TypedDict):
+    t_first: Optional[float]  # s; None before the first sample
+
+
+class _TimeDriftElement(SimpleElement):
+    """Base of the load-independent drifts: y = x + _term(t - t_first), t_first the first sample of the
+    record (forward, batch backward) or after a reset (streaming); subclasses define ``_term(s)`` (V)."""
+
+    def _term(self, s: FloatOrArray) -> FloatOrArray:
+        """The drift [V] at ``s`` [s] after the first sample: a float for a float, an array for an array."""
+        raise NotImplementedError(f"{type(self).__name__} defines no drift term")
+
+    def forward_state(self) -> _DriftForwardState:
+        """A fresh state for block-wise :meth:`forward` runs (no first sample yet)."""
+        return {"t_first": None}
+
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_DriftForwardState] = None) -> FloatArray:
+        """The input plus the drift at the time since the first sample."""
+        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        st = state if state is not None else self.forward_state()
+        if st["t_first"] is None and t.size:
+            st["t_first"] = float(t[0])
+        return x + self._term(t - (st["t_first"] or 0.0))
+
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """The output less the drift, the time counted from the record's first sample."""
+        t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+        return y - self._term(t - t[0]) if t.size else y
+
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`, the time counted from the first sample after a reset."""
+        first: dict[str, Optional[float]] = {"t": None}
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+            # read once into a local: mypy does not narrow first["t"] after assigning it
+            t_first = first["t"]
+            if t_first is None:
+                t_first = first["t"] = t_s
+            return y - float(self._term(t_s - t_first))
+
+        return FunctionStream(step, lambda: first.update(t=None))
+
+
+class OffsetDriftElement(_TimeDriftElement):
+    """Load-independent baseline drift: y = x + rate_v_per_s * (t - t_first).
+
+    t_first is the first sample of the record (forward, batch backward) or the
+    first sample after a reset (streaming); a tare therefore restarts it.
+    """
+
+    kind = "offset_drift"
+    PARAMS = (("rate_v_per_s", False),)
+    rate_v_per_s: float
+
+    def _term(self, s: FloatOrArray) -> FloatOrArray:
+        return self.rate_v_per_s * s
+
+
+
+class ThermalLagElement(SimpleElement):
+    """Output that follows temperature through a first-order thermal lag:
+    y = x + coefficient_v_per_c * (T_lag - reference_c), tau_s T_lag' + T_lag = T.
+
+    T comes from ``aux['temperature_c']``; the lag starts settled at the first
+    temperature sample (batch, or the first after a reset when streaming).
+    Without temperature there is no correction (as :class:`ThermalDriftElement`).
+    """
+
+    kind = "thermal_lag"
+    PARAMS = (("coefficient_v_per_c", False), ("reference_c", False), ("tau_s", True))
+    coefficient_v_per_c: float
+    reference_c: float
+    tau_s: float
+
+    def _lagged(self, t_s: npt.ArrayLike, temp: Optional[FloatArray],
+                state: Optional[_ThermalForwardState] = None) -> Optional[FloatArray]:
+        t = np.asarray(t_s, dtype=float)
+        if temp is None or t.size == 0:
+            return None
+        rate = 1.0 / self.tau_s
+        if state is None or state["t_prev"] is None:  # settled at the first temperature
+            y = exp_convolve(t, temp, [rate], y0=[temp[0] * self.tau_s])[:, 0]
+        else:
+            y = exp_convolve(t, temp, [rate], y0=state["y"], u_prev=state["temp_prev"], t_prev_s=state["t_prev"])[:, 0]
+        if state is not None:
+            state["y"], state["t_prev"], state["temp_prev"] = np.array([y[-1]]), float(t[-1]), float(temp[-1])
+        return y * rate
+
+    def forward_state(self) -> _ThermalForwardState:
+        """A fresh lag state for block-wise :meth:`forward` runs (settles at the first temperature it sees)."""
+        return {"y": np.zeros(1), "t_prev": None, "temp_prev": 0.0}
+
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_ThermalForwardState] = None) -> FloatArray:
+        """The input plus the lagged thermal term, ``x + coefficient_v_per_c * (T_lag - reference_c)``."""
+        x = np.asarray(x, dtype=float)
+        lagged = self._lagged(t_s, temperature_c_of(aux, x.size), state)
+        return x if lagged is None else x + self.coefficient_v_per_c * (lagged - self.reference_c)
+
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """The output less the lagged thermal term, ``y - coefficient_v_per_c * (T_lag - reference_c)``."""
+        y = np.asarray(y, dtype=float)
+        lagged = self._lagged(t_s, temperature_c_of(aux, y.size))
+        return y if lagged is None else y - self.coefficient_v_per_c * (lagged - self.reference_c)
+
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`; the lag starts settled at the first temperature after a reset."""
+        c, ref, tau = self.coefficient_v_per_c, self.reference_c, self.tau_s
+        lag = ExpConvState([1.0 / tau])
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+            temp = None if not aux else aux.get("temperature_c")
+            if temp is None:
+                return y
+            if lag.t_prev_s is None:
+                lag.reset([temp * tau])
+            state = lag.update(t_s, float(temp))
+            if state is None:
+                state = lag.y
+            return y - c * (state[0] / tau - ref)
+
+        return FunctionStream(step, lag.reset)
+
+
+class ExponentialDriftElement(_TimeDriftElement):
+    """Baseline drift that settles: y = x + amplitude_v * (1 - exp(-(t - t_first) / tau_s)).
+
+    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare).
+    """
+
+    kind = "exponential_drift"
+    PARAMS = (("amplitude_v", False), ("tau_s", True))
+    amplitude_v: float
+    tau_s: float
+
+    def _term(self, s: FloatOrArray) -> FloatOrArray:
+        return self.amplitude_v * -np.expm1(-np.asarray(s, dtype=float) / self.tau_s)
+
+
+
+
+class PolynomialDriftElement(_TimeDriftElement):
+    """Load-independent baseline drift of any smooth shape:
+    y = x + rate_v_per_s * s + curvature_v_per_s2 * s**2 + cubic_v_per_s3 * s**3, s = t - t_first.
+
+    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare).
+    """
+
+    kind = "polynomial_drift"
+    PARAMS = (("rate_v_per_s", False), ("curvature_v_per_s2", False), ("cubic_v_per_s3", False))
+    rate_v_per_s: float
+    curvature_v_per_s2: float
+    cubic_v_per_s3: float
+
+    def _term(self, s: FloatOrArray) -> FloatOrArray:
+        return s * (self.rate_v_per_s + s * (self.curvature_v_per_s2 + s * self.cubic_v_per_s3))
+
+
+def _spline_from_zero(knots_s: FloatArray, values: FloatArray) -> Any:
+    """The natural cubic spline through (0, 0) and (knots_s[i], values[i]) (values may have trailing columns)."""
+    from scipy.interpolate import CubicSpline
+
+    values = np.asarray(values, dtype=float)
+    return CubicSpline(np.concatenate([[0.0], knots_s]), np.concatenate([np.zeros((1, *values.shape[1:])), values]),
+                       bc_type="natural")
+
+
+class SplineDriftElement(_TimeDriftElement):
+    """Load-independent baseline drift of a wandering shape (a slow random walk, humidity events):
+    y = x + S(t - t_first), S the natural cubic spline through (knots_s[i], values_v[i]), S = 0 at s = 0.
+
+    Parameters (model file keys)
+    ----------------------------
+    knots_s : list of float > 0, strictly increasing
+        Knot times after the first sample, s.
+    values_v : list of float
+        The drift at each knot, V (same length). Between 0 and the first knot the
+        spline starts from 0; after the last knot the drift holds its last value
+        (a fitted drift says nothing beyond its record, and holding is bounded).
+
+    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare).
+    """
+
+    kind = "spline_drift"
+    KEYS = ("knots_s", "values_v")
+    knots_s: FloatArray
+    values_v: FloatArray
+    _spline: CubicSpline
+
+    def __init__(self, knots_s: Numbers, values_v: Numbers) -> None:
+        knots, values = abscissae_and_values(self.kind, "knots_s", knots_s, "values_v", values_v)
+        self._freeze(knots_s=knots, values_v=values, _spline=_spline_from_zero(knots, values))
+
+    def _term(self, s: FloatOrArray) -> FloatOrArray:
+        s = np.asarray(s, dtype=float)
+        return self._spline(np.clip(s, 0.0, self.knots_s[-1]))
+
+    @staticmethod
+    def basis(s: Numbers, knots_s: Numbers) -> FloatArray:
+        """The drift as a linear map of its knot values: column i is the drift, s (s) after the first sample, of
+        unit value at knot i and zero at the others (a fitter's design columns; the drift is ``basis @ values_v``)."""
+        knots = np.asarray(knots_s, dtype=float)
+        spline = _spline_from_zero(knots, np.eye(knots.size))
+        return np.asarray(spline(np.clip(np.asarray(s, dtype=float), 0.0, knots[-1])), dtype=float)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping."""
+        return {"type": self.kind, "knots_s": [float(v) for v in self.knots_s], "values_v": [float(v) for v in self.values_v]}
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping."""
+        check_keys(cls.kind, d, cls.KEYS)
+        return cls(d["knots_s"], d["values_v"])

@@ -43,7 +43,7 @@ def test_paper_eq5_to_eq9_at_printed_precision():
 @pytest.mark.parametrize("model", [m for m in MODELS if m.kind in ("maxwell", "zener", "burgers")], ids=lambda m: m.kind)
 def test_generic_relaxation_from_compliance_equals_the_closed_forms(model):
     """The residue route used by the two-Kelvin models gives eq. 7-8's G(t) for the classic ones."""
-    from polyforce_ros.physics.viscoelastic import _relaxation_from_compliance
+    from polyforce_ros.physics.viscoelastic.models import _relaxation_from_compliance
 
     closed, generic = model.relaxation(), _relaxation_from_compliance(model.compliance())
     assert generic.g_inf_n_per_v == pytest.approx(closed.g_inf_n_per_v, rel=1e-12, abs=1e-12)
@@ -162,7 +162,8 @@ def test_uniform_fast_path_equals_streaming_in_blocks_that_switch_paths(model):
 def test_uniform_fast_path_falls_back_when_its_factorisation_does_not_apply():
     """A negative relaxation coefficient (not a passive sensor) has no cascade here;
     compensate must then still be the modal recursion, not an error."""
-    from polyforce_ros.physics.viscoelastic import RelaxationModulus, _UniformCascade
+    from polyforce_ros.physics.viscoelastic import RelaxationModulus
+    from polyforce_ros.physics.viscoelastic.superposition import _UniformCascade
 
     passive = PAPER_BURGERS.relaxation()
     assert _UniformCascade.build(passive, 1e-3) is not None

@@ -40,22 +40,12 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, fields, replace
 
+from .settings import setting, settings_of
+
 __all__ = [
-    "HapticConfig", "HapticBridge", "PARAMETERS", "AXES",
+    "HapticConfig", "HapticBridge", "AXES",
     "deadband", "scale", "saturate", "slew", "stale_ramp", "shape", "parse_axis", "device_vector",
 ]
-
-#: Tunable rules: name -> (default, low, high, description). The node declares exactly these (with the ranges).
-PARAMETERS = {
-    "force_scale": (1.0, 0.0, 100.0, "Hand force per needle force (N/N); 0 = no force feedback"),
-    "deadband_n": (0.02, 0.0, 10.0,
-                   "Needle forces within +-this are not felt; outside it the band is subtracted, "
-                   "so the command is continuous at its edge (N)"),
-    "max_force_n": (3.0, 0.0, 100.0, "Saturation: |command| never exceeds this; set to the device's safe maximum (N)"),
-    "max_slew_n_per_s": (100.0, 0.01, 1.0e6, "Slew-rate limit of the command (N/s)"),
-    "stale_timeout_s": (0.1, 0.001, 10.0, "No valid wrench for this long -> ramp the command to zero (s)"),
-    "ramp_s": (0.2, 0.0, 10.0, "The stale ramp reaches zero within this time; 0 = drop at once (s)"),
-}
 
 #: Device axes a needle force can be mapped to: name -> (index in [x, y, z], sign).
 AXES = {"x": (0, 1.0), "y": (1, 1.0), "z": (2, 1.0), "-x": (0, -1.0), "-y": (1, -1.0), "-z": (2, -1.0)}
@@ -63,7 +53,10 @@ AXES = {"x": (0, 1.0), "y": (1, 1.0), "z": (2, 1.0), "-x": (0, -1.0), "-y": (1, 
 
 @dataclass(frozen=True)
 class HapticConfig:
-    """Parameters of the bridge (see :data:`PARAMETERS` for ranges and meaning).
+    """Settings of the bridge's rules, each declared once with its default, description and range
+    (:func:`~polyforce_ros.settings.setting`); the haptic bridge node declares a parameter of each.
+
+    Every value must be a finite number within its range (``ValueError`` otherwise) and is kept as a float.
 
     Attributes
     ----------
@@ -81,17 +74,19 @@ class HapticConfig:
         Duration of the stale ramp to zero, s.
     """
 
-    force_scale: float = PARAMETERS["force_scale"][0]
-    deadband_n: float = PARAMETERS["deadband_n"][0]
-    max_force_n: float = PARAMETERS["max_force_n"][0]
-    max_slew_n_per_s: float = PARAMETERS["max_slew_n_per_s"][0]
-    stale_timeout_s: float = PARAMETERS["stale_timeout_s"][0]
-    ramp_s: float = PARAMETERS["ramp_s"][0]
+    force_scale: float = setting(1.0, "Hand force per needle force (N/N); 0 = no force feedback", 0.0, 100.0)
+    deadband_n: float = setting(0.02, "Needle forces within +-this are not felt; outside it the band is subtracted, "
+                                "so the command is continuous at its edge (N)", 0.0, 10.0)
+    max_force_n: float = setting(
+        3.0, "Saturation: |command| never exceeds this; set to the device's safe maximum (N)", 0.0, 100.0)
+    max_slew_n_per_s: float = setting(100.0, "Slew-rate limit of the command (N/s)", 0.01, 1.0e6)
+    stale_timeout_s: float = setting(0.1, "No valid wrench for this long -> ramp the command to zero (s)", 0.001, 10.0)
+    ramp_s: float = setting(0.2, "The stale ramp reaches zero within this time; 0 = drop at once (s)", 0.0, 10.0)
 
-    def __post_init__(self):
-        for f in fields(self):
+    def __post_init__(self) -> None:
+        for f, meta in settings_of(type(self)):
             value = getattr(self, f.name)
-            _, low, high, _ = PARAMETERS[f.name]
+            low, high = meta["low"], meta["high"]
             if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
                 raise ValueError(f"{f.name} must be a finite number, got {value!r}")
             if not low <= value <= high:
@@ -211,7 +206,7 @@ class HapticBridge:
     Parameters
     ----------
     config : HapticConfig, optional
-        The rules' parameters (defaults: :data:`PARAMETERS`).
+        The rules' settings (default: :class:`HapticConfig` ``()``).
 
     Notes
     -----

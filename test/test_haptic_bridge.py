@@ -17,9 +17,10 @@ from std_msgs.msg import Float64MultiArray
 
 from conftest import REPO
 from polyforce_ros import contract
-from polyforce_ros.haptics import (PARAMETERS, HapticBridge, HapticConfig, deadband, device_vector, parse_axis, saturate,
-                                   scale, shape, slew, stale_ramp)
+from polyforce_ros.haptics import (HapticBridge, HapticConfig, deadband, device_vector, parse_axis, saturate, scale, shape,
+                                   slew, stale_ramp)
 from polyforce_ros.nodes.haptic_bridge_node import FD_EFFORT_COMMANDS, HAPTIC_COMMAND, HapticBridgeNode
+from polyforce_ros.settings import settings_of
 from ros_harness import ros
 
 EPS = 1e-9
@@ -27,11 +28,9 @@ EPS = 1e-9
 
 # ---------------------------------------------------------------------- strategies
 def configs():
-    def rng(name):
-        _, low, high, _ = PARAMETERS[name]
-        return st.floats(low, high, allow_nan=False, allow_infinity=False)
-
-    return st.builds(HapticConfig, **{name: rng(name) for name in PARAMETERS})
+    ranges = {f.name: st.floats(meta["low"], meta["high"], allow_nan=False, allow_infinity=False)
+              for f, meta in settings_of(HapticConfig)}
+    return st.builds(HapticConfig, **ranges)
 
 
 #: Any force a wire can carry: NaN, +-inf, huge, tiny, and everyday values.
@@ -298,8 +297,8 @@ def test_param_file_matches_declared_parameters():
         for key, value in params.items():
             assert node.get_parameter(key).value == value, key
             assert node.describe_parameter(key).description, key
-        for name, (default, *_rest) in PARAMETERS.items():
-            assert params[name] == default, name  # the file documents the defaults of the rules
+        for f, _ in settings_of(HapticConfig):
+            assert params[f.name] == f.default, f.name  # the file documents the defaults of the rules
 
 
 class Probe(Node):

@@ -42,6 +42,17 @@ def declare_settings(node, config_type) -> None:
         declare(node, f.name, default, meta["description"], meta["low"], meta["high"], read_only=meta["read_only"])
 
 
+def read_settings(node, config_type):
+    """The configuration dataclass of the node's parameters of its fields (declared by :func:`declare_settings`)."""
+    from ..settings import settings_of
+
+    values = {}
+    for f, _ in settings_of(config_type):
+        value = node.get_parameter(f.name).value
+        values[f.name] = tuple(value) if isinstance(f.default, tuple) else value
+    return config_type(**values)
+
+
 def data_qos(node) -> QoSProfile:
     """QoS of the data topics from the node's ``qos_reliable`` / ``qos_depth`` parameters.
 

@@ -42,8 +42,9 @@ from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from std_msgs.msg import Float64MultiArray
 
 from .. import contract
-from ..haptics import AXES, PARAMETERS, HapticBridge, HapticConfig, device_vector, parse_axis
-from .common import DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, run, send_last_zero
+from ..haptics import AXES, HapticBridge, HapticConfig, device_vector, parse_axis
+from .common import (DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, declare_settings,
+                     read_settings, run, send_last_zero)
 
 #: Relative name of the WrenchStamped command (in the node's namespace).
 HAPTIC_COMMAND = contract.Rel.HAPTIC_COMMAND
@@ -59,8 +60,7 @@ class HapticBridgeNode(Node):
     def __init__(self, **kwargs):
         kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
         super().__init__("haptic_bridge_node", **kwargs)
-        for name, (default, low, high, description) in PARAMETERS.items():
-            declare(self, name, default, description, low, high)
+        declare_settings(self, HapticConfig)
         declare(self, "device_frame_id", FD_BASE_FRAME, "Frame of haptic_command (the haptic device's base)", read_only=True)
         declare(self, "device_axis", "x",
                 f"Device axis that renders the needle force, one of {sorted(AXES)}; compression pushes the handle "
@@ -81,7 +81,7 @@ class HapticBridgeNode(Node):
         self.size = int(p["effort_command_size"])
         device_vector(0.0, self.axis, self.size)  # raises on a bad axis / size at start-up
         self.axis_index, self.axis_sign = parse_axis(self.axis)
-        self.bridge = HapticBridge(HapticConfig(**{name: p[name] for name in HapticConfig.names()}))
+        self.bridge = HapticBridge(read_settings(self, HapticConfig))
         self.node_counts = dict(published=0)
         self._published_n = None   # the last command published, N
         self._stamp0_ns = None     # the first header stamp seen: stamps are passed on relative to it (float precision)
@@ -108,7 +108,7 @@ class HapticBridgeNode(Node):
             f"{self.pub.topic_name}" + (f" and {self.effort_pub.topic_name}" if self.effort_pub else ""))
 
     def _on_set_parameters(self, params):
-        changes = {p.name: p.value for p in params if p.name in PARAMETERS}
+        changes = {p.name: p.value for p in params if p.name in HapticConfig.names()}
         if changes:
             try:
                 self.bridge.configure(**changes)

@@ -29,6 +29,7 @@ from .sim import profiles
 from .sim.sensor import BridgeSimulator
 from .workflows import CalibrationConfig, compensate_record
 from .runtime import CompensatorConfig
+from .runtime.sources import SerialSourceConfig, SimSourceConfig
 
 def _print_row(profile, label, e):
     print(f"{profile:<18} {label:<12} {e['rmse_n']:9.4f} {e['max_abs_n']:11.4f} {e['r2']:7.4f}")
@@ -234,9 +235,9 @@ def build_parser():
     sub = parser.add_subparsers(dest="command", required=True)
 
     demo = sub.add_parser("demo", help="live pipeline on the embedded simulator: errors with and without compensation")
-    demo.add_argument("--profile", default="needle_insertion", choices=list(profiles.PROFILE_NAMES) + ["okamura"])
+    demo.add_argument("--profile", default=SimSourceConfig.profile, choices=list(profiles.PROFILE_NAMES) + ["okamura"])
     demo.add_argument("--model", help="model YAML for the compensation node (default: the shipped paper model)")
-    demo.add_argument("--seed", type=int, default=0)
+    demo.add_argument("--seed", type=int, default=SimSourceConfig.seed)
     demo.add_argument("--plot", help="write a PNG of the forces and errors")
     demo.add_argument("--quiet", action="store_true", help="no progress bar")
     demo.set_defaults(func=cmd_demo)
@@ -244,9 +245,9 @@ def build_parser():
     sim = sub.add_parser("simulate", help="offline: simulate the sensor, compensate it, print errors")
     sim.add_argument("--profile", default="all", choices=list(profiles.PROFILE_NAMES) + ["okamura", "all"])
     sim.add_argument("--model", help="model YAML (default: the shipped paper model)")
-    sim.add_argument("--rate", type=float, default=1000.0, help="sample rate in Hz")
-    sim.add_argument("--noise-v", type=float, default=1e-3, help="bridge noise, V (1 sigma)")
-    sim.add_argument("--seed", type=int, default=0)
+    sim.add_argument("--rate", type=float, default=SimSourceConfig.rate_hz, help="sample rate in Hz")
+    sim.add_argument("--noise-v", type=float, default=SimSourceConfig.noise_std_v, help="bridge noise, V (1 sigma)")
+    sim.add_argument("--seed", type=int, default=SimSourceConfig.seed)
     sim.set_defaults(func=cmd_simulate)
 
     cal = sub.add_parser("calibrate", help="fit the model from a creep bag and write the model YAML")
@@ -349,7 +350,7 @@ def build_parser():
                         "link, rate, zero-load counts and noise floor, PASS/FAIL each (exit 0 pass, 1 fail, 2 bad input)")
     cd.add_argument("--port", required=True, help="serial device of the ADC, e.g. /dev/serial/by-id/usb-...")
     cd.add_argument("--samples", type=int, default=1000, help="samples judged (default 1000: 1 s at 1 kHz)")
-    cd.add_argument("--baud", type=int, default=921600, help="serial baud rate (ignored by USB CDC devices)")
+    cd.add_argument("--baud", type=int, default=SerialSourceConfig.baud, help="serial baud rate (ignored by USB CDC devices)")
     cd.add_argument("--timeout", type=float, help="seconds to wait for the info, a status and the samples "
                     "(default 5 + 2 ms per sample)")
     cd.add_argument("--max-noise-uv", type=float, default=5.0, help="noise limit, uV rms input-referred (default 5)")

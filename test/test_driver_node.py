@@ -173,3 +173,12 @@ def test_profile_waits_for_its_subscriber_and_restarts_on_request():
         assert h.spin_until(lambda: len(listener.raw) > n_before + 50, 10.0)
         restarted = [m for m in listener.raw[n_before:] if stamp_to_ns(m.header.stamp) == driver.start_ns]
         assert restarted and driver.start_ns > stamp_to_ns(first.header.stamp)
+
+
+def test_sim_source_profiles_are_those_the_simulator_makes():
+    """The profiles the sim source's ``profile`` setting names are exactly those ``make_profile`` takes."""
+    from polyforce_ros.runtime.sources import SIM_PROFILES
+
+    assert SIM_PROFILES == (*profiles.PROFILE_NAMES, "okamura")
+    for name in SIM_PROFILES[:-1]:
+        profiles.make_profile(name, rate_hz=100.0)

@@ -33,7 +33,6 @@ from __future__ import annotations
 
 from collections import deque
 
-import numpy as np
 from geometry_msgs.msg import WrenchStamped
 from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
 from rclpy.node import Node
@@ -42,16 +41,14 @@ from std_msgs.msg import Header, String
 from std_srvs.srv import Trigger
 
 from ..model_file import default_model_path, load_model
-from ..runtime.sources import SerialSource, SimulatedSource
+from ..runtime.sources import (RATE_WARN_FRACTION, DriverConfig, SerialSource, SerialSourceConfig, SimSourceConfig,
+                               SimulatedSource)
 from ..serial_protocol import REQUEST_INFO, REQUEST_STATUS
 from ..sim import profiles
 from ..sim.sensor import BridgeSimulator
 from .. import contract
-from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, latched_qos,
-                     ns_to_stamp, run)
-
-#: Serial backend: WARN when fewer than this fraction of expected_rate_hz frames arrive (covers ADC oscillator tolerance).
-RATE_WARN_FRACTION = 0.95
+from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, declare_settings,
+                     latched_qos, ns_to_stamp, read_settings, run)
 
 
 class _DriverLogic(PolyforceNode):
@@ -61,49 +58,20 @@ class _DriverLogic(PolyforceNode):
     _active = True
 
     def _declare_parameters(self):
-        declare(self, "backend", "sim", "Data source: 'sim' (embedded simulator) or 'serial' (ADC)", read_only=True)
-        declare(self, "rate_hz", 1000.0, "Sample rate of the simulator (Hz)", 1.0, 20000.0, read_only=True)
-        declare(self, "joint_name", contract.JOINT_NAME, "JointState name of the sensor's prismatic joint", read_only=True)
-        declare(self, "frame_id", contract.FRAME_ID, "Frame of the sensor", read_only=True)
-        declare(self, "publish_period_s", 0.002,
-                "Timer period; samples due are published each tick (s)", 0.0005, 0.1, read_only=True)
-        declare(self, "profile", "needle_insertion",
-                f"Simulated force profile: {', '.join(profiles.PROFILE_NAMES)}, okamura", read_only=True)
-        declare(self, "loop", True, "Restart the profile when it ends (else stop publishing)", read_only=True)
-        declare(self, "truth_model_file", "",
-                "Model YAML of the simulated sensor (may add nonlinear_gain, sensor_lag, thermal_drift, offset_drift "
-                "elements); empty = shipped paper model", read_only=True)
-        declare(self, "noise_std_v", 1e-3, "Simulated bridge noise, 1 sigma (V)", 0.0, 1.0, read_only=True)
-        declare(self, "adc_bits", 16, "Simulated ADC resolution (bits, 0 = none)", 0, 32, read_only=True)
-        declare(self, "offset_v", 0.05, "Simulated bridge output at zero force (V)", -5.0, 5.0, read_only=True)
-        declare(self, "temperature_c", 24.0, "Simulated mean temperature (degC)", -40.0, 125.0, read_only=True)
-        declare(self, "temperature_amplitude_c", 0.0,
-                "Amplitude of a sinusoidal temperature swing (degC)", 0.0, 50.0, read_only=True)
-        declare(self, "temperature_period_s", 600.0, "Period of the temperature swing (s)", 1.0, 1e6, read_only=True)
-        declare(self, "seed", 0, "Noise and profile seed", 0, 2**31 - 1, read_only=True)
-        declare(self, "wait_for_subscribers", 0,
-                "Sim: start the profile once this many subscribers of bridge_voltage are matched (0 = at once), so a "
-                "recorder started first records it from its first sample (DDS matches late joiners only after seconds)",
-                0, 100, read_only=True)
-        declare(self, "port", "/dev/ttyACM0", "Serial device of the ADC", read_only=True)
-        declare(self, "baud", 921600, "Serial baud rate", 1200, 12000000, read_only=True)
-        declare(self, "volts_per_count", 10.0 / 2**24, "ADC scale (V per count)", 1e-12, 1.0, read_only=True)
-        declare(self, "volts_offset", 0.0, "Volts added after scaling (V)", -100.0, 100.0, read_only=True)
-        declare(self, "reconnect_period_s", 0.5, "Delay between attempts to reopen the port (s)", 0.01, 60.0, read_only=True)
-        declare(self, "expected_rate_hz", 1000.0, "Serial: frame rate the device should deliver; diagnostics WARN below "
-                f"{RATE_WARN_FRACTION:.0%} of it in two consecutive rate windows (Hz, 0 = no check)", 0.0, 100000.0,
-                read_only=True)
-        declare(self, "rate_window_s", 3.0, "Serial: window over which the received frame rate is measured (s)", 0.1, 600.0,
-                read_only=True)
+        for config_type in (DriverConfig, SimSourceConfig, SerialSourceConfig):
+            declare_settings(self, config_type)
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
         declare_qos(self)
+        # read-only parameters: read once, here
+        self.config = read_settings(self, DriverConfig)
+        self.sim_config = read_settings(self, SimSourceConfig)
+        self.serial_config = read_settings(self, SerialSourceConfig)
 
     def _start(self, create_publisher):
         """Open the source (simulator or serial port) and the topics; raises on bad parameters or files."""
-        backend = self._param("backend")
+        backend = self.config.backend
         self._make_publisher, self._entities = create_publisher, []
-        # Read-only parameters used for every published sample: read once.
-        self._joint, self._frame = self._param("joint_name"), self._param("frame_id")
+        self._joint, self._frame = self.config.joint_name, self.config.frame_id
         qos = data_qos(self)
         self.pub_raw = create_publisher(JointState, contract.Rel.BRIDGE_VOLTAGE, qos)
         # a (re)start of the simulated profile or a device reset: compensation_node clears its history and zeroes
@@ -120,12 +88,9 @@ class _DriverLogic(PolyforceNode):
             raise ValueError(f"backend must be 'sim' or 'serial', got {backend!r}")
         self._entities.append(self.create_timer(self.get_parameter("diagnostics_period_s").value, self._publish_diagnostics))
 
-    def _param(self, name):
-        return self.get_parameter(name).value
-
     @property
     def diagnostics_name(self) -> str:
-        return f"polyforce_ros: driver ({self._param('backend')})"
+        return f"polyforce_ros: driver ({self.config.backend})"
 
     def _raw_message(self, stamp_ns, volts):
         msg = JointState(name=[self._joint], position=[float(volts)])
@@ -137,16 +102,17 @@ class _DriverLogic(PolyforceNode):
     def _init_sim(self, qos):
         self.pub_ref = self._make_publisher(WrenchStamped, contract.Rel.REFERENCE_FORCE, qos)
         self.pub_temp = self._make_publisher(Temperature, contract.Rel.TEMPERATURE, 10)
-        path = self._param("truth_model_file") or str(default_model_path())
-        chain = load_model(path).chain.with_offset(self._param("offset_v"))  # the bridge zero is a property of this sensor
-        self.rate_hz = float(self._param("rate_hz"))
-        self.profile_t, profile_f = profiles.make_profile(self._param("profile"), rate_hz=self.rate_hz, seed=self._param("seed"))
-        noise, bits, seed = self._param("noise_std_v"), self._param("adc_bits"), self._param("seed")
-        self.source = SimulatedSource(lambda: BridgeSimulator(chain=chain, noise_std_v=noise, adc_bits=bits, seed=seed),
-                                      profile_f, self.rate_hz, self.temperature_at, loop=self._param("loop"))
-        self._entities += [self.create_timer(self._param("publish_period_s"), self._sim_tick),
+        cfg = self.sim_config
+        path = cfg.truth_model_file or str(default_model_path())
+        chain = load_model(path).chain.with_offset(cfg.offset_v)  # the bridge zero is a property of this sensor
+        self.rate_hz = float(cfg.rate_hz)
+        self.profile_t, profile_f = profiles.make_profile(cfg.profile, rate_hz=self.rate_hz, seed=cfg.seed)
+        self.source = SimulatedSource(
+            lambda: BridgeSimulator(chain=chain, noise_std_v=cfg.noise_std_v, adc_bits=cfg.adc_bits, seed=cfg.seed),
+            profile_f, self.rate_hz, cfg.temperature_at, loop=cfg.loop)
+        self._entities += [self.create_timer(self.config.publish_period_s, self._sim_tick),
                            self.create_service(Trigger, "~/restart_profile", self._on_restart_profile)]
-        self.get_logger().info(f"sim backend: profile {self._param('profile')} ({self.period_n / self.rate_hz:.1f} s), "
+        self.get_logger().info(f"sim backend: profile {cfg.profile} ({self.period_n / self.rate_hz:.1f} s), "
                                f"{self.rate_hz:.0f} Hz, truth {chain.viscoelastic}")
 
     # the source's state, read by diagnostics, the run loop, the demo and tests
@@ -156,12 +122,6 @@ class _DriverLogic(PolyforceNode):
     done = property(lambda self: getattr(self.source, "done", False))
     parser = property(lambda self: self.source.parser)
     clock = property(lambda self: self.source.clock)
-
-    def temperature_at(self, t_s):
-        """Simulated temperature (degC): mean plus an optional sinusoidal swing."""
-        amplitude = self._param("temperature_amplitude_c")
-        swing = amplitude * np.sin(2 * np.pi * np.asarray(t_s) / self._param("temperature_period_s")) if amplitude else 0.0
-        return np.broadcast_to(self._param("temperature_c") + swing, np.shape(t_s)).astype(float)
 
     def _on_restart_profile(self, request, response):
         """Start the profile again from its first sample, stamped from now, with a relaxed sensor."""
@@ -176,7 +136,7 @@ class _DriverLogic(PolyforceNode):
             return
         now = self.get_clock().now().nanoseconds
         if not self.source.started:
-            if self.pub_raw.get_subscription_count() < self._param("wait_for_subscribers"):
+            if self.pub_raw.get_subscription_count() < self.sim_config.wait_for_subscribers:
                 return  # matched readers are counted by DDS itself: what is published next reaches them
             self.source.start(now)
             self._publish_sensor_reset(now)
@@ -200,7 +160,8 @@ class _DriverLogic(PolyforceNode):
 
     # ------------------------------------------------------------------ serial
     def _init_serial(self):
-        self.source = SerialSource(self._param("volts_per_count"), self._param("volts_offset"))
+        cfg = self.serial_config
+        self.source = SerialSource(cfg.volts_per_count, cfg.volts_offset)
         self.port = None
         self.outages = 0
         self.connected = False
@@ -212,21 +173,21 @@ class _DriverLogic(PolyforceNode):
         self.pub_serial = self._make_publisher(String, contract.Rel.SENSOR_SERIAL, latched_qos())
         self._published_serial = None  # the sensor serial last published
         self._open_port()
-        self._entities += [self.create_timer(self._param("publish_period_s"), self._serial_tick),
-                           self.create_timer(self._param("reconnect_period_s"), self._reconnect)]
+        self._entities += [self.create_timer(self.config.publish_period_s, self._serial_tick),
+                           self.create_timer(cfg.reconnect_period_s, self._reconnect)]
 
     def _open_port(self):
         import serial
 
         try:
-            self.port = serial.Serial(self._param("port"), self._param("baud"), timeout=0)
+            self.port = serial.Serial(self.serial_config.port, self.serial_config.baud, timeout=0)
         except (serial.SerialException, OSError) as exc:
             self.port = None
             self._last_error = str(exc)
             return False
         self.source.reset()
         self.connected = True
-        self.get_logger().info(f"serial port {self._param('port')} open")
+        self.get_logger().info(f"serial port {self.serial_config.port} open")
         self._request_identity()
         return True
 
@@ -247,7 +208,7 @@ class _DriverLogic(PolyforceNode):
         self._close_port()
         if self.connected:
             self.outages += 1
-            self.get_logger().error(f"serial device lost ({reason}); retrying every {self._param('reconnect_period_s')} s")
+            self.get_logger().error(f"serial device lost ({reason}); retrying every {self.serial_config.reconnect_period_s} s")
         self.connected = False
         self._last_error = reason
 
@@ -315,22 +276,22 @@ class _DriverLogic(PolyforceNode):
             return
         if window is None:
             self._rate_window = (now, self.parser.frames, self.outages)
-        elif now - window[0] >= self._param("rate_window_s") * 1e9:
+        elif now - window[0] >= self.serial_config.rate_window_s * 1e9:
             self._window_rates.append((self.parser.frames - window[1]) * 1e9 / (now - window[0]))
             self._rate_window = (now, self.parser.frames, self.outages)
 
     def _publish_diagnostics(self):
         values = {"published": self.published}
-        if self._param("backend") == "sim":
+        if self.config.backend == "sim":
             level, message = OK, "simulating"
-            values.update(profile=self._param("profile"), rate_hz=self.rate_hz)
+            values.update(profile=self.sim_config.profile, rate_hz=self.rate_hz)
             if self.done:
                 level, message = WARN, "profile finished (loop is false)"
         else:
             self._count_rate_window()
-            rates, expected = self._window_rates, self._param("expected_rate_hz")
+            rates, expected = self._window_rates, self.serial_config.expected_rate_hz
             rate = rates[-1] if rates else None
-            values.update(port=self._param("port"), connected=self.connected, frames=self.parser.frames,
+            values.update(port=self.serial_config.port, connected=self.connected, frames=self.parser.frames,
                           crc_errors=self.parser.crc_errors, lost_frames=self.parser.lost_frames, outages=self.outages,
                           duplicate_frames=self.parser.duplicates, reordered_frames=self.parser.reordered,
                           seq_jumps=self.parser.seq_jumps,
@@ -359,7 +320,7 @@ class _DriverLogic(PolyforceNode):
             values["device_info"] = "not received (asked for at connection; firmware without messages sends none)"
         else:
             values.update(info.values())
-            vpc, expected = self._param("volts_per_count"), self._param("expected_rate_hz")
+            vpc, expected = self.serial_config.volts_per_count, self.serial_config.expected_rate_hz
             if abs(info.volts_per_count - vpc) > 1e-6 * abs(vpc):
                 problems.append(f"device reports volts_per_count {info.volts_per_count!r}, parameter is {vpc!r}")
             if expected > 0 and abs(info.rate_hz - expected) > 0.005 * expected:
@@ -397,11 +358,11 @@ class DriverLifecycleNode(ManagedNode, _DriverLogic, LifecycleNode):
 
     def _configure(self) -> None:
         super()._configure()
-        if self._param("backend") == "serial" and not self.connected:
-            raise OSError(f"cannot open {self._param('port')}: {self._last_error}")
+        if self.config.backend == "serial" and not self.connected:
+            raise OSError(f"cannot open {self.serial_config.port}: {self._last_error}")
 
     def on_activate(self, state):
-        if self._param("backend") == "sim":
+        if self.config.backend == "sim":
             self.source.restart()
             self.published = 0
         elif self.port is not None:

@@ -8,7 +8,10 @@
   onto host time by :class:`~polyforce_ros.serial_protocol.DeviceClock`, which drops
   implausible device times; every frame of one read gets its own stamp).
 
-``driver_node`` (both variants) owns one of them and only publishes what it returns.
+``driver_node`` (both variants) owns one of them and only publishes what it returns. Its settings
+are declared once, with default, description and range (:func:`~polyforce_ros.settings.setting`), in
+:class:`DriverConfig` (every backend), :class:`SimSourceConfig` and :class:`SerialSourceConfig`; the
+node declares a parameter of each field and builds its source from them.
 """
 from __future__ import annotations
 
@@ -18,15 +21,86 @@ from typing import Callable, Optional
 import numpy as np
 import numpy.typing as npt
 
+from .. import contract
 from ..serial_protocol import DeviceClock, FrameParser
 from ..serial_protocol import DeviceInfo, DeviceStatus, DeviceTemperature, MessageDemux
+from ..settings import setting
 
-__all__ = ["SimBlock", "SimulatedSource", "SerialSource", "SIM_BLOCK", "MAX_BURST"]
+__all__ = ["SimBlock", "SimulatedSource", "SerialSource", "SIM_BLOCK", "MAX_BURST",
+           "DriverConfig", "SimSourceConfig", "SerialSourceConfig", "SIM_PROFILES", "RATE_WARN_FRACTION"]
 
 #: Samples simulated ahead per block (1 s at 1 kHz): small enough not to stall a caller.
 SIM_BLOCK = 1000
 #: At most this many samples are handed out per call (a long stall is caught up gradually).
 MAX_BURST = 250
+#: Force profiles the simulated source plays: the names ``polyforce_ros.sim.profiles.make_profile`` takes.
+SIM_PROFILES = ("creep", "sawtooth", "step", "sine_sweep", "resolution", "needle_insertion", "okamura")
+#: Serial backend: WARN when fewer than this fraction of expected_rate_hz frames arrive (covers ADC oscillator tolerance).
+RATE_WARN_FRACTION = 0.95
+
+
+@dataclass(frozen=True)
+class DriverConfig:
+    """Settings of the driver whatever its backend, each declared once with its description and range
+    (:func:`~polyforce_ros.settings.setting`); ``driver_node`` declares a parameter of each."""
+
+    backend: str = setting("sim", "Data source: 'sim' (embedded simulator) or 'serial' (ADC)", read_only=True)
+    joint_name: str = setting(contract.JOINT_NAME, "JointState name of the sensor's prismatic joint", read_only=True)
+    frame_id: str = setting(contract.FRAME_ID, "Frame of the sensor", read_only=True)
+    publish_period_s: float = setting(
+        0.002, "Timer period; samples due are published each tick (s)", 0.0005, 0.1, read_only=True)
+
+
+@dataclass(frozen=True)
+class SimSourceConfig:
+    """Settings of the simulated source (``backend: sim``): the simulated sensor, its force profile and
+    temperature, each declared once with its description and range; ``driver_node`` declares a parameter of
+    each, ``polyforce simulate`` and ``polyforce demo`` take their defaults from them."""
+
+    rate_hz: float = setting(1000.0, "Sample rate of the simulator (Hz)", 1.0, 20000.0, read_only=True)
+    profile: str = setting("needle_insertion", f"Simulated force profile: {', '.join(SIM_PROFILES)}", read_only=True)
+    loop: bool = setting(True, "Restart the profile when it ends (else stop publishing)", read_only=True)
+    truth_model_file: str = setting(
+        "", "Model YAML of the simulated sensor (may add nonlinear_gain, sensor_lag, thermal_drift, offset_drift "
+        "elements); empty = shipped paper model", read_only=True)
+    noise_std_v: float = setting(1e-3, "Simulated bridge noise, 1 sigma (V)", 0.0, 1.0, read_only=True)
+    adc_bits: int = setting(16, "Simulated ADC resolution (bits, 0 = none)", 0, 32, read_only=True)
+    offset_v: float = setting(0.05, "Simulated bridge output at zero force (V)", -5.0, 5.0, read_only=True)
+    temperature_c: float = setting(24.0, "Simulated mean temperature (degC)", -40.0, 125.0, read_only=True)
+    temperature_amplitude_c: float = setting(
+        0.0, "Amplitude of a sinusoidal temperature swing (degC)", 0.0, 50.0, read_only=True)
+    temperature_period_s: float = setting(600.0, "Period of the temperature swing (s)", 1.0, 1e6, read_only=True)
+    seed: int = setting(0, "Noise and profile seed", 0, 2**31 - 1, read_only=True)
+    wait_for_subscribers: int = setting(
+        0, "Sim: start the profile once this many subscribers of bridge_voltage are matched (0 = at once), so a "
+        "recorder started first records it from its first sample (DDS matches late joiners only after seconds)",
+        0, 100, read_only=True)
+
+    def temperature_at(self, t_s: npt.ArrayLike) -> npt.NDArray[np.float64]:
+        """Simulated temperature (degC) at the times ``t_s`` (s): the mean plus the optional sinusoidal swing."""
+        amplitude = self.temperature_amplitude_c
+        swing = amplitude * np.sin(2 * np.pi * np.asarray(t_s) / self.temperature_period_s) if amplitude else 0.0
+        return np.broadcast_to(self.temperature_c + swing, np.shape(t_s)).astype(float)
+
+
+@dataclass(frozen=True)
+class SerialSourceConfig:
+    """Settings of the serial source (``backend: serial``): the port, the scaling of counts to volts and the
+    rate check, each declared once with its description and range; ``driver_node`` declares a parameter of
+    each, ``polyforce check-device`` takes its default baud rate from them."""
+
+    port: str = setting("/dev/ttyACM0", "Serial device of the ADC", read_only=True)
+    baud: int = setting(921600, "Serial baud rate", 1200, 12000000, read_only=True)
+    volts_per_count: float = setting(10.0 / 2**24, "ADC scale (V per count)", 1e-12, 1.0, read_only=True)
+    volts_offset: float = setting(0.0, "Volts added after scaling (V)", -100.0, 100.0, read_only=True)
+    reconnect_period_s: float = setting(
+        0.5, "Delay between attempts to reopen the port (s)", 0.01, 60.0, read_only=True)
+    expected_rate_hz: float = setting(
+        1000.0, "Serial: frame rate the device should deliver; diagnostics WARN below "
+        f"{RATE_WARN_FRACTION:.0%} of it in two consecutive rate windows (Hz, 0 = no check)", 0.0, 100000.0,
+        read_only=True)
+    rate_window_s: float = setting(
+        3.0, "Serial: window over which the received frame rate is measured (s)", 0.1, 600.0, read_only=True)
 
 
 @dataclass(frozen=True)

@@ -269,7 +269,7 @@ def _convolve_uniform(h: float, u_all: np.ndarray, r: float, y_start: npt.ArrayL
     drive = h * (alpha * u_all[:-1] + beta * u_all[1:])
     zi = e * np.reshape(np.broadcast_to(y_start, u_all.shape[1:]), (1,) + u_all.shape[1:])
     y, _ = signal.lfilter([1.0], [1.0, -e], drive, axis=0, zi=zi)
-    return y
+    return np.asarray(y)
 
 
 def _convolve_irregular(h: np.ndarray, u_all: np.ndarray, r: float, y_start: float) -> np.ndarray:
@@ -297,7 +297,7 @@ def _convolve_irregular(h: np.ndarray, u_all: np.ndarray, r: float, y_start: flo
             y[start:stop] = np.exp(-big_z) * (y_in + acc)
         y_in = y[stop - 1]
         start = stop
-    return y
+    return np.asarray(y)
 
 
 def exp_convolve_columns(t_s: npt.ArrayLike, u: npt.ArrayLike, rate_per_s: float) -> np.ndarray:

@@ -13,7 +13,7 @@ when it was fitted).
 from __future__ import annotations
 
 import math
-from typing import Callable, Iterable, Optional, Sequence
+from typing import Callable, Iterable, Optional, Sequence, cast
 
 import numpy as np
 import numpy.typing as npt
@@ -45,7 +45,7 @@ def model_type(name_or_type: str | type[ViscoelasticModel]) -> type[Viscoelastic
         raise ValueError(f"unknown model type {name_or_type!r}; known: {sorted(MODEL_TYPES)}") from None
 
 
-def check_model_types(names: Iterable) -> tuple[str, ...]:
+def check_model_types(names: Iterable[object]) -> tuple[str, ...]:
     """The names, validated (``ValueError`` naming the unknown ones); at least one."""
     names = tuple(names)
     unknown = [n for n in names if not isinstance(n, str) or n not in MODEL_TYPES]
@@ -53,7 +53,7 @@ def check_model_types(names: Iterable) -> tuple[str, ...]:
         raise ValueError(f"unknown model types {unknown}; known: {sorted(MODEL_TYPES)}")
     if not names:
         raise ValueError("no model type to fit")
-    return names
+    return cast(tuple[str, ...], names)
 
 
 def log_bounds(n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -61,7 +61,7 @@ def log_bounds(n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.full(n, LOG_BOUNDS[0]), np.full(n, LOG_BOUNDS[1])
 
 
-def multistart_least_squares(residual: Callable[[np.ndarray], np.ndarray], starts: Sequence, lower: npt.ArrayLike,
+def multistart_least_squares(residual: Callable[[np.ndarray], np.ndarray], starts: Sequence[npt.ArrayLike], lower: npt.ArrayLike,
                              upper: npt.ArrayLike, max_nfev: Optional[int] = None) -> optimize.OptimizeResult:
     """:func:`scipy.optimize.least_squares` (trf, Jacobian scaling) from every start; the lowest cost wins.
 
@@ -86,7 +86,7 @@ def log_standard_errors(sol: optimize.OptimizeResult, n: int, p: int) -> np.ndar
     """
     sigma2 = 2.0 * float(sol.cost) / max(n - p, 1)
     cov_log = sigma2 * np.linalg.pinv(sol.jac.T @ sol.jac)
-    return np.exp(sol.x) * np.sqrt(np.clip(np.diag(cov_log), 0.0, None))
+    return np.asarray(np.exp(sol.x) * np.sqrt(np.clip(np.diag(cov_log), 0.0, None)))
 
 
 def block_jackknife_standard_errors(left_out_estimates: npt.ArrayLike) -> np.ndarray:
@@ -114,7 +114,7 @@ def block_jackknife_standard_errors(left_out_estimates: npt.ArrayLike) -> np.nda
     if k < 2:
         raise ValueError("a jackknife needs at least two left-out estimates")
     spread = estimates - estimates.mean(axis=0)
-    return np.sqrt((k - 1) / k * np.sum(spread * spread, axis=0))
+    return np.asarray(np.sqrt((k - 1) / k * np.sum(spread * spread, axis=0)))
 
 
 def information_criteria(rss: float, n: int, p: int) -> tuple[float, float]:

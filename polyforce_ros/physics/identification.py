@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable, Iterable, Optional
+from typing import Any, Callable, Iterable, Optional
 
 import numpy as np
 import numpy.typing as npt
@@ -140,7 +140,7 @@ class FitResult:
     """
 
     model: ViscoelasticModel
-    stderr: dict
+    stderr: dict[str, float]
     offset_v: float
     r2: float
     rmse_v: float
@@ -156,11 +156,11 @@ class FitResult:
         return self.model.kind
 
     @property
-    def parameters(self) -> dict:
+    def parameters(self) -> dict[str, float]:
         """Fitted parameters by name, in their units (N/V, N s/V)."""
         return self.model.as_dict()
 
-    def summary(self) -> dict:
+    def summary(self) -> dict[str, Any]:
         """JSON-ready fit report: model, parameters and standard errors, offset [V], R^2, RMSE [V], criteria."""
         return {
             "model": self.kind,
@@ -179,8 +179,8 @@ class FitResult:
 class Selection:
     """All fits, best (lowest BIC) first."""
 
-    fits: list = field(default_factory=list)
-    segments: list = field(default_factory=list)
+    fits: list[FitResult] = field(default_factory=list)
+    segments: list[CreepSegment] = field(default_factory=list)
 
     @property
     def best(self) -> FitResult:
@@ -237,8 +237,9 @@ def fit_creep(model_type: str | type[ViscoelasticModel], t_s: npt.ArrayLike, for
     def residual(log_params: np.ndarray) -> np.ndarray:
         model = model_type.from_vector(np.exp(log_params))
         gamma = simulate_deformation(model, td, fd)[use]
-        r = vu - gamma
-        return r - r.mean()
+        r: np.ndarray = vu - gamma
+        centred: np.ndarray = r - r.mean()
+        return centred
 
     lower, upper = log_bounds(len(model_type.parameter_names()))
     best = multistart_least_squares(residual, _initial_guesses(model_type, td, fd, vd, seg_d), lower, upper)

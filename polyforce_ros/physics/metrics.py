@@ -33,7 +33,7 @@ def r_squared(reference: npt.ArrayLike, estimate: npt.ArrayLike) -> float:
     return float(1.0 - (res @ res) / (tot @ tot))
 
 
-def error_summary(reference: npt.ArrayLike, estimate: npt.ArrayLike) -> dict:
+def error_summary(reference: npt.ArrayLike, estimate: npt.ArrayLike) -> dict[str, float]:
     """RMSE (N), largest error (N) and R^2 of a force estimate against the reference force."""
     return {
         "rmse_n": rmse(reference, estimate),
@@ -60,7 +60,7 @@ def hysteresis_percent(input_signal: npt.ArrayLike, output_signal: npt.ArrayLike
 
     def branch(us: np.ndarray, ys: np.ndarray) -> np.ndarray:
         order = np.argsort(us, kind="stable")
-        return np.interp(grid, us[order], ys[order])
+        return np.asarray(np.interp(grid, us[order], ys[order]), dtype=float)
 
     return float(100.0 * np.max(np.abs(branch(u[peak:], y[peak:]) - branch(u[: peak + 1], y[: peak + 1]))))
 

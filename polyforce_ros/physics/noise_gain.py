@@ -79,14 +79,14 @@ def _reference_temperature(chain: SensorChain) -> Optional[float]:
     return None
 
 
-def _response(chain: SensorChain, t_s: np.ndarray, noise_v: np.ndarray, aux: Optional[dict]) -> np.ndarray:
+def _response(chain: SensorChain, t_s: np.ndarray, noise_v: np.ndarray, aux: Optional[dict[str, np.ndarray]]) -> np.ndarray:
     """The chain's force response to ``noise_v`` about its rest point (the rest run subtracted), N."""
     rest = np.full(t_s.size, chain.offset_v)
     with np.errstate(all="ignore"):  # a degenerate inverse shows as a non-finite gain, reported, not raised
         out = chain.backward(t_s, rest + noise_v, aux) - chain.backward(t_s, rest, aux)
     if not np.all(np.isfinite(out)):
         return np.full(t_s.size, np.inf)
-    return signal.detrend(out)  # a slow walk of an integrating element is not noise at the master
+    return np.asarray(signal.detrend(out))  # a slow walk of an integrating element is not noise at the master
 
 
 def _gain(out: np.ndarray, noise_v: np.ndarray) -> float:
@@ -96,7 +96,7 @@ def _gain(out: np.ndarray, noise_v: np.ndarray) -> float:
     return float(np.sqrt(np.mean(out ** 2)) / np.sqrt(np.mean(noise_v ** 2)))
 
 
-def _probe(chain: SensorChain, rate_hz: float, seed: int) -> tuple[np.ndarray, np.ndarray, Optional[dict]]:
+def _probe(chain: SensorChain, rate_hz: float, seed: int) -> tuple[np.ndarray, np.ndarray, Optional[dict[str, np.ndarray]]]:
     """Sample times [s], white noise [V] and the auxiliary signals (the thermal reference) of the probe."""
     if not (np.isfinite(rate_hz) and rate_hz > 0):
         raise ValueError(f"rate_hz must be positive and finite, got {rate_hz!r}")

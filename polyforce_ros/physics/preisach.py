@@ -58,7 +58,7 @@ class PreisachModel:
     @property
     def n_levels(self) -> int:
         """Number n of input levels (the density is n x n)."""
-        return self.density.shape[0]
+        return int(self.density.shape[0])
 
     @property
     def n_hysterons(self) -> int:
@@ -463,7 +463,7 @@ class ContinuousPreisachStream:
         else:
             return self.u
         self.forward(u)
-        return u
+        return float(u)
 
 
 def _solve_ramp(weights: npt.NDArray[np.float64], values: npt.NDArray[np.float64], need: float) -> float:

@@ -65,14 +65,17 @@ class PatchSensor:
         p = np.asarray(pressure_pa, dtype=float)
         dp = np.gradient(p, np.asarray(t_s, dtype=float)) if p.size > 1 else np.zeros_like(p)
         g = self.geometry(length_m)
-        return self.a_eff_m2 * (self.c0_pa + (self.k0 + self.k1 * g) * p + self.c2_per_pa * p * p + self.c3_s * dp)
+        force_n: np.ndarray = self.a_eff_m2 * (self.c0_pa + (self.k0 + self.k1 * g) * p + self.c2_per_pa * p * p
+                                               + self.c3_s * dp)
+        return force_n
 
     def voltage(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike) -> np.ndarray:
         """Eq. 11: tau V' + V = kappa F + b, started at rest (V = b + kappa F(0))."""
         f = np.asarray(force_n, dtype=float)
         lag = SensorLagElement(tau_s=self.tau_s)
         drive = self.kappa_v_per_n * f
-        return self.b_v + drive[0] + lag.forward(t_s, drive - drive[0])
+        out: np.ndarray = self.b_v + drive[0] + lag.forward(t_s, drive - drive[0])
+        return out
 
     def force_from_voltage(self, t_s: npt.ArrayLike, voltage_v: npt.ArrayLike,
                            cutoff_hz: Optional[float] = None) -> np.ndarray:
@@ -138,7 +141,8 @@ def identify_patch_sensor(t_s: npt.ArrayLike, pressure_pa: npt.ArrayLike, length
     def residual(x: np.ndarray) -> np.ndarray:
         if x[_FITTED.index("tau_s")] <= 0:
             return np.full(v.size, 1e3)
-        return model(x)[1] - v
+        r: np.ndarray = model(x)[1] - v
+        return r
 
     lower = np.full(x0.size, -np.inf)
     lower[_FITTED.index("tau_s")] = 1e-4 / scale[_FITTED.index("tau_s")]

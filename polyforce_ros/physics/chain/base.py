@@ -269,7 +269,7 @@ def check_number(kind: str, key: str, value: Any, positive: bool) -> float:
     if bounds is not None and not (bounds[0] <= value <= bounds[1]):
         if not (value == 0.0 and key in _ZERO_MEANS_OFF):
             raise ModelError(f"{kind}: {key} = {value!r} is outside the allowed range {_range_text(key)}")
-    return value
+    return float(value)
 
 
 def check_keys(kind: str, mapping: object, expected: Collection[str], optional: Collection[str] = ()) -> None:

@@ -270,7 +270,8 @@ class SplineDriftElement(_TimeDriftElement):
 
     def _term(self, s: FloatOrArray) -> FloatOrArray:
         s = np.asarray(s, dtype=float)
-        return self._spline(np.clip(s, 0.0, self.knots_s[-1]))
+        drift_v: FloatArray = self._spline(np.clip(s, 0.0, self.knots_s[-1]))
+        return drift_v
 
     @staticmethod
     def basis(s: Numbers, knots_s: Numbers) -> FloatArray:

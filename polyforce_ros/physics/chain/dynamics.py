@@ -182,7 +182,7 @@ class TransportDelayElement(SimpleElement):
         if t.size == 0:
             return x.copy()
         support_t, support_x = np.concatenate([st["t"], t]), np.concatenate([st["x"], x])
-        y = np.interp(t - self.delay_s, support_t, support_x, left=support_x[0])
+        y: FloatArray = np.interp(t - self.delay_s, support_t, support_x, left=support_x[0])
         keep = support_t >= t[-1] - self.delay_s
         keep[max(int(np.argmax(keep)) - 1, 0)] = True  # one sample before the window: the interpolation's left end
         st["t"], st["x"] = support_t[keep], support_x[keep]

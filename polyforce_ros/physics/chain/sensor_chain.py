@@ -59,10 +59,10 @@ class SensorChain:
     runs :meth:`forward` and nothing else (a simulator's truth, never a model file).
     """
 
-    _elements: tuple
+    _elements: tuple[ForwardElement, ...]
     forward_only: bool
 
-    def __init__(self, elements: Sequence[Element], *, forward_only: bool = False) -> None:
+    def __init__(self, elements: Sequence[ForwardElement], *, forward_only: bool = False) -> None:
         items = tuple(elements)
         object.__setattr__(self, "_elements", items)
         object.__setattr__(self, "forward_only", bool(forward_only))
@@ -77,9 +77,18 @@ class SensorChain:
             raise ModelError("a sensor model holds at most one viscoelastic core")
 
     @property
-    def elements(self) -> tuple:
+    def elements(self) -> tuple[ForwardElement, ...]:
         """The elements, force end first (a tuple: a changed chain is a new chain)."""
         return self._elements
+
+    @property
+    def invertible_elements(self) -> tuple[Element, ...]:
+        """The elements, force end first, for the runs a forward-only chain cannot make (backward, streaming,
+        the model file); a :class:`ModelError` for a forward-only chain."""
+        if self.forward_only:
+            raise ModelError("a forward-only chain (a simulator's truth) runs forward only: it has no inverse "
+                             "and no model file")
+        return cast(tuple[Element, ...], self._elements)
 
     def __setattr__(self, name: str, value: Any) -> NoReturn:
         raise AttributeError(f"SensorChain is immutable (tried to set {name}); build a new one "
@@ -208,7 +217,7 @@ class SensorChain:
             Force [N].
         """
         x = np.asarray(voltage_v, dtype=float)
-        for element in reversed(self.elements):
+        for element in reversed(self.invertible_elements):
             x = element.backward(t_s, x, aux)
         return x
 
@@ -220,7 +229,7 @@ class SensorChain:
         ChainStream
             The elements' fresh per-sample inverses from the voltage end [V in, N out].
         """
-        return ChainStream([e.streaming() for e in reversed(self.elements)])
+        return ChainStream([e.streaming() for e in reversed(self.invertible_elements)])
 
     @property
     def latency_s(self) -> float:
@@ -248,7 +257,7 @@ class SensorChain:
         dict
             ``{'elements': [...]}``: each element's :meth:`~Element.to_dict`, force end first.
         """
-        return {"elements": [e.to_dict() for e in self.elements]}
+        return {"elements": [e.to_dict() for e in self.invertible_elements]}
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> Self:

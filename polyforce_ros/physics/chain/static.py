@@ -114,7 +114,8 @@ class NonlinearGainElement(SimpleElement):
                 state: object = None) -> FloatArray:
         """The bent curve ``x + quadratic_per_v * x**2``."""
         x = np.asarray(x, dtype=float)
-        return x + self.quadratic_per_v * x * x
+        y: FloatArray = x + self.quadratic_per_v * x * x
+        return y
 
     def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
         """The root nearest ``y``, ``2 y / (1 + sqrt(1 + 4 q y))``."""

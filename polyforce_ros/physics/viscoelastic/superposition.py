@@ -218,6 +218,7 @@ class _UniformCascade:
         s0 = linalg.solve_triangular(self.residues, amp, trans="T")
         zi = np.zeros((self.sos.shape[0], 2))
         zi[:, 0] = s0
+        force: npt.NDArray[np.float64]
         force, zf = signal.sosfilt(self.sos, g_v, zi=zi)
         amp_end = self.residues.T @ zf[:, 0]
         y_end = (-amp_end / self.ar - h * self.alpha * g_v[-1]) / self.e

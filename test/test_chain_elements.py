@@ -226,3 +226,103 @@ def test_a_thermal_sensitivity_scales_the_span_and_its_inverse_undoes_it_with_a_
     hot = ThermalSensitivityElement(span_coefficient_per_c=-0.05, reference_c=24.0)
     assert hot.backward(t[:1], np.ones(1), {"temperature_c": 100.0})[0] == pytest.approx(5.0)
     assert type(e).from_dict(e.to_dict()).to_dict() == e.to_dict()
+
+
+# -- hysteresis at the bridge, beside the core ---------------------------------------------------------------
+
+def _bridge_family(seed):
+    """A random core of any type, random plays and history, and a force record with jittered stamps and a gap."""
+    from polyforce_ros.physics.chain import BridgeHysteresisElement
+    from polyforce_ros.physics.viscoelastic import MODEL_TYPES
+
+    rng = np.random.default_rng(seed)
+    kind = sorted(MODEL_TYPES)[seed % len(MODEL_TYPES)]
+    n_parameters = len(MODEL_TYPES[kind].parameter_names())
+    core = MODEL_TYPES[kind].from_vector(np.exp(rng.uniform(np.log(2.0), np.log(400.0), n_parameters)))
+    m = int(rng.integers(1, 12))
+    radii = np.sort(rng.uniform(0.01, 3.0, m)) + 1e-3 * np.arange(m)
+    weights = rng.uniform(0.0, 0.05, m) * rng.choice([0.0, 1.0], m, p=[0.2, 0.8])
+    element = BridgeHysteresisElement(ViscoelasticElement(core), radii, weights, linear_v_per_n=float(rng.uniform(0, 0.01)),
+                                      history_max_n=float(rng.choice([0.0, rng.uniform(0.5, 8.0)])))
+    dt = np.abs(1e-3 + rng.normal(0.0, 2e-4, 6000))
+    dt[3000] = 0.5  # a gap
+    t = np.cumsum(dt)
+    force = 5.0 + 4.0 * np.sin(2 * np.pi * t / rng.uniform(0.5, 4.0)) + rng.normal(0.0, 0.05, t.size)
+    return element, t, force
+
+
+@pytest.mark.parametrize("seed", range(14))
+def test_bridge_hysteresis_inverts_exactly_streams_like_batch_and_runs_in_blocks(seed):
+    element, t, force = _bridge_family(seed)
+    chain = SensorChain([element, OffsetElement(0.05)])
+    volts = chain.forward(t, force)
+    assert np.all(np.isfinite(volts))
+    states = chain.forward_states()
+    blocks = np.concatenate([chain.forward(t[i:i + 1000], force[i:i + 1000], states=states) for i in range(0, t.size, 1000)])
+    np.testing.assert_allclose(blocks, volts, rtol=0, atol=1e-9)
+    back = chain.backward(t, volts)
+    scale = np.abs(force).max()
+    # the core's own round trip is exact at a steady rate and has a discretisation error with jittered stamps and
+    # gaps (piecewise-linear force forward, piecewise-linear deformation backward): the plays add none of their own
+    core = SensorChain([element.core, OffsetElement(0.05)])
+    for stamps, record in ((t, back), (np.arange(t.size) * 1e-3, None)):
+        record = chain.backward(stamps, chain.forward(stamps, force)) if record is None else record
+        core_error = np.abs(core.backward(stamps, core.forward(stamps, force)) - force).max()
+        assert np.abs(record - force).max() <= 1.5 * core_error + 1e-7 * scale
+    stream = chain.streaming()
+    streamed = np.array([stream.step(ti, vi) for ti, vi in zip(t[:1500], volts[:1500])])
+    np.testing.assert_allclose(streamed, back[:1500], rtol=0, atol=1e-9 * scale)
+    again = SensorChain.from_dict(chain.to_dict())
+    np.testing.assert_array_equal(again.forward(t, force), volts)
+
+
+def test_bridge_hysteresis_opens_a_loop_the_core_alone_does_not_and_its_inverse_closes_it():
+    from polyforce_ros.physics.chain import BridgeHysteresisElement
+
+    radii = np.geomspace(0.1, 4.0, 8)
+    weights = np.full(8, 0.004)  # V/N: loop height 2 sum(w r) ~ 0.1 V on a core of 1/4.8 V/N
+    element = BridgeHysteresisElement(ViscoelasticElement(PAPER_BURGERS), radii, weights)
+    t = np.arange(0.0, 40.0, 1e-3)
+    force = 10.0 * np.abs(((t / 10.0) % 2.0) - 1.0)[::-1]  # 0-10 N sawtooth, 20 s period
+    with_loop = element.forward(t, force)
+    core_only = ViscoelasticElement(PAPER_BURGERS).forward(t, force)
+    extra = with_loop - core_only
+    up, down = np.gradient(force) > 0, np.gradient(force) < 0
+    mid = np.abs(force - 5.0) < 0.1
+    assert extra[mid & down].mean() - extra[mid & up].mean() > 0.5 * np.sum(weights * np.minimum(radii, 5.0))
+    np.testing.assert_allclose(element.backward(t, with_loop), force, rtol=0, atol=1e-8)
+
+
+@pytest.mark.parametrize("bad, words", [
+    ({"core": {"type": "burgers"}, "radii_n": [0.1], "weights_v_per_n": [0.01]}, "missing keys"),
+    ({"core": 3.0, "radii_n": [0.1], "weights_v_per_n": [0.01]}, "mapping"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "radii_n": [0.1, 0.2], "weights_v_per_n": [0.01, -0.02]},
+     r"weights_v_per_n\[0\] \+ \.\.\."),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "radii_n": [0.2, 0.1], "weights_v_per_n": [0.01, 0.01]},
+     "increasing"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "radii_n": [0.1], "weights_v_per_n": [float("nan")]},
+     "finite"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "radii_n": [0.1], "weights_v_per_n": [0.01],
+      "history_max_n": -1.0}, "history_max_n"),
+])
+def test_bridge_hysteresis_refuses_a_bad_mapping_naming_the_key(bad, words):
+    from polyforce_ros.physics.chain import ELEMENT_TYPES
+
+    with pytest.raises(ModelError, match=words):
+        ELEMENT_TYPES["bridge_hysteresis"].from_dict({"type": "bridge_hysteresis", **bad})
+
+
+def test_the_core_stream_states_its_next_step_as_an_affine_map_without_advancing():
+    from polyforce_ros.physics.viscoelastic import MODEL_TYPES, StreamingCompensator
+
+    rng = np.random.default_rng(3)
+    for kind, model_type in MODEL_TYPES.items():
+        stream = StreamingCompensator(model_type.from_vector(rng.uniform(1.0, 50.0, len(model_type.parameter_names()))))
+        t = 0.0
+        for _ in range(200):
+            t += float(rng.choice([0.0, 1e-3, 5e-3, 0.3]))
+            deformation = float(rng.normal())
+            force0, stiffness = stream.affine(t)
+            assert stream.affine(t) == (force0, stiffness)  # asking twice changes nothing
+            assert stream.step(t, deformation) == pytest.approx(force0 + stiffness * deformation, rel=1e-9, abs=1e-9), kind
+        assert stream.affine(t - 1.0) is None

@@ -212,6 +212,11 @@ PARAMETER_BOUNDS = {
     "radii": (1e-9, 1e6, "", "play half-widths > 0, in the input unit; 1 MN or 1 MV is beyond any sensor"),
     "weights": (-1e6, 1e6, "", "play weights; with linear_weight every partial sum stays > 0 (monotone, invertible)"),
     "history_max": (0.0, 1e6, "", "the input's maximum before the record, in the input unit"),
+    # play operators at the bridge beside the core (bridge_hysteresis): force in, volts out
+    "radii_n": (1e-9, 1e6, "N", "play half-widths > 0; 1 MN is beyond any sensor"),
+    "weights_v_per_n": (-1e3, 1e3, "V/N", "a loop of 1 kV per newton is beyond any bridge"),
+    "linear_v_per_n": (0.0, 1e3, "V/N", "a loop of 1 kV per newton is beyond any bridge"),
+    "history_max_n": (0.0, 1e6, "N", "the force's maximum before the record"),
     # polynomial offset drift: y = x + r t + c2 t**2 + c3 t**3 (t since the first sample)
     # polynomial gain y = x + q x**2 + c x**3 (V in, V out); monotone over the range it was fitted on
     "cubic_per_v2": (-1e3, 1e3, "1/V^2", "100 % nonlinearity at 30 mV already"),

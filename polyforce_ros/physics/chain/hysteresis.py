@@ -1,4 +1,5 @@
-"""Rate-independent hysteresis: the Preisach relay model and the Prandtl-Ishlinskii play operator.
+"""Rate-independent hysteresis: the Preisach relay model, the Prandtl-Ishlinskii play operator, and play
+operators at the bridge beside a viscoelastic core.
 """
 from __future__ import annotations
 
@@ -21,11 +22,12 @@ from .base import (
     check_number,
     short_repr,
 )
+from .core import ViscoelasticElement
 
 if TYPE_CHECKING:  # for annotations only: at run time the Preisach model loads when first used
     from ..preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
 
-__all__ = ["PreisachElement", "play_operator", "PlayHysteresisElement"]
+__all__ = ["PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement"]
 
 
 class _PreisachForwardState(TypedDict):
@@ -321,3 +323,169 @@ class PlayHysteresisElement(Frozen):
         """The element from a model-file mapping."""
         check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
         return cls(d["linear_weight"], d["radii"], d["weights"], d.get("history_max", 0.0))
+
+
+class _BridgeForwardState(TypedDict):
+    core: Any  # the core's ForwardState
+    y: FloatArray  # play states [N]
+
+
+class BridgeHysteresisElement(Frozen):
+    """A viscoelastic core with rate-independent hysteresis at the bridge: applied force (N) -> volts.
+
+        V = core(F) + linear_v_per_n * F + sum_i weights_v_per_n[i] * play_{radii_n[i]}[F] - rest
+
+    The hysteresis acts on the applied force and adds to the deformation without creeping (e.g. strain
+    gauges or their adhesive with a friction-like loop), so it is neither before the core (its loop would
+    creep with it) nor after it (its input would be the creeping deformation). ``rest`` keeps V = core(F)
+    at zero force before the record.
+
+    Parameters (model file keys)
+    ----------------------------
+    core : mapping
+        The viscoelastic core (as a model file's core element).
+    radii_n : list of float > 0, strictly increasing
+        Half-widths of the play operators [N].
+    weights_v_per_n : list of float
+        Weight of each play [V/N]; ``linear_v_per_n`` plus every partial sum of them must be >= 0, so the
+        added term never falls while the force rises and the inverse is unique.
+    linear_v_per_n : float >= 0, optional
+        Weight of the force itself [V/N] (with negative play weights: a stop-type loop).
+    history_max_n : float >= 0, optional
+        The force came down from this value to 0 before the record (plays of radius <= half of it start
+        at their radius); 0 is a virgin sensor.
+
+    The inverse solves, per sample, the core's next step (an affine map of the deformation,
+    :meth:`~polyforce_ros.physics.viscoelastic.StreamingCompensator.affine`) together with the plays,
+    whose sum is piecewise linear in the force: one sweep over the 2 m breakpoints, exact.
+    """
+
+    kind = "bridge_hysteresis"
+    KEYS = ("core", "radii_n", "weights_v_per_n")
+    OPTIONAL = {"linear_v_per_n": 0.0, "history_max_n": 0.0}
+    core: ViscoelasticElement
+    radii_n: FloatArray
+    weights_v_per_n: FloatArray
+    linear_v_per_n: float
+    history_max_n: float
+    _start: FloatArray  # play states after the history [N]
+    _rest_v: float  # the plays' term at zero force before the record [V]
+
+    def __init__(self, core: ViscoelasticElement, radii_n: Numbers, weights_v_per_n: Numbers,
+                 linear_v_per_n: float = 0.0, history_max_n: float = 0.0) -> None:
+        if not isinstance(core, ViscoelasticElement):
+            raise ModelError(f"{self.kind}: core must be a viscoelastic core, got {short_repr(core)}")
+        radii, weights = abscissae_and_values(self.kind, "radii_n", radii_n, "weights_v_per_n", weights_v_per_n)
+        linear = check_number(self.kind, "linear_v_per_n", linear_v_per_n, positive=False)
+        history = check_number(self.kind, "history_max_n", history_max_n, positive=False)
+        if linear < 0 or history < 0:
+            raise ModelError(f"{self.kind}: linear_v_per_n and history_max_n must be >= 0")
+        slopes = linear + np.cumsum(weights)
+        if np.any(slopes < 0):
+            raise ModelError(f"{self.kind}: linear_v_per_n + weights_v_per_n[0] + ... + weights_v_per_n[i] must be "
+                             f">= 0 for every i (a term that never falls while the force rises); the smallest is "
+                             f"{slopes.min():.6g}")
+        start = (play_operator(np.array([0.0, history, 0.0]), radii)[-1] if history > 0 else np.zeros(radii.size))
+        self._freeze(core=core, radii_n=radii, weights_v_per_n=weights, linear_v_per_n=linear,
+                     history_max_n=history, _start=start, _rest_v=float(start @ weights))
+
+    @property
+    def model(self) -> Any:
+        """The viscoelastic model of the core."""
+        return self.core.model
+
+    def forward_state(self) -> _BridgeForwardState:
+        """A fresh state for block-wise :meth:`forward` runs (relaxed core, plays after the history)."""
+        return {"core": self.core.forward_state(), "y": self._start.copy()}
+
+    def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_BridgeForwardState] = None) -> FloatArray:
+        """The core's deformation plus the hysteresis term, both driven by the applied force."""
+        f = np.asarray(force_n, dtype=float)
+        st = state if state is not None else self.forward_state()
+        plays = play_operator(f, self.radii_n, st["y"])
+        if f.size:
+            st["y"] = plays[-1].copy()
+        out: FloatArray = (self.core.forward(t_s, f, state=st["core"]) + self.linear_v_per_n * f
+                           + plays @ self.weights_v_per_n - self._rest_v)
+        return out
+
+    def backward(self, t_s: npt.ArrayLike, voltage_v: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """The force for a deformation record, sample by sample (the inverse is implicit)."""
+        t, v = np.asarray(t_s, dtype=float), np.asarray(voltage_v, dtype=float)
+        stream = self.streaming()
+        out = np.empty(v.size)
+        last = 0.0
+        for i, (ti, vi) in enumerate(zip(t.tolist(), v.tolist())):
+            f = stream.step(ti, vi)
+            last = f if f is not None else last
+            out[i] = last
+        return out
+
+    def streaming(self) -> ElementStream:
+        """The per-sample inverse: O(m log m) per sample for m plays."""
+        core = self.core.streaming()
+        radii = [float(r) for r in self.radii_n]
+        weights = [float(w) for w in self.weights_v_per_n]
+        linear, rest = self.linear_v_per_n, self._rest_v
+        total_w = linear + sum(weights)
+        start = [float(y) for y in self._start]
+        plays = list(start)
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+            coefficients = core.affine(t_s)
+            if coefficients is None:
+                return None
+            f0, stiffness = coefficients
+            stiffness = max(stiffness, 0.0)
+            # F = f0 + stiffness (V - H(F)), H(F) = linear F + sum w clamp(y, F - r, F + r) - rest: solve
+            # g(F) = F + stiffness (H(F) + rest) = f0 + stiffness (V + rest), g piecewise linear and rising
+            target = f0 + stiffness * (y + rest)
+            events = sorted([(yi - r, -w) for yi, r, w in zip(plays, radii, weights)]
+                            + [(yi + r, w) for yi, r, w in zip(plays, radii, weights)])
+            f_prev = events[0][0] if events else 0.0
+            g_prev = f_prev + stiffness * (linear * f_prev + sum(w * (f_prev + r) for r, w in zip(radii, weights)))
+            slope = 1.0 + stiffness * total_w  # below every breakpoint every play is dragged down
+            force = None
+            if target <= g_prev:
+                force = f_prev + (target - g_prev) / slope
+            else:
+                for f_event, dw in events:
+                    g_event = g_prev + slope * (f_event - f_prev)
+                    if target <= g_event and slope > 0.0:
+                        force = f_prev + (target - g_prev) / slope
+                        break
+                    slope += stiffness * dw
+                    f_prev, g_prev = f_event, g_event
+                if force is None:
+                    force = f_prev + (target - g_prev) / slope if slope > 0.0 else f_prev
+            hyst = linear * force - rest
+            for i, (r, w) in enumerate(zip(radii, weights)):
+                plays[i] = min(max(plays[i], force - r), force + r)
+                hyst += w * plays[i]
+            return core.step(t_s, y - hyst)
+
+        def reset() -> None:
+            core.reset()
+            plays[:] = start
+
+        return FunctionStream(step, reset)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping."""
+        out: dict[str, Any] = {"type": self.kind, "core": self.core.to_dict(),
+                               "radii_n": [float(v) for v in self.radii_n],
+                               "weights_v_per_n": [float(v) for v in self.weights_v_per_n]}
+        for key, default in self.OPTIONAL.items():
+            if getattr(self, key) != default:
+                out[key] = float(getattr(self, key))
+        return out
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping."""
+        check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
+        if not isinstance(d["core"], dict):
+            raise ModelError(f"{cls.kind}: core must be a mapping (a viscoelastic core), got {short_repr(d['core'])}")
+        return cls(ViscoelasticElement.from_dict(d["core"]), d["radii_n"], d["weights_v_per_n"],
+                   d.get("linear_v_per_n", 0.0), d.get("history_max_n", 0.0))

@@ -25,7 +25,7 @@ from .drift import (
     ThermalLagElement,
 )
 from .dynamics import SensorLagElement, TransportDelayElement
-from .hysteresis import PlayHysteresisElement, PreisachElement
+from .hysteresis import BridgeHysteresisElement, PlayHysteresisElement, PreisachElement
 from .static import (
     GainElement,
     NonlinearGainElement,
@@ -47,8 +47,8 @@ class _ElementType(Protocol):
 ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
 for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportDelayElement, ThermalDriftElement,
-                 ThermalSensitivityElement, OffsetDriftElement, PreisachElement, PlayHysteresisElement, ThermalLagElement,
-                 PolynomialDriftElement, PolynomialGainElement, ExponentialDriftElement, SplineDriftElement):
+                 ThermalSensitivityElement, OffsetDriftElement, PreisachElement, PlayHysteresisElement, BridgeHysteresisElement,
+                 ThermalLagElement, PolynomialDriftElement, PolynomialGainElement, ExponentialDriftElement, SplineDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
 
 
@@ -72,7 +72,7 @@ class SensorChain:
         odd = [type(e).__name__ for e in items if not isinstance(e, required)]
         if odd:
             raise ModelError(f"not sensor-chain elements: {odd}")
-        cores = [e for e in self.elements if isinstance(e, ViscoelasticElement)]
+        cores = [e for e in self.elements if isinstance(e, (ViscoelasticElement, BridgeHysteresisElement))]
         if len(cores) > 1:
             raise ModelError("a sensor model holds at most one viscoelastic core")
 
@@ -116,7 +116,7 @@ class SensorChain:
     def viscoelastic(self) -> Optional[ViscoelasticModel]:
         """The viscoelastic model of the core, or None."""
         for e in self.elements:
-            if isinstance(e, ViscoelasticElement):
+            if isinstance(e, (ViscoelasticElement, BridgeHysteresisElement)):
                 return e.model
         return None
 

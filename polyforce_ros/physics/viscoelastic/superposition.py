@@ -12,7 +12,8 @@ import numpy as np
 import numpy.typing as npt
 from scipy import linalg, signal
 
-from ..expconv import ExpConvState, exp_convolve, exp_convolve_columns, step_weights, uniform_step_after
+from ..expconv import (ExpConvState, exp_convolve, exp_convolve_columns, step_weights, step_weights_scalar,
+                       uniform_step_after)
 from .models import RelaxationModulus, ViscoelasticModel, polynomial_product
 
 __all__ = ["simulate_deformation", "simulate_deformation_columns", "ForwardState", "compensate", "BackwardState",
@@ -351,6 +352,44 @@ class StreamingCompensator:
     def last_time_s(self) -> Optional[float]:
         """Stamp (s) of the last sample processed by step(), or None before the first one and after reset()."""
         return self._conv.t_prev_s if self._ar else self._t_prev_s
+
+    def affine(self, t_s: float) -> Optional[tuple[float, float]]:
+        """The next :meth:`step` at ``t_s`` as an affine map of its deformation, without advancing the state.
+
+        ``step(t_s, d)`` returns ``force0_n + stiffness_n_per_v * d`` for every ``d``: an element that adds
+        to the deformation a term depending on the force (hysteresis at the bridge) solves for the force with
+        it before it steps.
+
+        Parameters
+        ----------
+        t_s : float
+            Stamp of the next sample [s].
+
+        Returns
+        -------
+        (float, float) or None
+            ``(force0_n, stiffness_n_per_v)`` [N, N/V]; None when ``t_s`` is earlier than the previous sample.
+        """
+        conv = self._conv
+        if conv.t_prev_s is None:  # the first sample only initialises the convolution: its state does not move
+            state = [(yk, 0.0) for yk in conv.y]
+        else:
+            h = t_s - conv.t_prev_s
+            if h < 0.0:
+                return None
+            state = []
+            for r, yk in zip(conv.rates_per_s, conv.y):
+                e, alpha, beta = step_weights_scalar(r * h)
+                state.append((e * yk + h * alpha * conv.u_prev, h * beta))
+        force0, stiffness = 0.0, self._g0
+        for ar, (y0, dy) in zip(self._ar, state):
+            force0 -= ar * y0
+            stiffness -= ar * dy
+        t_prev = self._t_prev_s
+        if self._eta and t_prev is not None and t_s > t_prev:
+            force0 -= self._eta * self._gamma_prev_v / (t_s - t_prev)
+            stiffness += self._eta / (t_s - t_prev)
+        return force0, stiffness
 
     def step(self, t_s: float, deformation_v: float, aux: object = None) -> Optional[float]:
         """Force for one sample, or None for a stamp before the previous one.

@@ -26,6 +26,8 @@ import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import FrameType
+from typing import Any, Callable, Iterable, Optional, Union
 
 import yaml
 
@@ -39,6 +41,8 @@ PARAM_FILES = {
     "haptic_bridge_node": "haptic_bridge.yaml",
 }
 STOP_TIMEOUT_S = 10.0
+#: A path as the command line or a caller gives it.
+StrPath = Union[str, os.PathLike[str]]
 
 
 def node_set(with_bridge: bool = False, record: bool = False) -> list[str]:
@@ -49,7 +53,7 @@ def node_set(with_bridge: bool = False, record: bool = False) -> list[str]:
             + ["compensation_node", "driver_node"])
 
 
-def driver_waits_for(names) -> int:
+def driver_waits_for(names: Iterable[str]) -> int:
     """How many readers of bridge_voltage among ``names`` the simulated profile waits for before it starts: a
     compensation node that joined late would see a moving sensor and could not zero; a late recorder would miss
     the first samples."""
@@ -61,10 +65,10 @@ class ChildSpec:
     """One node process: executable name, full argv and where its parameters came from."""
 
     name: str
-    argv: list
+    argv: list[str]
     params_file: Path
     source: str = ""
-    overrides: dict = field(default_factory=dict)
+    overrides: dict[str, object] = field(default_factory=dict)
 
 
 def config_dir() -> Path:
@@ -83,7 +87,7 @@ def config_dir() -> Path:
     raise FileNotFoundError(f"no polyforce_ros config/ with {sorted(PARAM_FILES.values())} in {[str(c) for c in candidates]}")
 
 
-def node_command(name: str) -> list:
+def node_command(name: str) -> list[str]:
     """argv prefix that runs node executable ``name``.
 
     The executable next to the running ``polyforce`` (colcon: lib/polyforce_ros/, venv: bin/) or next
@@ -96,7 +100,7 @@ def node_command(name: str) -> list:
     return [sys.executable, "-m", f"{PACKAGE}.nodes.{name}"]
 
 
-def load_params(path) -> dict:
+def load_params(path: StrPath) -> dict[str, Any]:
     """The ros__parameters of a parameter file's one node section."""
     data = yaml.safe_load(Path(path).read_text()) or {}
     sections = [v["ros__parameters"] for v in data.values() if isinstance(v, dict) and "ros__parameters" in v]
@@ -105,8 +109,9 @@ def load_params(path) -> dict:
     return dict(sections[0])
 
 
-def plan(workdir, backend=None, port=None, model=None, with_bridge=False, record=None,
-         namespace=contract.NAMESPACE, config=None) -> list:
+def plan(workdir: StrPath, backend: Optional[str] = None, port: Optional[str] = None, model: Optional[StrPath] = None,
+         with_bridge: bool = False, record: Optional[StrPath] = None, namespace: str = contract.NAMESPACE,
+         config: Optional[StrPath] = None) -> list[ChildSpec]:
     """The child processes in start order, with their parameter files written to ``workdir``.
 
     Each node gets one parameter file: its config/ file's parameters plus the overrides, under the
@@ -117,7 +122,8 @@ def plan(workdir, backend=None, port=None, model=None, with_bridge=False, record
     namespace = "/" + namespace.strip("/")
     if backend not in (None, "sim", "serial"):
         raise ValueError(f"backend must be sim or serial, got {backend!r}")
-    overrides = {"driver_node": {}, "compensation_node": {}, "haptic_bridge_node": {}, "recorder_node": {}}
+    overrides: dict[str, dict[str, object]] = {"driver_node": {}, "compensation_node": {}, "haptic_bridge_node": {},
+                                               "recorder_node": {}}
     if backend:
         overrides["driver_node"]["backend"] = backend
     if port:
@@ -131,7 +137,7 @@ def plan(workdir, backend=None, port=None, model=None, with_bridge=False, record
     if record:
         overrides["recorder_node"]["bag_path"] = str(Path(record).expanduser().resolve())
     overrides["driver_node"]["wait_for_subscribers"] = driver_waits_for(names)
-    specs = []
+    specs: list[ChildSpec] = []
     for name in names:
         source = config / PARAM_FILES[name] if name in PARAM_FILES else None
         params = dict(load_params(source) if source else {}, **overrides[name])
@@ -142,7 +148,7 @@ def plan(workdir, backend=None, port=None, model=None, with_bridge=False, record
     return specs
 
 
-def describe(specs) -> str:
+def describe(specs: Iterable[ChildSpec]) -> str:
     lines = []
     for spec in specs:
         extra = ", ".join(f"{k}={v}" for k, v in spec.overrides.items())
@@ -151,7 +157,7 @@ def describe(specs) -> str:
     return "\n".join(lines)
 
 
-def _die_with_parent():  # runs in the child between fork and exec
+def _die_with_parent() -> None:  # runs in the child between fork and exec
     try:
         import ctypes
 
@@ -160,7 +166,7 @@ def _die_with_parent():  # runs in the child between fork and exec
         pass
 
 
-def child_env() -> dict:
+def child_env() -> dict[str, str]:
     env = dict(os.environ, PYTHONUNBUFFERED="1")
     prefixes = [p for p in env.get("AMENT_PREFIX_PATH", "").split(os.pathsep) if p]
     if sys.prefix not in prefixes:  # the PyPI ROS wheels keep their message packages in the venv prefix
@@ -171,27 +177,28 @@ def child_env() -> dict:
 class Bringup:
     """Runs the children until a signal (or a child's exit), then stops them in reverse order."""
 
-    def __init__(self, specs, stop_timeout_s=STOP_TIMEOUT_S, log=None):
+    def __init__(self, specs: Iterable[ChildSpec], stop_timeout_s: float = STOP_TIMEOUT_S,
+                 log: Optional[Callable[[str], None]] = None) -> None:
         self.specs = list(specs)
         self.stop_timeout_s = stop_timeout_s
-        self.log = log or (lambda text: print(f"[bringup] {text}", file=sys.stderr, flush=True))
-        self.procs = []      # (name, Popen) in start order
+        self.log: Callable[[str], None] = log or (lambda text: print(f"[bringup] {text}", file=sys.stderr, flush=True))
+        self.procs: list[tuple[str, subprocess.Popen[bytes]]] = []  # (name, Popen) in start order
         self.signals = 0
-        self.killed = []
+        self.killed: list[str] = []
 
-    def _on_signal(self, signum, _frame):
+    def _on_signal(self, signum: int, _frame: Optional[FrameType]) -> None:
         self.signals += 1
         if self.signals == 1:
             self.log(f"{signal.Signals(signum).name}: stopping the nodes (again to kill them at once)")
 
-    def start(self):
+    def start(self) -> None:
         env = child_env()
         for spec in self.specs:
             proc = subprocess.Popen(spec.argv, env=env, process_group=0, preexec_fn=_die_with_parent)
             self.procs.append((spec.name, proc))
             self.log(f"started {spec.name} (pid {proc.pid})")
 
-    def stop(self):
+    def stop(self) -> dict[str, int]:
         """Stop every child that still runs, last started first; returns {name: returncode}."""
         baseline = self.signals  # one more signal while stopping: kill the rest at once
         for name, proc in reversed(self.procs):
@@ -210,7 +217,7 @@ class Bringup:
 
     def run(self) -> int:
         previous = {s: signal.signal(s, self._on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
-        died = None
+        died: Optional[tuple[str, int]] = None
         try:
             self.start()
             while not self.signals and died is None:
@@ -235,8 +242,9 @@ class Bringup:
         return 0
 
 
-def bringup(backend=None, port=None, model=None, with_bridge=False, record=None, namespace=contract.NAMESPACE,
-            stop_timeout_s=STOP_TIMEOUT_S, dry_run=False) -> int:
+def bringup(backend: Optional[str] = None, port: Optional[str] = None, model: Optional[StrPath] = None,
+            with_bridge: bool = False, record: Optional[StrPath] = None, namespace: str = contract.NAMESPACE,
+            stop_timeout_s: float = STOP_TIMEOUT_S, dry_run: bool = False) -> int:
     """``polyforce bringup``: plan, print, run. Returns the exit code."""
     workdir = Path(tempfile.mkdtemp(prefix="polyforce-bringup-"))
     try:

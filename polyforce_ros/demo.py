@@ -7,14 +7,19 @@ against ``reference_force``, sample by sample (matched by stamp).
 """
 from __future__ import annotations
 
+import os
 import time
+from typing import Mapping, Optional, TypedDict
 
 import numpy as np
+import numpy.typing as npt
 import rclpy
 from geometry_msgs.msg import WrenchStamped
+from rclpy.context import Context
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from rclpy.qos import QoSProfile, ReliabilityPolicy
+from rclpy.task import Future
 from sensor_msgs.msg import JointState
 from std_srvs.srv import Trigger
 
@@ -32,30 +37,57 @@ TARE_AFTER_SAMPLES = 500
 class Recorder(Node):
     """Plays the haptic master: records raw, reference and wrench messages."""
 
-    def __init__(self, context):
+    def __init__(self, context: Context) -> None:
         super().__init__("demo_recorder", namespace=contract.NAMESPACE, context=context)
-        qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE)
-        self.raw, self.ref, self.wrench = {}, {}, {}
-        self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE,
-                                 lambda m: self.raw.__setitem__(stamp_to_ns(m.header.stamp), m.position[0]), qos)
-        self.create_subscription(WrenchStamped, contract.Rel.REFERENCE_FORCE,
-                                 lambda m: self.ref.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
-        self.create_subscription(WrenchStamped, contract.Rel.WRENCH,
-                                 lambda m: self.wrench.__setitem__(stamp_to_ns(m.header.stamp), m.wrench.force.z), qos)
+        qos = QoSProfile(depth=10000, reliability=ReliabilityPolicy.RELIABLE)  # type: ignore[no-untyped-call]
+        self.raw: dict[int, float] = {}     # stamp (ns) -> bridge voltage (V)
+        self.ref: dict[int, float] = {}     # stamp (ns) -> reference force (N)
+        self.wrench: dict[int, float] = {}  # stamp (ns) -> compensated force (N)
+        self.create_subscription(JointState, contract.Rel.BRIDGE_VOLTAGE, self._on_raw, qos)
+        self.create_subscription(WrenchStamped, contract.Rel.REFERENCE_FORCE, self._on_ref, qos)
+        self.create_subscription(WrenchStamped, contract.Rel.WRENCH, self._on_wrench, qos)
         self.tare = self.create_client(Trigger, "compensation_node/tare")
 
+    def _on_raw(self, msg: JointState) -> None:
+        self.raw[stamp_to_ns(msg.header.stamp)] = msg.position[0]
 
-def run_live_demo(profile="needle_insertion", model_file="", seed=0, progress=True):
+    def _on_ref(self, msg: WrenchStamped) -> None:
+        self.ref[stamp_to_ns(msg.header.stamp)] = msg.wrench.force.z
+
+    def _on_wrench(self, msg: WrenchStamped) -> None:
+        self.wrench[stamp_to_ns(msg.header.stamp)] = msg.wrench.force.z
+
+
+class DemoResult(TypedDict):
+    """:func:`summarize`'s outcome: the matched samples after the tare window, their error summaries, and how
+    the run went."""
+
+    stamps_ns: npt.NDArray[np.int64]
+    reference_n: npt.NDArray[np.float64]
+    static_n: npt.NDArray[np.float64]
+    compensated_n: npt.NDArray[np.float64]
+    static: dict[str, float]
+    compensated: dict[str, float]
+    received_wrench: int
+    expected: int
+    tare_ok: bool
+    offset_v: float
+
+
+def run_live_demo(profile: str = "needle_insertion", model_file: str = "", seed: int = 0,
+                  progress: bool = True) -> DemoResult:
     """Returns a dict with the matched arrays and the error summaries."""
-    context = rclpy.Context()
+    context = Context()
     rclpy.init(context=context)
-    from rclpy.experimental import EventsExecutor
+    from rclpy.experimental.events_executor import EventsExecutor
 
-    nodes = []
+    nodes: list[Node] = []
     try:
         driver = DriverNode(context=context, parameter_overrides=[
-            Parameter("profile", value=profile), Parameter("loop", value=False), Parameter("seed", value=seed)])
-        comp = CompensationNode(context=context, parameter_overrides=[Parameter("model_file", value=model_file)])
+            Parameter("profile", value=profile), Parameter("loop", value=False),  # type: ignore[no-untyped-call]
+            Parameter("seed", value=seed)])  # type: ignore[no-untyped-call]
+        comp = CompensationNode(context=context, parameter_overrides=[
+            Parameter("model_file", value=model_file)])  # type: ignore[no-untyped-call]
         rec = Recorder(context)
         nodes = [driver, comp, rec]
         executor = EventsExecutor(context=context)
@@ -67,7 +99,8 @@ def run_live_demo(profile="needle_insertion", model_file="", seed=0, progress=Tr
             from tqdm import tqdm
 
             bar = tqdm(total=total, unit="sample", desc=f"live demo ({profile}, 1 kHz)", mininterval=0.5)
-        tare_future, deadline = None, time.monotonic() + total / driver.rate_hz + 30.0
+        tare_future: Optional[Future] = None
+        deadline = time.monotonic() + total / driver.rate_hz + 30.0
         while time.monotonic() < deadline:
             executor.spin_once(timeout_sec=0.01)
             if bar is not None and len(rec.wrench) > bar.n:
@@ -78,24 +111,27 @@ def run_live_demo(profile="needle_insertion", model_file="", seed=0, progress=Tr
                 break
         if bar is not None:
             bar.close()
-        tare_ok = tare_future is not None and tare_future.done() and tare_future.result().success
+        tare_ok = (tare_future is not None and tare_future.done()  # type: ignore[no-untyped-call]
+                   and tare_future.result().success)  # type: ignore[no-untyped-call]
+        assert comp.compensator is not None, "the compensation node builds its compensator when it starts"
         tare_offset = comp.compensator.offset_v
     finally:
         for node in nodes:
-            node.destroy_node()
+            node.destroy_node()  # type: ignore[no-untyped-call]
         rclpy.shutdown(context=context)
     return summarize(rec.raw, rec.ref, rec.wrench, tare_offset, comp.model.chain.static_gain_v_per_n(), tare_ok, total)
 
 
-def summarize(raw, ref, wrench, offset_v, static_gain_v_per_n, tare_ok, expected):
+def summarize(raw: Mapping[int, float], ref: Mapping[int, float], wrench: Mapping[int, float], offset_v: float,
+              static_gain_v_per_n: float, tare_ok: bool, expected: int) -> DemoResult:
     """Match samples by stamp and compute the errors after the tare window."""
     stamps = np.array(sorted(set(raw) & set(ref) & set(wrench)), dtype=np.int64)
     if stamps.size == 0:
         raise RuntimeError("no wrench received: the pipeline did not run")
     stamps = stamps[TARE_AFTER_SAMPLES + 100 :]  # after the tare has taken effect
-    reference = np.array([ref[s] for s in stamps])
-    volts = np.array([raw[s] for s in stamps])
-    compensated = np.array([wrench[s] for s in stamps])
+    reference = np.array([ref[int(s)] for s in stamps])
+    volts = np.array([raw[int(s)] for s in stamps])
+    compensated = np.array([wrench[int(s)] for s in stamps])
     static = (volts - offset_v) / static_gain_v_per_n
     return {
         "stamps_ns": stamps, "reference_n": reference, "static_n": static, "compensated_n": compensated,
@@ -104,7 +140,8 @@ def summarize(raw, ref, wrench, offset_v, static_gain_v_per_n, tare_ok, expected
     }
 
 
-def plot(result, path, title):
+def plot(result: DemoResult, path: str | os.PathLike[str], title: str) -> None:
+    """The demo's forces (applied, static gain, compensated) and their errors over time, written to ``path``."""
     import matplotlib
 
     matplotlib.use("Agg")

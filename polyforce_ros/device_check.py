@@ -82,10 +82,10 @@ class DeviceReading:
 
     info: Optional[DeviceInfo] = None
     status: Optional[DeviceStatus] = None
-    frames: list = field(default_factory=list)
+    frames: list[Frame] = field(default_factory=list)
     parser: FrameParser = field(default_factory=FrameParser)
     demux: MessageDemux = field(default_factory=MessageDemux)
-    _baseline: Optional[dict] = None
+    _baseline: Optional[dict[str, int]] = None
 
     def feed(self, data: bytes) -> None:
         """Takes the messages out of ``data`` and parses the rest into frames."""
@@ -107,12 +107,12 @@ class DeviceReading:
                 return
         self.frames += self.parser.feed(rest)
 
-    def _counters(self) -> dict:
+    def _counters(self) -> dict[str, int]:
         p = self.parser
         return {"crc_errors": p.crc_errors, "lost_frames": p.lost_frames, "duplicates": p.duplicates,
                 "reordered": p.reordered, "seq_jumps": p.seq_jumps}
 
-    def link_errors(self) -> dict:
+    def link_errors(self) -> dict[str, int]:
         """The link counters since the first valid frame."""
         base = self._baseline or self._counters()
         return {k: v - base[k] for k, v in self._counters().items()}

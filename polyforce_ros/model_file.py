@@ -39,11 +39,14 @@ import shutil
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Iterable, Mapping, NoReturn, Optional
 
 import numpy as np
+import numpy.typing as npt
 import yaml
 
-from .physics.chain import ELEMENT_TYPES, ModelError, SensorChain, short_repr, smoke_records
+from .physics.chain import (ELEMENT_TYPES, Element, ElementStream, ForwardElement, ModelError, SensorChain, short_repr,
+                            smoke_records)
 
 __all__ = ["FORMAT", "MAX_FILE_BYTES", "MAX_DEPTH", "MAX_NODES", "parse_model_yaml", "SensorModel",
     "model_from_mapping", "validate_chain_numerics", "load_model", "model_to_mapping", "save_model", "now_iso",
@@ -71,18 +74,18 @@ class _ModelLoader(yaml.SafeLoader):
     an alias inside its own anchor (a recursive structure).
     """
 
-    def __init__(self, stream):
+    def __init__(self, stream: str) -> None:
         super().__init__(stream)
-        self._open = []  # per open node: [expanded size of its children, max expanded depth of its children]
-        self._open_anchors = set()
-        self._anchor_size = {}  # anchor -> (expanded size, expanded depth)
+        self._open: list[list[int]] = []  # per open node: [expanded size of its children, max expanded depth of its children]
+        self._open_anchors: set[str] = set()
+        self._anchor_size: dict[str, tuple[int, int]] = {}  # anchor -> (expanded size, expanded depth)
 
-    def _refuse(self, message, event):
+    def _refuse(self, message: str, event: object) -> NoReturn:
         mark = getattr(event, "start_mark", None)
         where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark is not None else ""
         raise ModelError(f"{message}{where}")
 
-    def _account(self, size, depth, event):
+    def _account(self, size: int, depth: int, event: object) -> None:
         if self._open:
             self._open[-1][0] += size
             self._open[-1][1] = max(self._open[-1][1], depth)
@@ -91,8 +94,8 @@ class _ModelLoader(yaml.SafeLoader):
         if size > MAX_NODES or (self._open and self._open[-1][0] > MAX_NODES):
             self._refuse(f"YAML expands to more than {MAX_NODES} nodes (aliases)", event)
 
-    def compose_node(self, parent, index):
-        event = self.peek_event()
+    def compose_node(self, parent: Optional[yaml.Node], index: int) -> Optional[yaml.Node]:
+        event = self.peek_event()  # type: ignore[no-untyped-call, unused-ignore]  # unannotated in types-PyYAML
         if isinstance(event, yaml.AliasEvent):
             if event.anchor in self._open_anchors:
                 self._refuse(f"recursive YAML alias *{event.anchor}", event)
@@ -118,9 +121,9 @@ class _ModelLoader(yaml.SafeLoader):
         self._account(size, depth, event)
         return node
 
-    def compose_mapping_node(self, anchor):
+    def compose_mapping_node(self, anchor: dict[Any, yaml.Node]) -> yaml.MappingNode:  # anchor: as types-PyYAML has it
         node = super().compose_mapping_node(anchor)
-        seen = set()
+        seen: set[tuple[str, str]] = set()
         for key, _ in node.value:
             if isinstance(key, yaml.ScalarNode) and key.tag != _MERGE_TAG:
                 if (key.tag, key.value) in seen:
@@ -129,13 +132,13 @@ class _ModelLoader(yaml.SafeLoader):
         return node
 
 
-def _clip(text, limit):
+def _clip(text: object, limit: int) -> str:
     """``text`` on one line, cut to ``limit`` characters."""
     text = " ".join(str(text).split())
     return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
-def parse_model_yaml(text):
+def parse_model_yaml(text: str) -> object:
     """The YAML of a model file as Python data, within the limits above; ModelError otherwise."""
     if len(text) > MAX_FILE_BYTES:
         raise ModelError(f"larger than {MAX_FILE_BYTES} bytes; a model file is a few hundred")
@@ -159,7 +162,7 @@ def parse_model_yaml(text):
     except RecursionError:  # not reached within MAX_DEPTH; kept as a last line of defence
         raise ModelError(f"YAML nested too deeply (limit {MAX_DEPTH})") from None
     finally:
-        loader.dispose()
+        loader.dispose()  # type: ignore[no-untyped-call, unused-ignore]  # unannotated in types-PyYAML
 
 
 @dataclass
@@ -167,16 +170,16 @@ class SensorModel:
     """A chain plus where it came from."""
 
     chain: SensorChain
-    provenance: dict = field(default_factory=dict)
+    provenance: dict[str, Any] = field(default_factory=dict)
 
 
-def _check_string_keys(where, mapping):
+def _check_string_keys(where: str, mapping: Iterable[object]) -> None:
     bad = [k for k in mapping if not isinstance(k, str)]
     if bad:
         raise ModelError(f"{where}: keys must be strings, got {short_repr(bad)}")
 
 
-def model_from_mapping(data) -> SensorModel:
+def model_from_mapping(data: object) -> SensorModel:
     """Validate parsed model data (structure, types, parameter ranges, numerics) and build the model."""
     if not isinstance(data, dict):
         raise ModelError(f"model file must hold a mapping, got {type(data).__name__}")
@@ -215,11 +218,13 @@ def model_from_mapping(data) -> SensorModel:
 _RUN_ERRORS = (ArithmeticError, LookupError, TypeError, ValueError, AttributeError)
 
 
-def _finite(x):
+def _finite(x: Optional[npt.ArrayLike]) -> bool:
     return x is not None and bool(np.all(np.isfinite(np.asarray(x, dtype=float))))
 
 
-def _first_bad_element(chain, stage, t, x, aux):
+def _first_bad_element(chain: SensorChain, stage: str, t: npt.NDArray[np.floating[Any]], x: npt.NDArray[np.float64],
+                       aux: Mapping[str, npt.NDArray[np.float64]]
+                       ) -> Optional[tuple[int, ForwardElement, Optional[Exception]]]:
     """(index, element, exception or None) of the first element whose ``stage`` output is not finite."""
     if stage == "forward":
         for i, element in enumerate(chain.elements):
@@ -230,7 +235,7 @@ def _first_bad_element(chain, stage, t, x, aux):
             if not _finite(x):
                 return i, element, None
         return None
-    order = list(reversed(list(enumerate(chain.elements))))
+    order = list(reversed(list(enumerate(chain.invertible_elements))))
     if stage == "backward":
         for i, element in order:
             try:
@@ -240,7 +245,7 @@ def _first_bad_element(chain, stage, t, x, aux):
             if not _finite(x):
                 return i, element, None
         return None
-    streams = []
+    streams: list[tuple[int, Element, ElementStream]] = []
     for i, element in order:
         try:
             streams.append((i, element, element.streaming()))
@@ -250,15 +255,16 @@ def _first_bad_element(chain, stage, t, x, aux):
         value = float(xi)
         for i, element, stream in streams:
             try:
-                value = stream.step(float(ti), value, {"temperature_c": float(ci)})
+                stepped = stream.step(float(ti), value, {"temperature_c": float(ci)})
             except _RUN_ERRORS as exc:
                 return i, element, exc
-            if not _finite(value):
+            if stepped is None or not _finite(stepped):
                 return i, element, None
+            value = stepped
     return None
 
 
-def validate_chain_numerics(chain) -> None:
+def validate_chain_numerics(chain: SensorChain) -> None:
     """Refuse a chain that turns a finite record into inf or NaN (or raises on one).
 
     Runs ``chain.forward`` on test force records (5 +- 4 N with temperature
@@ -270,7 +276,8 @@ def validate_chain_numerics(chain) -> None:
     """
     for t, force, aux, label in smoke_records():
         plain = 0.5 + 0.4 * np.cos(np.linspace(0.0, 5.0, t.size))
-        stage, x, error = "forward", force, None
+        stage, x = "forward", force
+        error: Optional[Exception] = None
         with np.errstate(all="ignore"):
             try:
                 volts = chain.forward(t, force, aux)
@@ -298,7 +305,7 @@ def validate_chain_numerics(chain) -> None:
         if culprit is not None:
             i, element, error = culprit[0], culprit[1], culprit[2] or error
             try:
-                described = short_repr(element.to_dict(), 300)
+                described = short_repr(element.to_dict(), 300) if isinstance(element, Element) else type(element).__name__
             except Exception:  # noqa: BLE001
                 described = type(element).__name__
             who = f"element {i} ({getattr(element, 'kind', '?')}): {described}"
@@ -309,7 +316,7 @@ def validate_chain_numerics(chain) -> None:
                          f"its parameters are numerically unusable together")
 
 
-def load_model(path) -> SensorModel:
+def load_model(path: str | os.PathLike[str]) -> SensorModel:
     """Read and validate a model file; raises ModelError with the reason (and nothing else)."""
     path = Path(path)
     try:
@@ -333,12 +340,12 @@ def load_model(path) -> SensorModel:
         raise ModelError(f"{path}: {exc}") from exc
 
 
-def model_to_mapping(model: SensorModel) -> dict:
+def model_to_mapping(model: SensorModel) -> dict[str, Any]:
     """The YAML mapping of a model file (format, elements, provenance)."""
     return {"format": FORMAT, **model.chain.to_dict(), "provenance": dict(model.provenance)}
 
 
-def save_model(path, model: SensorModel, keep_previous=True) -> Path:
+def save_model(path: str | os.PathLike[str], model: SensorModel, keep_previous: bool = True) -> Path:
     """Write atomically; the replaced file (if any) is kept as ``<path>.prev``."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

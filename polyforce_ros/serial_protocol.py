@@ -20,10 +20,11 @@ volts_per_count + volts_offset (driver parameters).
 """
 from __future__ import annotations
 
+import enum
 import struct
 from collections import deque
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Callable, Final, Literal, Optional, Sequence, Union
 
 from .stamps import REANCHOR_AFTER_S, STAMP_TOLERANCE_S, ConsistentRun
 
@@ -79,7 +80,7 @@ class FrameParser:
         (a device that restarted its count): the sequence restarts at them, nothing is counted lost.
     """
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.buffer = bytearray()
         self.crc_errors = 0
         self.lost_frames = 0
@@ -87,11 +88,11 @@ class FrameParser:
         self.reordered = 0
         self.seq_jumps = 0
         self.frames = 0
-        self._last_seq = None
+        self._last_seq: Optional[int] = None
         self._last_abs = 0      # the newest sequence number, unwrapped
-        self._missing = deque()  # unwrapped numbers of the frames counted lost within REORDER_WINDOW, ascending
+        self._missing: deque[int] = deque()  # unwrapped numbers of the frames counted lost within REORDER_WINDOW, ascending
 
-    def reset(self):
+    def reset(self) -> None:
         """Forget partial data and the sequence (after a reconnect)."""
         self.buffer.clear()
         self._last_seq = None
@@ -130,7 +131,7 @@ class FrameParser:
         self._missing.clear()
         return True
 
-    def feed(self, data: bytes):
+    def feed(self, data: bytes) -> list[Frame]:
         """Append received bytes; return the complete frames with a valid CRC, in order.
 
         Bytes before a sync word and frames with a bad CRC are skipped (counted in
@@ -139,7 +140,7 @@ class FrameParser:
         buffered for the next call.
         """
         self.buffer += data
-        out = []
+        out: list[Frame] = []
         buf = self.buffer
         while True:
             start = buf.find(SYNC)
@@ -161,6 +162,12 @@ class FrameParser:
                 out.append(Frame(seq, t_us, counts))
             del buf[: start + FRAME_SIZE]
         return out
+
+
+class _Anchor(enum.Enum):
+    """What :meth:`DeviceClock._map` returns when a run of implausible frames heals: anchor afresh."""
+
+    REANCHOR = enum.auto()
 
 
 class DeviceClock:
@@ -190,10 +197,10 @@ class DeviceClock:
     really restarted its clock is followed.
     """
 
-    _REANCHOR = object()
+    _REANCHOR: Final = _Anchor.REANCHOR
 
     def __init__(self, window_s: float = 10.0, tolerance_s: float = STAMP_TOLERANCE_S,
-                 reanchor_after_s: float = REANCHOR_AFTER_S):
+                 reanchor_after_s: float = REANCHOR_AFTER_S) -> None:
         self.window_ns = int(window_s * 1e9)
         self.tolerance_ns = int(tolerance_s * 1e9)
         self.reanchor_after_ns = int(reanchor_after_s * 1e9)
@@ -202,24 +209,26 @@ class DeviceClock:
         self.reanchored = 0
         self.reset()
 
-    def reset(self):
+    def reset(self) -> None:
         """Forget the wraps, the offset windows and any re-anchor run: the next frame anchors afresh."""
-        self._last_us = None
+        self._last_us: Optional[int] = None
         self._wraps = 0
-        self._window_start = None
-        self._min_now = None
-        self._min_prev = None
+        self._window_start: Optional[int] = None
+        self._min_now: Optional[int] = None
+        self._min_prev: Optional[int] = None
         self._run.reset()
-        self._stamped = None  # (device ns, stamp ns) of the last frame stamped under this anchor
+        self._stamped: Optional[tuple[int, int]] = None  # (device ns, stamp ns) of the last frame stamped under this anchor
 
-    def _offset(self):
+    def _offset(self) -> int:
+        """The offset host - device in use (ns); set once a frame has been mapped under this anchor."""
+        assert self._min_now is not None, "no frame mapped under this anchor yet"
         return self._min_now if self._min_prev is None else min(self._min_now, self._min_prev)
 
-    def stamp_ns(self, t_us: int, arrival_ns: int):
+    def stamp_ns(self, t_us: int, arrival_ns: int) -> Optional[int]:
         """Host-time stamp (ns) of a frame with device time ``t_us`` read alone, or None when implausible."""
         return self.stamp_batch((t_us,), arrival_ns)[0]
 
-    def stamp_batch(self, t_us_seq, arrival_ns: int) -> list:
+    def stamp_batch(self, t_us_seq: Sequence[int], arrival_ns: int) -> list[Optional[int]]:
         """Host-time stamps (ns) of the frames of one read, received at ``arrival_ns``, in their order.
 
         Parameters
@@ -231,11 +240,11 @@ class DeviceClock:
 
         Returns
         -------
-        list
+        list of int or None
             One stamp (ns) per frame, None for an implausible one.
         """
-        stamps: list = [None] * len(t_us_seq)
-        pending: list = []  # (position, device ns) of the frames mapped under the current anchor
+        stamps: list[Optional[int]] = [None] * len(t_us_seq)
+        pending: list[tuple[int, int]] = []  # (position, device ns) of the frames mapped under the current anchor
         for i, t_us in enumerate(t_us_seq):
             device_ns = self._map(t_us, arrival_ns)
             if device_ns is self._REANCHOR:
@@ -243,13 +252,13 @@ class DeviceClock:
                 pending = []
                 self.reanchored += 1
                 self.reset()
-                device_ns = self._map(t_us, arrival_ns)
-            if device_ns is not None:
+                device_ns = self._map(t_us, arrival_ns)  # anchors afresh: never _REANCHOR
+            if device_ns is not None and device_ns is not self._REANCHOR:
                 pending.append((i, device_ns))
         self._stamp(pending, stamps)
         return stamps
 
-    def _map(self, t_us, arrival_ns):
+    def _map(self, t_us: int, arrival_ns: int) -> Union[int, None, _Anchor]:
         """Device ns of a plausible frame (the offset windows updated), None, or _REANCHOR when a run heals."""
         wraps = self._wraps
         if self._last_us is not None and t_us < self._last_us and self._last_us - t_us > 1 << 31:
@@ -264,10 +273,10 @@ class DeviceClock:
         if self._window_start is None or arrival_ns - self._window_start > self.window_ns:
             self._min_prev, self._min_now, self._window_start = self._min_now, delay, arrival_ns
         else:
-            self._min_now = min(self._min_now, delay)
+            self._min_now = delay if self._min_now is None else min(self._min_now, delay)
         return device_ns
 
-    def _stamp(self, pending, stamps):
+    def _stamp(self, pending: Sequence[tuple[int, int]], stamps: list[Optional[int]]) -> None:
         """Stamp the ``pending`` frames with the current offset, held so stamps advance at least half as fast."""
         if not pending:
             return
@@ -278,9 +287,9 @@ class DeviceClock:
             offset = max(offset, last_stamp - last_device - step // 2)
         for i, device_ns in pending:
             stamps[i] = device_ns + offset
-        self._stamped = (pending[-1][1], stamps[pending[-1][0]])
+        self._stamped = (pending[-1][1], pending[-1][1] + offset)
 
-    def _heals(self, t_us, arrival_ns) -> bool:
+    def _heals(self, t_us: int, arrival_ns: int) -> bool:
         return self._run.add(t_us, arrival_ns - t_us * 1000, arrival_ns)
 
 
@@ -358,7 +367,7 @@ class DeviceInfo:
         return cls(rate, vref, gain, bits, mains, _text(adc), _text(board), _text(serial), protocol,
                    f"{major}.{minor}.{patch}")
 
-    def values(self) -> dict:
+    def values(self) -> dict[str, Union[int, float, str]]:
         """Key/values for diagnostics."""
         return {"device_protocol": self.protocol, "device_firmware": self.firmware, "device_board": self.board,
                 "device_adc": self.adc, "device_rate_hz": self.rate_hz, "device_gain": self.gain,
@@ -389,7 +398,7 @@ class DeviceStatus:
     def from_payload(cls, payload: bytes) -> "DeviceStatus":
         return cls(*_STATUS.unpack_from(payload))
 
-    def values(self) -> dict:
+    def values(self) -> dict[str, Union[int, str]]:
         """Key/values for diagnostics."""
         return {"device_reset_reason": self.reset_reason_name, "device_watchdog_resets": self.watchdog_resets,
                 "device_overflows": self.overflows, "device_adc_reconfigs": self.adc_reconfigs,
@@ -422,8 +431,11 @@ class RawMessage:
     payload: bytes
 
 
+#: A decoded message: the dataclass of a known type, else the raw message.
+Message = Union[DeviceInfo, DeviceStatus, DeviceTemperature, RawMessage]
+
 # message type -> (decoder of its payload, the payload's least size in bytes)
-_DECODERS: dict[int, tuple[Callable[[bytes], Any], int]] = {
+_DECODERS: dict[int, tuple[Callable[[bytes], Message], int]] = {
     MSG_INFO: (DeviceInfo.from_payload, _INFO.size), MSG_STATUS: (DeviceStatus.from_payload, _STATUS.size),
     MSG_TEMPERATURE: (DeviceTemperature.from_payload, _TEMPERATURE.size)}
 
@@ -443,7 +455,7 @@ def encode_temperature(temperature: DeviceTemperature) -> bytes:
     return encode_message(MSG_TEMPERATURE, temperature.payload())
 
 
-def decode_message(msg_type: int, version: int, payload: bytes):
+def decode_message(msg_type: int, version: int, payload: bytes) -> Message:
     """The dataclass of a known type (a longer payload of a later version is read by its known prefix), else RawMessage."""
     decoder = _DECODERS.get(msg_type)
     if decoder is None or version < 1 or len(payload) < decoder[1]:
@@ -464,17 +476,17 @@ class MessageDemux:
     with that single stray byte, which it skips without counting an error.
     """
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.buffer = bytearray()
         self.messages = 0  #: valid messages taken out
         self._passed = 0   # bytes at the start of the buffer that were passed on already (0 or 1)
 
-    def reset(self):
+    def reset(self) -> None:
         """Forget partial data (after a reconnect)."""
         self.buffer.clear()
         self._passed = 0
 
-    def _parse(self, start: int):
+    def _parse(self, start: int) -> Union[tuple[int, Message], None, Literal["more"]]:
         """At a candidate: (end, message) when valid, None when refuted, "more" when incomplete."""
         buf, i, body, need = self.buffer, start + 2, bytearray(), 4
         while len(body) < need:
@@ -497,10 +509,11 @@ class MessageDemux:
             return None
         return i, decode_message(body[0], body[1], bytes(body[4:-2]))
 
-    def feed(self, data: bytes):
+    def feed(self, data: bytes) -> tuple[bytes, list[Message]]:
         """Append received bytes; return ``(bytes for FrameParser, messages found)``."""
         self.buffer += data
-        buf, passed, found = self.buffer, bytearray(), []
+        buf, passed = self.buffer, bytearray()
+        found: list[Message] = []
         pos, search = self._passed, 0  # bytes before pos are passed on; candidates are sought from search
         while True:
             start = buf.find(MSG_SYNC, search)
@@ -511,7 +524,7 @@ class MessageDemux:
                 self._passed = 1 if cut else 0
                 break
             result = self._parse(start)
-            if result == "more":
+            if isinstance(result, str):  # "more"
                 passed += buf[pos:start]
                 del buf[:start]
                 self._passed = max(0, pos - start)
@@ -531,4 +544,4 @@ class MessageDemux:
 __all__ += ["MSG_SYNC", "MSG_PAYLOAD_MAX", "MSG_INFO", "MSG_STATUS", "MSG_TEMPERATURE", "REQUEST_INFO",
             "REQUEST_STATUS", "RESET_REASONS", "MAINS_FILTERS", "encode_message", "encode_info", "encode_status",
             "encode_temperature", "decode_message", "DeviceInfo", "DeviceStatus", "DeviceTemperature", "RawMessage",
-            "MessageDemux"]
+            "Message", "MessageDemux"]

@@ -31,7 +31,7 @@ __all__ = ["clean_samples", "static_force_n", "static_and_compensated", "RecordC
 
 
 def clean_samples(stamp_ns: npt.ArrayLike, values: npt.ArrayLike, receive_ns: Optional[npt.ArrayLike] = None,
-                  config: CompensatorConfig = CompensatorConfig()) -> np.ndarray:
+                  config: CompensatorConfig = CompensatorConfig()) -> npt.NDArray[np.bool_]:
     """Mask of the samples the compensation runtime would use (:meth:`SampleGate.mask`).
 
     Dropped: non-finite values, ``|value| > config.input_limit_v``, implausible
@@ -41,7 +41,7 @@ def clean_samples(stamp_ns: npt.ArrayLike, values: npt.ArrayLike, receive_ns: Op
     return SampleGate(config).mask(stamp_ns, values, receive_ns)
 
 
-def static_force_n(chain: SensorChain, voltage_v: npt.ArrayLike, offset_v: float) -> np.ndarray:
+def static_force_n(chain: SensorChain, voltage_v: npt.ArrayLike, offset_v: float) -> npt.NDArray[np.float64]:
     """Force read by static gain: ``(V - offset_v) / G``, G the chain's static gain [V/N].
 
     Parameters
@@ -58,11 +58,11 @@ def static_force_n(chain: SensorChain, voltage_v: npt.ArrayLike, offset_v: float
     (n,) ndarray
         Force [N].
     """
-    return (np.asarray(voltage_v, dtype=float) - offset_v) / chain.static_gain_v_per_n()
+    return (np.asarray(voltage_v, dtype=np.float64) - offset_v) / chain.static_gain_v_per_n()
 
 
-def static_and_compensated(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarray,
-                           offset_v: float) -> tuple[np.ndarray, np.ndarray]:
+def static_and_compensated(chain: SensorChain, t_s: npt.NDArray[np.float64], voltage_v: npt.NDArray[np.float64],
+                           offset_v: float) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
     """Force read by static gain and by the chain's inverse, for a known bridge offset (model evaluation).
 
     The paper experiments use it: the offset is known there and no sample policy
@@ -91,9 +91,9 @@ def static_and_compensated(chain: SensorChain, t_s: np.ndarray, voltage_v: np.nd
 class RecordCompensation:
     """A record through the runtime (:func:`compensate_record`)."""
 
-    used: np.ndarray           #: (n,) bool: samples that gave a force
-    static_n: np.ndarray       #: (n,) force by static gain [N]; NaN where not used
-    compensated_n: np.ndarray  #: (n,) force by the compensator [N]; NaN where not used
+    used: npt.NDArray[np.bool_]             #: (n,) bool: samples that gave a force
+    static_n: npt.NDArray[np.float64]       #: (n,) force by static gain [N]; NaN where not used
+    compensated_n: npt.NDArray[np.float64]  #: (n,) force by the compensator [N]; NaN where not used
     offset_v: float            #: bridge output at zero force used [V]
     zeroing: str               #: how the offset was found (the runtime's auto-tare status)
 
@@ -131,8 +131,8 @@ def compensate_record(chain: SensorChain, t_s: npt.ArrayLike, voltage_v: npt.Arr
     RecordCompensation
         Used samples, static and compensated force [N], the offset [V] and how it was found.
     """
-    t = np.asarray(t_s, dtype=float)
-    volts = np.asarray(voltage_v, dtype=float)
+    t = np.asarray(t_s, dtype=np.float64)
+    volts = np.asarray(voltage_v, dtype=np.float64)
     stamp_ns = np.round((t - t[0]) * 1e9).astype(np.int64) if t.size else np.zeros(0, dtype=np.int64)
     zeroing = Compensator(chain, config)
     for i in range(stamp_ns.size):  # until the auto-tare rule has decided (at once when it is off)
@@ -156,7 +156,7 @@ class CalibrationConfig:
     """Calibration settings, each declared once (:func:`~polyforce_ros.settings.setting`): calibration_node
     declares a parameter of each, ``polyforce calibrate`` takes its defaults from them."""
 
-    candidates: tuple = setting(DEFAULT_CANDIDATES, "Model types to fit; the lowest BIC wins")
+    candidates: tuple[str, ...] = setting(DEFAULT_CANDIDATES, "Model types to fit; the lowest BIC wins")
     min_r2: float = setting(0.9, "A best fit below this R^2 is not written", 0.0, 1.0)
 
 
@@ -166,27 +166,28 @@ class CalibrationResult:
     written: bool
     reason: str
     output: str
-    fits: list = field(default_factory=list)  # summaries, best first
+    fits: list[dict[str, Any]] = field(default_factory=list)  # summaries, best first
     previous_rmse_v: float | None = None
-    warnings: list = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
     sensor_serial: str | None = None  #: serial of the calibrated sensor, as written into the provenance
 
-    def summary(self) -> dict:
+    def summary(self) -> dict[str, Any]:
         """JSON-ready outcome: written or not and why, the output path, every fit, the previous RMSE [V], warnings,
         the sensor serial."""
         return {"written": self.written, "reason": self.reason, "output": self.output, "fits": self.fits,
                 "previous_rmse_v": self.previous_rmse_v, "warnings": self.warnings, "sensor_serial": self.sensor_serial}
 
 
-def rmse_of_model(model: ViscoelasticModel, t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray) -> float:
+def rmse_of_model(model: ViscoelasticModel, t_s: npt.NDArray[np.float64], force_n: npt.NDArray[np.float64],
+                  voltage_v: npt.NDArray[np.float64]) -> float:
     """RMS voltage error (V) of a model on a record, offset fitted by the mean."""
     residual = voltage_v - simulate_deformation(model, t_s, force_n)
     residual = residual - residual.mean()
     return float(np.sqrt(np.mean(residual * residual)))
 
 
-def calibrate_record(t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray, output: str | Path,
-                     source: str | Path, candidates: Sequence[str] = CalibrationConfig.candidates,
+def calibrate_record(t_s: npt.NDArray[np.float64], force_n: npt.NDArray[np.float64], voltage_v: npt.NDArray[np.float64],
+                     output: str | Path, source: str | Path, candidates: Sequence[str] = CalibrationConfig.candidates,
                      min_r2: float = CalibrationConfig.min_r2, progress: Optional[Callable[[str], Any]] = None,
                      warnings: Iterable[str] = (), sensor_serial: Optional[str] = None) -> CalibrationResult:
     """Fit and select a model; write it to ``output`` only if it is good and better.
@@ -257,7 +258,7 @@ def calibrate_record(t_s: np.ndarray, force_n: np.ndarray, voltage_v: np.ndarray
 def calibrate_bag(bag_path: str | Path, output: str | Path, **kwargs: Any) -> CalibrationResult:
     """:func:`calibrate_record` of the creep bag at ``bag_path`` (keyword arguments as there)."""
     rec = load_record(bag_path)  # need_reference: its force_n is set
-    return calibrate_record(rec.t_s, cast(np.ndarray, rec.force_n), rec.voltage_v, output, source=bag_path,
+    return calibrate_record(rec.t_s, cast("npt.NDArray[np.float64]", rec.force_n), rec.voltage_v, output, source=bag_path,
                             warnings=rec.warnings, **kwargs)
 
 
@@ -272,10 +273,10 @@ def compensate_bag(in_path: str | Path, out_path: str | Path, model: SensorModel
     written and the warnings (reader: truncation, corrupt chunks; runtime:
     dropped samples).
     """
-    bag = bags.read_bag(in_path, topics=[bags.BRIDGE_VOLTAGE], optional=[contract.TEMPERATURE])
-    raw = bag[bags.BRIDGE_VOLTAGE]
-    if bags.WRENCH in bag.types:
-        raise bags.BagError(f"{in_path} already holds {bags.WRENCH}")
+    bag = bags.read_bag(in_path, topics=[contract.BRIDGE_VOLTAGE], optional=[contract.TEMPERATURE])
+    raw = bag[contract.BRIDGE_VOLTAGE]
+    if contract.WRENCH in bag.types:
+        raise bags.BagError(f"{in_path} already holds {contract.WRENCH}")
     volts = raw.fields.get("position", np.zeros(len(raw)))
     compensator = Compensator(model.chain, config)
     temperature_log = None
@@ -283,13 +284,13 @@ def compensate_bag(in_path: str | Path, out_path: str | Path, model: SensorModel
         temperature_log = (bag[contract.TEMPERATURE].log_time_ns, bag[contract.TEMPERATURE].fields["temperature"])
     used, force = compensator.run(raw.stamp_ns, volts, raw.log_time_ns, temperature_log=temperature_log)
     if not used.any():
-        raise bags.BagError(f"{in_path}: no usable samples on {bags.BRIDGE_VOLTAGE}")
+        raise bags.BagError(f"{in_path}: no usable samples on {contract.BRIDGE_VOLTAGE}")
     warnings = list(bag.warnings) + runtime_warnings(compensator.counts)
     if temperature_log is None and model.chain.needs_temperature:
         warnings.append(f"the model follows temperature but {in_path} holds no {contract.TEMPERATURE}: not corrected")
     with bags.BagWriter(out_path, directory=directory) as writer:
         bags.copy_messages(in_path, writer)  # survives truncation and corrupt chunks, like read_bag
-        writer.write_series(bags.WRENCH, bags.WRENCH_STAMPED, raw.stamp_ns[used], force[used],
+        writer.write_series(contract.WRENCH, contract.WRENCH_STAMPED, raw.stamp_ns[used], force[used],
                             log_time_ns=raw.log_time_ns[used], frame_id=contract.FRAME_ID)
     return int(used.sum()), warnings
 

@@ -2,8 +2,18 @@
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass, field
+from typing import TYPE_CHECKING, Any, Optional, Union
 
 import numpy as np
+import numpy.typing as npt
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+#: A cell of a results table: a number, a text, or nothing.
+Value = Optional[Union[float, str]]
+#: A JSON-ready value (:func:`finite_or_text`).
+JSONValue = Optional[Union[str, float, list[Any], dict[Any, Any]]]
 
 
 @dataclass(frozen=True)
@@ -17,7 +27,7 @@ class Settings:
     rate_hz: float = 1000.0
     quick: bool = False  # shorter records (tests); the numbers move little
 
-    def as_dict(self):
+    def as_dict(self) -> dict[str, Any]:
         return asdict(self)
 
 
@@ -34,21 +44,23 @@ class Row:
     experiment: str
     metric: str
     unit: str
-    paper_baseline: object = None
-    paper_ours_method: object = None
-    ours_baseline: object = None
-    ours_method: object = None
+    paper_baseline: Value = None
+    paper_ours_method: Value = None
+    ours_baseline: Value = None
+    ours_method: Value = None
     target: str = ""
     passed: bool | None = None
     note: str = ""
 
-    def judge(self, tolerance=0.0):
+    def judge(self, tolerance: float = 0.0) -> Row:
         ours, paper = self.ours_method, self.paper_ours_method
-        if self.target == "" or ours is None or paper is None or isinstance(paper, str):
+        if self.target not in ("<=", ">=") or ours is None or paper is None or isinstance(paper, str):
             return self
+        if isinstance(ours, str):
+            raise TypeError(f"{self.metric}: a judged figure must be a number, got {ours!r}")
         if self.target == "<=":
             self.passed = bool(ours <= paper * (1 + tolerance))
-        elif self.target == ">=":
+        else:
             self.passed = bool(ours >= paper * (1 - tolerance))
         return self
 
@@ -58,12 +70,12 @@ class Section:
     """The outcome of one group of experiments (one seed paper)."""
 
     title: str
-    rows: list = field(default_factory=list)
-    figures: list = field(default_factory=list)  # (file name, matplotlib Figure, caption)
-    notes: list = field(default_factory=list)
+    rows: list[Row] = field(default_factory=list)
+    figures: list[tuple[str, Figure, str]] = field(default_factory=list)  # (file name, matplotlib Figure, caption)
+    notes: list[str] = field(default_factory=list)
 
 
-def finite_or_text(x):
+def finite_or_text(x: object) -> JSONValue:
     """JSON-friendly number: inf as the string 'inf'."""
     if isinstance(x, float) and not np.isfinite(x):
         return "inf" if x > 0 else "-inf"
@@ -74,7 +86,8 @@ def finite_or_text(x):
     return str(x)
 
 
-def figure(rows=1, cols=1, size=(9, 4.5)):
+def figure(rows: int = 1, cols: int = 1, size: tuple[float, float] = (9, 4.5)) -> tuple[Figure, npt.NDArray[np.object_]]:
+    """A figure with a ``rows`` x ``cols`` grid of axes, indexed ``ax[row, col]`` (Agg backend)."""
     import matplotlib
 
     matplotlib.use("Agg")

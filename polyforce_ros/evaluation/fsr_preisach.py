@@ -10,17 +10,31 @@ as baselines.
 """
 from __future__ import annotations
 
+from typing import Callable, TypedDict
+
 import numpy as np
+import numpy.typing as npt
 
 from ..physics.preisach import PreisachModel, hysteresis_error_percent, identify
-from .common import Row, Section, figure
+from .common import Row, Section, Settings, figure
 
-PAPER = {"mse_reduction_vs_increasing_pct": 54.0, "mse_reduction_vs_whole_pct": 76.0, "he_range_pct": (7.6, 17.0)}
+FloatArray = npt.NDArray[np.float64]
+
+
+class _PaperFigures(TypedDict):
+    mse_reduction_vs_increasing_pct: float
+    mse_reduction_vs_whole_pct: float
+    he_range_pct: tuple[float, float]
+
+
+PAPER: _PaperFigures = {"mse_reduction_vs_increasing_pct": 54.0, "mse_reduction_vs_whole_pct": 76.0,
+                        "he_range_pct": (7.6, 17.0)}
 F_MAX_N = 4.5
 N_LEVELS = 40
 
 
-def fsr_truth(hysteresis_scale=1.0, b0_v=0.05, v_nom_v=2.0, seed=0, n=N_LEVELS):
+def fsr_truth(hysteresis_scale: float = 1.0, b0_v: float = 0.05, v_nom_v: float = 2.0, seed: int = 0,
+              n: int = N_LEVELS) -> PreisachModel:
     """A continuous-Preisach FSR: weights spread off the diagonal by ``hysteresis_scale`` (wider = more HE)."""
     rng = np.random.default_rng(seed)
     i, j = np.tril_indices(n)
@@ -32,19 +46,19 @@ def fsr_truth(hysteresis_scale=1.0, b0_v=0.05, v_nom_v=2.0, seed=0, n=N_LEVELS):
     return PreisachModel(0.0, F_MAX_N, density, offset)
 
 
-def run_truth(model, force, noise_v, rng):
+def run_truth(model: PreisachModel, force: FloatArray, noise_v: float, rng: np.random.Generator) -> FloatArray:
     stream = model.stream(continuous=True)
     return np.array([stream.forward(f) for f in force]) + rng.normal(0, noise_v, np.size(force))
 
 
-def triangles(points=50):
+def triangles(points: int = 50) -> FloatArray:
     parts = [np.zeros(1)]
     for a in np.linspace(0, F_MAX_N, N_LEVELS + 1)[1:]:
         parts += [np.linspace(0, a, points + 1)[1:], np.linspace(a, 0, points + 1)[1:]]
     return np.concatenate(parts)
 
 
-def grip_profile(seed=1, duration_s=60.0, rate_hz=50.0):
+def grip_profile(seed: int = 1, duration_s: float = 60.0, rate_hz: float = 50.0) -> tuple[FloatArray, FloatArray]:
     """Grip-like force: grasps of varying strength with holds and releases (0 .. 4.5 N)."""
     rng = np.random.default_rng(seed)
     t_knots, f_knots, t_now = [0.0], [0.0], 0.0
@@ -59,16 +73,29 @@ def grip_profile(seed=1, duration_s=60.0, rate_hz=50.0):
     return t, np.interp(t, t_knots, f_knots)
 
 
-def _linear_fit(volts, force):
+def _linear_fit(volts: FloatArray, force: FloatArray) -> Callable[[npt.ArrayLike], FloatArray]:
     m, b = np.polyfit(volts, force, 1)
     return lambda v: m * np.asarray(v) + b
 
 
-def _mse(a, b):
+def _mse(a: npt.ArrayLike, b: npt.ArrayLike) -> float:
     return float(np.mean((np.asarray(a) - np.asarray(b)) ** 2))
 
 
-def evaluate_sensor(truth, seed, noise_v):
+class SensorEvaluation(TypedDict):
+    """:func:`evaluate_sensor`'s outcome: force MSE per estimator, the grip profile, the estimates, the identified
+    model, the hysteresis error and the training record."""
+
+    mse: dict[str, float]
+    t: FloatArray
+    f: FloatArray
+    est: dict[str, FloatArray]
+    model: PreisachModel
+    he: float
+    train: tuple[FloatArray, FloatArray]
+
+
+def evaluate_sensor(truth: PreisachModel, seed: int, noise_v: float) -> SensorEvaluation:
     """Identify one sensor and compare the four force estimators on a grip profile. Returns MSEs and data."""
     rng = np.random.default_rng(seed)
     f_train = triangles()
@@ -91,13 +118,15 @@ def evaluate_sensor(truth, seed, noise_v):
             "train": (f_train, v_train)}
 
 
-def generalised(settings, n_sensors):
+def generalised(settings: Settings, n_sensors: int) -> list[dict[str, float]]:
     """Eq. 6: one Preisach model on normalised outputs for a batch of sensors with spread hysteresis."""
     rng = np.random.default_rng(settings.seed + 7)
     sensors = [fsr_truth(hysteresis_scale=rng.uniform(0.5, 1.6), b0_v=rng.uniform(0.02, 0.1), v_nom_v=rng.uniform(1.6, 2.4),
                          seed=settings.seed + 20 + k) for k in range(n_sensors)]
     f_train = triangles(points=25)
-    pooled_f, pooled_v, data = [], [], []
+    pooled_f: list[FloatArray] = []
+    pooled_v: list[FloatArray] = []
+    data: list[tuple[PreisachModel, float, float]] = []
     for s in sensors:
         v = run_truth(s, f_train, 0.005, rng)
         b0, v_nom = v[0], v[np.argmax(f_train)]  # measured at null force and at the nominal force
@@ -105,7 +134,7 @@ def generalised(settings, n_sensors):
         pooled_f.append(f_train)
         pooled_v.append((v - b0) / (v_nom - b0))
     general = identify(np.concatenate(pooled_f), np.concatenate(pooled_v), n_levels=N_LEVELS, u_min=0.0, u_max=F_MAX_N)
-    rows = []
+    rows: list[dict[str, float]] = []
     for k, (s, b0, v_nom) in enumerate(data):
         t, f_test = grip_profile(seed=settings.seed + 300 + k, duration_s=30.0)
         v_test = run_truth(s, f_test, 0.005, rng)
@@ -117,7 +146,7 @@ def generalised(settings, n_sensors):
     return rows
 
 
-def run(settings) -> Section:
+def run(settings: Settings) -> Section:
     section = Section("Seed 001: FSR hysteresis, Preisach model and closest-match inverse")
     truth = fsr_truth(seed=settings.seed)
     res = evaluate_sensor(truth, settings.seed, noise_v=0.005)

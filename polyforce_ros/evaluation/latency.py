@@ -4,16 +4,23 @@ of outputs to inputs by value (for a node that stamps its output itself). Pure n
 test/test_bench_stats.py and test/test_bench_bridge.py."""
 from __future__ import annotations
 
+from typing import Any, Sequence, Union
+
 import numpy as np
+import numpy.typing as npt
 
 __all__ = ["HIST_EDGES_US", "pooled_p99_ratio", "latency_stats", "BRIDGE_PARAMETERS", "SEQ_STEP_N", "match_by_value",
            "first_as_new", "value_latency", "percentiles"]
+
+#: A value of a statistics mapping: a count or a time (int, float), or an array (histogram counts, latencies in us).
+Stat = Union[float, npt.NDArray[np.integer[Any]], npt.NDArray[np.float64]]
 
 # Latency histograms in 1 us bins up to 100 ms (above: last bin), so pairs can be pooled and resampled.
 HIST_EDGES_US = np.append(np.arange(0.0, 100_000.0 + 1.0, 1.0), np.inf)
 
 
-def pooled_p99_ratio(hist_comp, hist_relay, n_boot=2000, seed=0):
+def pooled_p99_ratio(hist_comp: Sequence[npt.ArrayLike], hist_relay: Sequence[npt.ArrayLike], n_boot: int = 2000,
+                     seed: int = 0) -> tuple[float, float, float]:
     """p99 of the pooled compensation latencies over p99 of the pooled relay latencies,
     with a 90 % bootstrap interval that resamples whole pairs (the unit that shares machine state)."""
     rng = np.random.default_rng(seed)
@@ -31,7 +38,7 @@ class _P99Pool:
     smallest and the largest per-run p99: only that window of bins is kept.
     """
 
-    def __init__(self, hists):
+    def __init__(self, hists: Sequence[npt.ArrayLike]) -> None:
         cum = np.cumsum(np.asarray(hists), axis=1)
         total = cum[:, -1:]
         first = np.argmax(cum >= 0.99 * total, axis=1)
@@ -39,19 +46,21 @@ class _P99Pool:
         self.window = cum[:, self.lo:int(first.max()) + 1]
         self.total = total[:, 0]
 
-    def p99_us(self, picks):
+    def p99_us(self, picks: npt.NDArray[np.integer[Any]]) -> npt.NDArray[np.floating[Any]]:
         """picks: (n_resamples, n_runs) run indices; returns one p99 per resample (bin centres)."""
         counts, total = self.window[picks].sum(axis=1), self.total[picks].sum(axis=1)
-        return self.lo + np.argmax(counts >= 0.99 * total[:, None], axis=1) + 0.5
+        first: npt.NDArray[np.intp] = np.argmax(counts >= 0.99 * total[:, None], axis=1)
+        return self.lo + first + 0.5
 
 
-def latency_stats(stamp_ns, received_ns, t0_ns, sent):
+def latency_stats(stamp_ns: npt.NDArray[np.int64], received_ns: npt.NDArray[np.int64], t0_ns: int,
+                  sent: int) -> dict[str, Stat]:
     """Latency percentiles (us) and losses of the measured samples (stamped at or after ``t0_ns``)."""
     keep = stamp_ns >= t0_ns
     st, lat_us = stamp_ns[keep], (received_ns[keep] - stamp_ns[keep]) / 1e3
     unique = np.unique(st)
-    out = {"sent": sent, "received": int(unique.size), "lost": int(sent - unique.size),
-           "duplicates": int(st.size - unique.size), "hist": np.histogram(lat_us, HIST_EDGES_US)[0]}
+    out: dict[str, Stat] = {"sent": sent, "received": int(unique.size), "lost": int(sent - unique.size),
+                            "duplicates": int(st.size - unique.size), "hist": np.histogram(lat_us, HIST_EDGES_US)[0]}
     if unique.size:
         out.update(p50_us=float(np.percentile(lat_us, 50)), p99_us=float(np.percentile(lat_us, 99)),
                    max_us=float(lat_us.max()))
@@ -81,7 +90,8 @@ SEQ_STEP_N = 2.0 ** -12
 
 
 # ---------------------------------------------------------------------- value matching (bench/bench_bridge.py)
-def match_by_value(sent_value, out_value):
+def match_by_value(sent_value: npt.ArrayLike,
+                   out_value: npt.ArrayLike) -> tuple[npt.NDArray[np.int64], npt.NDArray[np.int64]]:
     """Pair outputs with inputs by exact value.
 
     Parameters
@@ -115,7 +125,7 @@ def match_by_value(sent_value, out_value):
     return out_index, first_out
 
 
-def first_as_new(out_index, n_sent):
+def first_as_new(out_index: npt.ArrayLike, n_sent: int) -> npt.NDArray[np.intp]:
     """For each input (by index in publish order), the position of the first output carrying it or a
     newer input (the time the receiver holds a command at least that fresh), -1 if none."""
     newest = np.maximum.accumulate(np.asarray(out_index, dtype=np.int64))  # non-decreasing: searchable
@@ -123,7 +133,7 @@ def first_as_new(out_index, n_sent):
     return np.where(pos < newest.size, pos, -1)
 
 
-def percentiles(lat_us, prefix):
+def percentiles(lat_us: npt.NDArray[np.float64], prefix: str) -> dict[str, float]:
     """p50, p99 and max of latencies (us) under keys ``{prefix}p50_us`` etc.; NaN when there are none."""
     if lat_us.size == 0:
         return {f"{prefix}p50_us": float("nan"), f"{prefix}p99_us": float("nan"), f"{prefix}max_us": float("nan")}
@@ -131,7 +141,8 @@ def percentiles(lat_us, prefix):
             f"{prefix}max_us": float(lat_us.max())}
 
 
-def value_latency(sent_value, sent_ns, out_value, out_stamp_ns, out_ns, t0_ns, sent):
+def value_latency(sent_value: npt.ArrayLike, sent_ns: npt.ArrayLike, out_value: npt.ArrayLike, out_stamp_ns: npt.ArrayLike,
+                  out_ns: npt.ArrayLike, t0_ns: int, sent: int) -> dict[str, Stat]:
     """Latency statistics of the inputs published at or after ``t0_ns`` (``sent`` of them), matched by value.
 
     ``p50_us``/``p99_us``/``max_us``, ``hist`` and ``largest_gap_*`` as

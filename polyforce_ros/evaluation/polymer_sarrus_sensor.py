@@ -6,21 +6,35 @@ as a user would do, then every experiment is compensated with it.
 """
 from __future__ import annotations
 
+from typing import TypedDict
+
 import numpy as np
+import numpy.typing as npt
 
 from ..physics.chain import SensorChain
 from ..physics.identification import select_model
 from ..physics.metrics import (
     bandwidth_3db, hysteresis_percent, r_squared, resolution_changes, sine_component, step_response,
 )
-from ..physics.viscoelastic import PAPER_BURGERS
+from ..physics.viscoelastic import PAPER_BURGERS, ViscoelasticModel
 from ..sim import profiles
 from ..sim.sensor import BridgeSimulator
 from ..workflows import static_and_compensated
-from .common import Row, Section, figure
+from .common import Row, Section, Settings, figure
+
+
+class _PaperFigures(TypedDict):
+    creep_r2: float
+    hysteresis_pct: tuple[float, float]
+    resolution_n: tuple[float, float]
+    rise_time_s: float
+    bandwidth_hz: tuple[float, float]
+    insertion_r2: tuple[float, float]
+    sawtooth_min_drift_n: tuple[float, float]
+
 
 #: Seed 000's published figures.
-PAPER = {
+PAPER: _PaperFigures = {
     "creep_r2": 0.902,
     "hysteresis_pct": (20.0, 4.5),
     "resolution_n": (0.08, 0.013),
@@ -32,12 +46,12 @@ PAPER = {
 REQUIREMENTS = {"rated_force_n": 10.0, "bandwidth_hz": 3.0, "resolution_n": 0.1}
 
 
-def _sensor(settings, seed_offset=0):
+def _sensor(settings: Settings, seed_offset: int = 0) -> BridgeSimulator:
     return BridgeSimulator(model=PAPER_BURGERS, offset_v=settings.offset_v, noise_std_v=settings.noise_std_v,
                            adc_bits=settings.adc_bits, seed=settings.seed + seed_offset)
 
 
-def identify(settings, section):
+def identify(settings: Settings, section: Section) -> SensorChain:
     """Creep test at 5 N -> model selection; returns the identified chain."""
     rate = 100.0
     t, f = profiles.creep(5.0, hold_s=120.0, rest_s=60.0, rate_hz=rate)
@@ -63,18 +77,19 @@ def identify(settings, section):
     return SensorChain.from_model(best.model, offset_v=best.offset_v)
 
 
-def _simulate(model, t, f):
+def _simulate(model: ViscoelasticModel, t: npt.NDArray[np.float64], f: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
     from ..physics.viscoelastic import simulate_deformation
 
     return simulate_deformation(model, t, f)
 
 
-def sawtooth_and_hysteresis(settings, chain, section):
+def sawtooth_and_hysteresis(settings: Settings, chain: SensorChain, section: Section) -> None:
     t, f = profiles.sawtooth(peak_n=10.0, cycles=4, ramp_rate_n_per_s=1.0, rate_hz=100.0)
     v = _sensor(settings, 2).simulate(t, f)
     static, comp = static_and_compensated(chain, t, v, settings.offset_v)
     period = 20.0
-    mins_s, mins_c = [], []
+    mins_s: list[float] = []
+    mins_c: list[float] = []
     for k in range(4):
         cyc = (t >= 2.0 + k * period) & (t < 2.0 + (k + 1) * period)
         near_end = cyc & (t >= 2.0 + (k + 1) * period - 1.0)  # the valley at the end of the cycle
@@ -105,7 +120,7 @@ def sawtooth_and_hysteresis(settings, chain, section):
     section.figures.append(("s000_sawtooth_hysteresis.png", fig, "Sawtooth drift and first-cycle hysteresis."))
 
 
-def resolution(settings, chain, section):
+def resolution(settings: Settings, chain: SensorChain, section: Section) -> tuple[float, float]:
     half = 30.0 if settings.quick else 60.0
     t, f = profiles.resolution(half_period_s=half, rate_hz=100.0)
     v = _sensor(settings, 3).simulate(t, f)
@@ -121,7 +136,7 @@ def resolution(settings, chain, section):
     return float(ch_c.mean()), float(ch_c.std())
 
 
-def step(settings, chain, section):
+def step(settings: Settings, chain: SensorChain, section: Section) -> None:
     # The paper's step came from an X-Y table; ours rises in 50 ms like such an actuator.
     t, f = profiles.step(5.0, pre_s=2.0, hold_s=20.0 if settings.quick else 60.0, rise_s=0.05, rate_hz=settings.rate_hz)
     v = _sensor(settings, 4).simulate(t, f)
@@ -142,9 +157,10 @@ def step(settings, chain, section):
     section.figures.append(("s000_step.png", fig, "Step response."))
 
 
-def bode(settings, chain, section):
+def bode(settings: Settings, chain: SensorChain, section: Section) -> float:
     freqs = np.logspace(-2, 1, 7 if settings.quick else 13)
-    mag_s, mag_c = [], []
+    mag_s: list[float] = []
+    mag_c: list[float] = []
     for k, fr in enumerate(freqs):
         rate = max(50.0, 50.0 * fr)
         cycles = 4 if fr < 0.05 else 8
@@ -171,11 +187,11 @@ def bode(settings, chain, section):
     return bw_c
 
 
-def _hz(x):
+def _hz(x: float) -> str:
     return "> 10 Hz" if not np.isfinite(x) else f"{x:.2g} Hz"
 
 
-def insertion(settings, chain, section):
+def insertion(settings: Settings, chain: SensorChain, section: Section) -> None:
     path = profiles.okamura_csv_path()
     if path is not None:
         t, f = profiles.okamura_insertion(path, peak_n=4.0, rate_hz=settings.rate_hz)
@@ -198,7 +214,7 @@ def insertion(settings, chain, section):
     section.figures.append(("s000_insertion.png", fig, f"Needle insertion: {source}."))
 
 
-def rated_range(settings, chain, section):
+def rated_range(settings: Settings, chain: SensorChain, section: Section) -> tuple[float, float]:
     """Accuracy over the rated 10 N: error of the compensated reading on the 10 N sawtooth."""
     t, f = profiles.sawtooth(peak_n=REQUIREMENTS["rated_force_n"], cycles=2, rate_hz=100.0)
     v = _sensor(settings, 6).simulate(t, f)
@@ -206,7 +222,7 @@ def rated_range(settings, chain, section):
     return float(np.abs(static - f).max()), float(np.abs(comp - f).max())
 
 
-def run(settings) -> Section:
+def run(settings: Settings) -> Section:
     section = Section("Seed 000: polymer force sensor, Burgers compensation")
     chain = identify(settings, section)
     sawtooth_and_hysteresis(settings, chain, section)

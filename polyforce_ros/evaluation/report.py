@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any, Callable, Iterable, Optional, cast
 
 import numpy as np
+import numpy.typing as npt
 
 from .. import bags
 from ..model_file import default_model_path, load_model
@@ -21,11 +23,11 @@ from .common import Row, Section, Settings, figure, finite_or_text
 EXPERIMENTS = (("seed000", polymer_sarrus_sensor.run), ("seed001", fsr_preisach.run), ("seed002", thinfilm_muscle.run))
 
 
-def evaluate_bag(path, model_path=None) -> Section:
+def evaluate_bag(path: str | Path, model_path: Optional[str | Path] = None) -> Section:
     """Static gain vs compensation on a recorded bag with a reference force."""
     model = load_model(model_path or default_model_path())
-    rec = load_record(path)
-    t, force, volts, warnings = rec.t_s, rec.force_n, rec.voltage_v, list(rec.warnings)
+    rec = load_record(path)  # need_reference: its force_n is set
+    t, force, volts, warnings = rec.t_s, cast("npt.NDArray[np.float64]", rec.force_n), rec.voltage_v, list(rec.warnings)
     # what the node would output (auto-tare at start, gate, clamp), beside static gain zeroed the same way
     out = compensate_record(model.chain, t, volts, rec.temperature_c)
     used = out.used
@@ -48,7 +50,7 @@ def evaluate_bag(path, model_path=None) -> Section:
     return section
 
 
-def _fmt(x):
+def _fmt(x: object) -> str:
     if x is None:
         return ""
     if isinstance(x, float):
@@ -58,7 +60,8 @@ def _fmt(x):
     return str(x).replace("|", "/")
 
 
-def write_report(sections, settings: Settings, out_dir, progress=None):
+def write_report(sections: Iterable[Section], settings: Settings, out_dir: str | Path,
+                 progress: Optional[Callable[[str], object]] = None) -> tuple[Path, dict[str, Any]]:
     out = Path(out_dir)
     (out / "figures").mkdir(parents=True, exist_ok=True)
     import matplotlib.pyplot as plt
@@ -70,7 +73,7 @@ def write_report(sections, settings: Settings, out_dir, progress=None):
              "## Settings", "", "| setting | value |", "|---|---|"]
     lines += [f"| {k} | {v} |" for k, v in settings.as_dict().items()]
     lines += ["| simulated sensor truth | seed 000 eq. 5 Burgers parameters, bridge offset, white noise, ADC |", ""]
-    data = {"settings": settings.as_dict(), "sections": []}
+    data: dict[str, Any] = {"settings": settings.as_dict(), "sections": []}
     for section in sections:
         lines += [f"## {section.title}", "",
                   "| experiment | metric | unit | paper: baseline | paper: method | ours: baseline | ours: method "
@@ -93,7 +96,8 @@ def write_report(sections, settings: Settings, out_dir, progress=None):
         data["sections"].append({"title": section.title, "notes": section.notes,
                                  "figures": [f"figures/{n}" for n, _, _ in section.figures],
                                  "rows": [{k: finite_or_text(v) for k, v in vars(r).items()} for r in section.rows]})
-    seed000_rows = next((s for s in data["sections"] if s["title"].startswith("Seed 000")), {"rows": []})["rows"]
+    seed000_rows: list[dict[str, Any]] = next((s for s in data["sections"] if s["title"].startswith("Seed 000")),
+                                              {"rows": []})["rows"]
     judged = [r for r in seed000_rows if r["passed"] is not None]
     data["seed000_all_met"] = bool(judged) and all(r["passed"] for r in judged)
     lines.insert(4, f"**Seed 000: the compensated sensor meets or beats {sum(r['passed'] for r in judged)} of "
@@ -103,7 +107,9 @@ def write_report(sections, settings: Settings, out_dir, progress=None):
     return out / "report.md", data
 
 
-def run_evaluation(out_dir, settings=Settings(), bag_paths=(), model_path=None, progress=None):
+def run_evaluation(out_dir: str | Path, settings: Settings = Settings(),
+                   bag_paths: Iterable[str | Path] = (), model_path: Optional[str | Path] = None,
+                   progress: Optional[Callable[[str], object]] = None) -> tuple[Path, dict[str, Any]]:
     sections = []
     for name, experiment in EXPERIMENTS:
         sections.append(experiment(settings))

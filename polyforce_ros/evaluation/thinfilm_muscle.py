@@ -9,13 +9,13 @@ from ..physics.metrics import bandwidth_3db
 from ..physics.thinfilm import (
     PAPER_FIT, PAPER_LINEAR_SUMMARY, PatchSensor, PneumaticMuscle, identify_patch_sensor, inversion_bode, linear_summary,
 )
-from .common import Row, Section, figure
+from .common import Row, Section, Settings, figure
 
 #: Noise of the simulated recording: chosen so the fit residual is near the paper's 0.149 V.
 RECORDING_NOISE_V = 0.15
 
 
-def run(settings) -> Section:
+def run(settings: Settings) -> Section:
     section = Section("Seed 002: thin-film sensor on a pneumatic artificial muscle")
     truth = PatchSensor()
     muscle = PneumaticMuscle()

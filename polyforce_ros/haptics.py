@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import asdict, dataclass, fields, replace
+from typing import Any, Optional
 
 from .settings import setting, settings_of
 
@@ -94,7 +95,7 @@ class HapticConfig:
             object.__setattr__(self, f.name, float(value))
 
     @classmethod
-    def names(cls):
+    def names(cls) -> tuple[str, ...]:
         """Field names: the haptic bridge node declares a parameter of each name."""
         return tuple(f.name for f in fields(cls))
 
@@ -174,7 +175,7 @@ def parse_axis(axis: str) -> tuple[int, float]:
         raise ValueError(f"device axis must be one of {sorted(AXES)}, got {axis!r}") from None
 
 
-def device_vector(force_n: float, axis: str, size: int = 3) -> list:
+def device_vector(force_n: float, axis: str, size: int = 3) -> list[float]:
     """A command vector of ``size`` efforts with the force (N) on ``axis`` and zeros elsewhere.
 
     The layout of a ros2_control effort controller of a Force Dimension device
@@ -192,7 +193,7 @@ def device_vector(force_n: float, axis: str, size: int = 3) -> list:
 _RAMP_TOLERANCE_S = 1e-9
 
 
-def _finite(value) -> bool:
+def _finite(value: Any) -> bool:
     try:
         return math.isfinite(value)
     except TypeError:
@@ -221,23 +222,23 @@ class HapticBridge:
     COUNTERS = ("inputs", "invalid", "deadbanded", "saturated", "slew_limited", "stale_events", "recoveries",
                 "stamp_jumps")
 
-    def __init__(self, config: HapticConfig | None = None):
+    def __init__(self, config: HapticConfig | None = None) -> None:
         self.config = config if config is not None else HapticConfig()
         self.counts = dict.fromkeys(self.COUNTERS, 0)
         self.reset()
 
-    def reset(self):
+    def reset(self) -> None:
         """Back to the start state: zero command, stale, no time seen (counters are kept)."""
-        self._t = None            # last arrival time the state was advanced to (s)
-        self._last_valid = None   # arrival time of the last valid input (s)
-        self._last_stamp = None   # stamp of the last valid input (s)
-        self._last_input = None   # last valid needle force (N), re-shaped when the config changes
+        self._t: Optional[float] = None           # last arrival time the state was advanced to (s)
+        self._last_valid: Optional[float] = None  # arrival time of the last valid input (s)
+        self._last_stamp: Optional[float] = None  # stamp of the last valid input (s)
+        self._last_input: Optional[float] = None  # last valid needle force (N), re-shaped when the config changes
         self._target = 0.0        # shaped target (N)
         self._command = 0.0       # current command (N)
         self._stale = True
-        self._ramp = None         # (start time s, start command N) of the running stale ramp
+        self._ramp: Optional[tuple[float, float]] = None  # (start time s, start command N) of the running stale ramp
 
-    def configure(self, **changes) -> HapticConfig:
+    def configure(self, **changes: float) -> HapticConfig:
         """Change parameters at run time (validated; the target is re-shaped, the command re-saturated at once)."""
         self.config = replace(self.config, **changes)
         if self._last_input is not None and not self._stale:
@@ -265,7 +266,7 @@ class HapticBridge:
         return self._stale
 
     @property
-    def last_valid_s(self):
+    def last_valid_s(self) -> Optional[float]:
         """Arrival time of the last valid input, s (None before the first)."""
         return self._last_valid
 
@@ -306,6 +307,7 @@ class HapticBridge:
             if self._last_valid is not None:
                 self.counts["recoveries"] += 1
         else:
+            assert self._last_stamp is not None  # not stale: a valid sample has come
             elapsed = stamp - self._last_stamp
             if 0.0 <= elapsed <= self.config.stale_timeout_s:
                 new = slew(self._command, target, self.config.max_slew_n_per_s * elapsed)
@@ -331,6 +333,7 @@ class HapticBridge:
             return now
         now = max(now, self._t)
         if not self._stale:
+            assert self._last_valid is not None  # not stale: a valid sample has come
             deadline = max(self._last_valid + self.config.stale_timeout_s, self._t)  # max: a shortened timeout
             if now < deadline:  # stale from the instant the input is stale_timeout_s old
                 self._t = now
@@ -340,7 +343,7 @@ class HapticBridge:
             self._ramp = (deadline, self._command)
             self.counts["stale_events"] += 1
         if self._ramp is not None:
-            self._command = self._ramp_value(now)
+            self._command = self._ramp_value(self._ramp, now)
             if self._command == 0.0:
                 self._ramp = None
         else:
@@ -348,14 +351,14 @@ class HapticBridge:
         self._t = now
         return now
 
-    def _ramp_value(self, now: float) -> float:
-        start_s, start_n = self._ramp
+    def _ramp_value(self, ramp: tuple[float, float], now: float) -> float:
+        start_s, start_n = ramp
         # exactly zero from start + ramp_s on: compared (not subtracted) with 1 ns to spare, so no
         # rounding of the caller's time arithmetic leaves a residue of force at the end of the ramp
         if now >= start_s + self.config.ramp_s - _RAMP_TOLERANCE_S:
             return 0.0
         return stale_ramp(start_n, now - start_s, self.config.ramp_s)
 
-    def summary(self) -> dict:
+    def summary(self) -> dict[str, Any]:
         """State and counters for diagnostics."""
         return dict(self.counts, command_n=self.command, target_n=self._target, stale=self._stale, **asdict(self.config))

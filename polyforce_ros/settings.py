@@ -20,7 +20,7 @@ def setting(default: Any, description: str, low: Optional[float] = None, high: O
                                             "read_only": read_only})
 
 
-def settings_of(config_type: type) -> Iterator[tuple[Field, dict]]:
+def settings_of(config_type: type) -> Iterator[tuple[Field[Any], dict[str, Any]]]:
     """Each field of a configuration dataclass declared with :func:`setting`, with its metadata."""
     for f in fields(config_type):
         if "description" in f.metadata:

@@ -32,7 +32,7 @@ class ConsistentRun:
 
     def __init__(self, tolerance_ns: float, after_ns: float) -> None:
         self.tolerance_ns, self.after_ns = tolerance_ns, after_ns
-        self._run: Optional[list] = None  # [first arrival, last time, last skew]
+        self._run: Optional[list[int]] = None  # [first arrival, last time, last skew]
 
     def reset(self) -> None:
         """Forget the run (a stamp was accepted, or the history restarted)."""

@@ -26,23 +26,31 @@ import os
 import time
 from contextlib import suppress
 from pathlib import Path
+from typing import Any, Optional
 
+from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import WrenchStamped
-from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
+from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.publisher import Publisher
+from rclpy.timer import Timer
 from rcl_interfaces.msg import SetParametersResult
 from sensor_msgs.msg import JointState, Temperature
 from builtin_interfaces.msg import Time
 from std_msgs.msg import Float64, Header, String
 from std_srvs.srv import Trigger
 
-from ..model_file import default_model_path, load_model
+from ..model_file import SensorModel, default_model_path, load_model
 from ..physics.chain import ModelError
 from ..runtime import Compensator, CompensatorConfig
 from ..runtime.compensator import WARN_COUNTERS
 from .. import contract
-from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, declare_settings,
-                     latched_qos, ns_to_stamp, run, send_last_zero, stamp_to_ns)
+from .common import (ERROR, OK, WARN, CreatePublisher, ManagedNode, PolyforceNode, RosLifecycleNode, data_qos, declare,
+                     declare_qos, declare_settings, latched_qos, ns_to_stamp, run, send_last_zero, stamp_to_ns)
+
+#: What the live sensor serial check found: (state: match, mismatch or unknown; model's serial; live serial; force refused).
+SensorCheck = tuple[str, str, Optional[str], bool]
 
 
 class _CompensationLogic(PolyforceNode):
@@ -51,8 +59,15 @@ class _CompensationLogic(PolyforceNode):
     NODE_NAME = "compensation_node"
     diagnostics_name = "polyforce_ros: compensation"
     _active = True
+    compensator: Optional[Compensator]  # from the start (configure) on
+    model: SensorModel
+    pub: Publisher
+    _model_path: str
+    _model_mtime: Optional[int]
+    _tare_logged: str
+    _watchdog: Timer
 
-    def _declare_parameters(self):
+    def _declare_parameters(self) -> None:
         declare(self, "model_file", "", "Sensor model YAML; empty = the shipped paper model (seed 000 eq. 5)")
         declare_settings(self, CompensatorConfig)  # the runtime's policy: one declaration per field
         declare(self, "require_matching_sensor", False,
@@ -66,19 +81,19 @@ class _CompensationLogic(PolyforceNode):
                 "How often the model file is checked for changes (s)", 0.1, 60.0, read_only=True)
         declare_qos(self)
 
-    def _start(self, create_publisher):
+    def _start(self, create_publisher: CreatePublisher) -> None:
         """Load the model, build the runtime and open every topic, service and timer (raises on a bad model)."""
         # Parameter values read on every sample, kept in a dict refreshed by the set-parameters
         # callback (a get_parameter call per value and sample costs latency at 1 kHz).
-        self.p = {name: param.value for name, param in self._parameters.items()}
+        self.p: dict[str, Any] = {name: param.value for name, param in self._parameters.items()}
         self._open_diagnostics()
         self.node_counts = dict(published=0, stale_events=0, bad_joint=0, model_reloads=0)
         self.compensator = None
         self._stale = True
         self._model_error = ""
-        self._model_path, self._model_mtime = None, None
-        self.live_serial = None  # the sensor serial the driver announced (None until one arrives)
-        self._sensor_state, self._refuse_force = None, False
+        self.live_serial: Optional[str] = None  # the sensor serial the driver announced (None until one arrives)
+        self._sensor_state: Optional[SensorCheck] = None  # set by _check_sensor when the model is loaded
+        self._refuse_force = False
         self._load_model(self.get_parameter("model_file").value)  # raises on a bad file at start-up
         qos = data_qos(self)
         self.pub = create_publisher(WrenchStamped, contract.Rel.WRENCH, qos)
@@ -101,28 +116,36 @@ class _CompensationLogic(PolyforceNode):
         self._log_tare_decision()
 
     # ------------------------------------------------------------------ model
-    def _load_model(self, path_param):
+    def _load_model(self, path_param: str) -> None:
         path = str(Path(path_param).expanduser()) if path_param else str(default_model_path())
         model = load_model(path)
         self.model, self._model_path = model, path
         self._model_mtime = _mtime(path)
         self._needs_temperature = model.chain.needs_temperature
-        if self.compensator is None:
+        comp = self.compensator
+        if comp is None:
             config = CompensatorConfig(**{name: self.p[name] for name in CompensatorConfig.names()})
-            self.compensator = Compensator(model.chain, config)
+            comp = self.compensator = Compensator(model.chain, config)
         else:
-            self.compensator.set_chain(model.chain)  # a tare is kept; the history belongs to the old model
+            comp.set_chain(model.chain)  # a tare is kept; the history belongs to the old model
         self._check_sensor()
-        gain = self.compensator.noise_gain
+        gain = comp.noise_gain
         self.get_logger().info(f"model noise gain {gain.gain_n_per_v:.3g} N/V rms at {gain.rate_hz:g} Hz "
-                               f"(max_noise_gain {self.compensator.config.max_noise_gain:g}; most from {gain.element})")
+                               f"(max_noise_gain {comp.config.max_noise_gain:g}; most from {gain.element})")
 
     @property
-    def counts(self):
-        """The runtime's counters and the node's own (published, stale events, ...)."""
-        return {**self.compensator.counts, **self.node_counts}
+    def _comp(self) -> Compensator:
+        """The compensator; it exists from the start (configure) on, before any callback that uses it runs."""
+        comp = self.compensator
+        assert comp is not None, "the compensator exists once the node is started"
+        return comp
 
-    def _check_model_file(self):
+    @property
+    def counts(self) -> dict[str, int]:
+        """The runtime's counters and the node's own (published, stale events, ...)."""
+        return {**self._comp.counts, **self.node_counts}
+
+    def _check_model_file(self) -> None:
         mtime = _mtime(self._model_path)
         if mtime is None or mtime == self._model_mtime:
             return
@@ -136,7 +159,7 @@ class _CompensationLogic(PolyforceNode):
             self._model_error = str(exc)
             self.get_logger().error(f"model file changed but is invalid, keeping the previous model: {exc}")
 
-    def _on_set_parameters(self, params):
+    def _on_set_parameters(self, params: list[Parameter]) -> SetParametersResult:
         for p in params:
             if p.name == "model_file":
                 try:
@@ -152,14 +175,14 @@ class _CompensationLogic(PolyforceNode):
             self._check_sensor()
         changes = {p.name: p.value for p in params if p.name in CompensatorConfig.names()}
         if changes:
-            self.compensator.configure(**changes)
+            self._comp.configure(**changes)
         if "stale_timeout_s" in changes:  # the watchdog may sleep until the old deadline: wake it to re-plan
             self._watchdog.timer_period_ns = 1_000_000
-            self._watchdog.reset()
+            self._watchdog.reset()  # type: ignore[no-untyped-call]  # rclpy leaves Timer.reset unannotated
         return SetParametersResult(successful=True)
 
     # ------------------------------------------------------------------ input
-    def _on_joint_state(self, msg: JointState):
+    def _on_joint_state(self, msg: JointState) -> None:
         joint = self.p["joint_name"]
         if joint:
             try:
@@ -175,18 +198,20 @@ class _CompensationLogic(PolyforceNode):
             return
         self._process(stamp_to_ns(msg.header.stamp), position[index], msg.header)
 
-    def _on_temperature(self, msg: Temperature):
-        self.compensator.temperature(msg.temperature)  # a non-finite reading is ignored there
+    def _on_temperature(self, msg: Temperature) -> None:
+        self._comp.temperature(msg.temperature)  # a non-finite reading is ignored there
 
-    def _on_scalar(self, msg: Float64):
+    def _on_scalar(self, msg: Float64) -> None:
         self._process(time.time_ns(), msg.data, None)
 
-    def _process(self, stamp_ns, voltage_v, header):
+    def _process(self, stamp_ns: int, voltage_v: float, header: Optional[Header]) -> None:
         if not self._active:  # a managed node that is configured but not active uses no sample
             return
+        comp = self.compensator
+        assert comp is not None  # subscribed once the compensator exists
         # The receive clock is the system clock, as the driver's stamps are (ROS time without sim time).
-        force = self.compensator.step(stamp_ns, voltage_v, time.time_ns())
-        if self.compensator.auto_tare_status is not self._tare_logged:
+        force = comp.step(stamp_ns, voltage_v, time.time_ns())
+        if comp.auto_tare_status is not self._tare_logged:
             self._log_tare_decision()
         if force is None:
             return
@@ -204,7 +229,7 @@ class _CompensationLogic(PolyforceNode):
         self.pub.publish(out)
         self.node_counts["published"] += 1
 
-    def _publish(self, stamp_ns, force_n, frame_id=""):
+    def _publish(self, stamp_ns: int, force_n: float, frame_id: str = "") -> None:
         # One message object, reused: publish() serialises at once, so refilling it is cheaper than
         # building a WrenchStamped per sample. Its header is a new one: the one it holds may be a
         # received message's (_process), which is not ours to write.
@@ -214,9 +239,9 @@ class _CompensationLogic(PolyforceNode):
         self.pub.publish(msg)
         self.node_counts["published"] += 1
 
-    def _log_tare_decision(self):
+    def _log_tare_decision(self) -> None:
         """Log each change of the zeroing: INFO when zeroed or waiting, WARN when it fell back to the model's offset."""
-        comp = self.compensator
+        comp = self._comp
         self._tare_logged = status = comp.auto_tare_status
         if comp.auto_tare_failed:
             self.get_logger().warn(f"{status}; call ~/tare with the sensor unloaded")
@@ -225,9 +250,9 @@ class _CompensationLogic(PolyforceNode):
         elif status != "off":
             self.get_logger().info(status)
 
-    def _on_sensor_reset(self, msg: Header):
+    def _on_sensor_reset(self, msg: Header) -> None:
         """The sensor restarted relaxed at ``msg.stamp``: forget the history, zero again before force."""
-        self.compensator.reset(from_stamp_ns=stamp_to_ns(msg.stamp))
+        self._comp.reset(from_stamp_ns=stamp_to_ns(msg.stamp))
         self.get_logger().info("sensor restarted: history cleared, zeroing again")
         self._log_tare_decision()
 
@@ -237,11 +262,11 @@ class _CompensationLogic(PolyforceNode):
         """The sensor serial the model's provenance names ("" for none)."""
         return str(self.model.provenance.get("sensor_serial") or "").strip()
 
-    def _on_sensor_serial(self, msg: String):
+    def _on_sensor_serial(self, msg: String) -> None:
         self.live_serial = msg.data.strip()
         self._check_sensor()
 
-    def _check_sensor(self):
+    def _check_sensor(self) -> None:
         """Compares the live sensor serial with the model's: decides whether force is refused, logs each change."""
         model, live = self.model_serial, self.live_serial
         if not model or live is None:
@@ -249,7 +274,7 @@ class _CompensationLogic(PolyforceNode):
         else:
             state = "match" if live == model else "mismatch"
         self._refuse_force = bool(self.p["require_matching_sensor"]) and state != "match"
-        key = (state, model, live, self._refuse_force)
+        key: SensorCheck = (state, model, live, self._refuse_force)
         if key == self._sensor_state:
             return
         self._sensor_state = key
@@ -261,9 +286,16 @@ class _CompensationLogic(PolyforceNode):
         elif state == "match":
             self.get_logger().info(self._sensor_message())
 
+    @property
+    def _sensor_check(self) -> SensorCheck:
+        """What the last comparison of the live and the model's sensor serial found (made since the model is loaded)."""
+        check = self._sensor_state
+        assert check is not None, "the sensor is checked whenever a model is loaded"
+        return check
+
     def _sensor_message(self) -> str:
         """What the comparison of the live and the model's sensor serial found ("" when there is nothing to say)."""
-        state, model, live, refuse = self._sensor_state
+        state, model, live, refuse = self._sensor_check
         refused = ": zero force (require_matching_sensor)" if refuse else ""
         if state == "match":
             return f"sensor {live!r} is the one the model was calibrated on"
@@ -276,7 +308,7 @@ class _CompensationLogic(PolyforceNode):
         return f"no sensor serial from the driver yet{refused}"
 
     # ------------------------------------------------------------------ safety
-    def _check_stale(self):
+    def _check_stale(self) -> None:
         """The watchdog: a zero wrench once no valid input came for ``stale_timeout_s``, then every zero period.
 
         While input flows it wakes once, when the newest sample would go stale, not on a fixed
@@ -284,13 +316,14 @@ class _CompensationLogic(PolyforceNode):
         the tail of the 1 kHz latency (docs/benchmarks.md, benchmark 1). A stop is also caught on
         time (not up to one poll period late).
         """
-        timeout_s = self.compensator.config.stale_timeout_s
+        comp = self._comp
+        timeout_s = comp.config.stale_timeout_s
         zero_period_ns = int(min(0.02, timeout_s / 4) * 1e9)
         now_ns = time.time_ns()
-        last_ns = self.compensator.last_valid_receive_ns
+        last_ns = comp.last_valid_receive_ns
         if not self._active:
             next_ns = zero_period_ns
-        elif self.compensator.stale(now_ns):
+        elif comp.stale(now_ns):
             if not self._stale:
                 self.node_counts["stale_events"] += 1
                 self.get_logger().error(f"no valid input for {timeout_s:.3f} s: publishing zero force")
@@ -298,11 +331,12 @@ class _CompensationLogic(PolyforceNode):
             self._publish(self.get_clock().now().nanoseconds, 0.0)
             next_ns = zero_period_ns
         else:  # just after the newest sample goes stale (stale() is a strict comparison)
+            assert last_ns is not None  # not stale: a valid sample has come
             next_ns = max(last_ns + int(timeout_s * 1e9) - now_ns, 0) + 1_000_000
         self._watchdog.timer_period_ns = next_ns
-        self._watchdog.reset()
+        self._watchdog.reset()  # type: ignore[no-untyped-call]  # rclpy leaves Timer.reset unannotated
 
-    def publish_zero(self, wait_s=0.0):
+    def publish_zero(self, wait_s: float = 0.0) -> None:
         """A zero wrench now; on shutdown, wait up to ``wait_s`` for subscribers to acknowledge it."""
         self._publish(self.get_clock().now().nanoseconds, 0.0)
         if wait_s > 0:
@@ -311,34 +345,35 @@ class _CompensationLogic(PolyforceNode):
             self.pub.wait_for_all_acked(Duration(nanoseconds=int(wait_s * 1e9)))
 
     # ------------------------------------------------------------------ services
-    def _on_tare(self, request, response):
-        response.success, response.message = self.compensator.tare()
+    def _on_tare(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
+        response.success, response.message = self._comp.tare()
         if response.success:
             self.get_logger().info(response.message)
         else:
             self.get_logger().warn(response.message)
         return response
 
-    def _on_reset(self, request, response):
-        self.compensator.reset()
+    def _on_reset(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
+        self._comp.reset()
         response.success, response.message = True, "compensator history cleared"
         self.get_logger().info(response.message)
         return response
 
     # ------------------------------------------------------------------ diagnostics
-    def _publish_diagnostics(self):
+    def _publish_diagnostics(self) -> DiagnosticStatus:
         c = self.counts
+        comp, sensor_check = self._comp, self._sensor_check[0]
         if self._stale:
             level, message = ERROR, "no valid input: publishing zero force"
         elif self._refuse_force:
             level, message = ERROR, self._sensor_message()
-        elif self._needs_temperature and self.compensator.temperature_c is None:
+        elif self._needs_temperature and comp.temperature_c is None:
             level, message = WARN, "model follows temperature but no temperature received: not corrected"
-        elif self.compensator.auto_tare_failed:
-            level, message = ERROR, f"{self.compensator.auto_tare_status}: call ~/tare with the sensor unloaded"
-        elif self.compensator.auto_tare_pending:
+        elif comp.auto_tare_failed:
+            level, message = ERROR, f"{comp.auto_tare_status}: call ~/tare with the sensor unloaded"
+        elif comp.auto_tare_pending:
             level, message = WARN, "publishing zero force until the sensor rests (start-up zeroing pending)"
-        elif self._sensor_state[0] == "mismatch":
+        elif sensor_check == "mismatch":
             level, message = WARN, self._sensor_message()
         elif self._model_error:
             level, message = WARN, f"model file invalid, previous model kept: {self._model_error}"
@@ -347,14 +382,14 @@ class _CompensationLogic(PolyforceNode):
         else:
             level, message = OK, "running"
         values = dict(c, active=self._active, model_file=self._model_path, model=self.model.chain.viscoelastic,
-                      offset_v=self.compensator.offset_v, tared=self.compensator.tare_offset_v is not None,
-                      auto_tare=self.compensator.auto_tare_status,
-                      noise_gain_n_per_v=self.compensator.noise_gain.gain_n_per_v,
+                      offset_v=comp.offset_v, tared=comp.tare_offset_v is not None,
+                      auto_tare=comp.auto_tare_status,
+                      noise_gain_n_per_v=comp.noise_gain.gain_n_per_v,
                       sensor_serial=self.live_serial if self.live_serial is not None else "unknown",
-                      model_sensor_serial=self.model_serial or "none", sensor_check=self._sensor_state[0])
+                      model_sensor_serial=self.model_serial or "none", sensor_check=sensor_check)
         return self.diag.publish(level, message, values)
 
-    def destroy_node(self):
+    def destroy_node(self) -> None:
         send_last_zero(self)
         super().destroy_node()
 
@@ -374,17 +409,17 @@ class CompensationLifecycleNode(ManagedNode, _CompensationLogic, LifecycleNode):
 
     compensator = None  # until configure
 
-    def on_activate(self, state):
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
         self._active = True
-        self.compensator.reset()  # what came before activation is not this activation's history
+        self._comp.reset()  # what came before activation is not this activation's history
         return super().on_activate(state)
 
-    def on_deactivate(self, state):
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
         self.publish_zero(wait_s=0.5)
         self._active = False
         return super().on_deactivate(state)
 
-    def on_shutdown(self, state):
+    def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
         if self._active:
             self.publish_zero(wait_s=0.5)
         self._active = False
@@ -395,25 +430,25 @@ class CompensationLifecycleNode(ManagedNode, _CompensationLogic, LifecycleNode):
             self.remove_on_set_parameters_callback(self._on_set_parameters)
         self.compensator = None
 
-    def destroy_node(self):
+    def destroy_node(self) -> None:
         if self._active:
             send_last_zero(self)
         self._active = False
-        LifecycleNode.destroy_node(self)
+        RosLifecycleNode.destroy_node(self)  # LifecycleNode's: the last zero is sent only by an active node
 
 
-def _mtime(path):
+def _mtime(path: str) -> Optional[int]:
     try:
         return os.stat(path).st_mtime_ns
     except OSError:
         return None
 
 
-def main(args=None):
+def main(args: Optional[list[str]] = None) -> int:
     return run(CompensationNode, args)
 
 
-def main_lifecycle(args=None):
+def main_lifecycle(args: Optional[list[str]] = None) -> int:
     return run(CompensationLifecycleNode, args)
 
 

@@ -32,10 +32,15 @@ Backends
 from __future__ import annotations
 
 from collections import deque
+from typing import Any, Optional, Union
 
+import numpy as np
+import numpy.typing as npt
+from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import WrenchStamped
-from rclpy.lifecycle import LifecycleNode, TransitionCallbackReturn
+from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from rclpy.node import Node
+from rclpy.qos import QoSProfile
 from sensor_msgs.msg import JointState, Temperature
 from std_msgs.msg import Header, String
 from std_srvs.srv import Trigger
@@ -43,12 +48,12 @@ from std_srvs.srv import Trigger
 from ..model_file import default_model_path, load_model
 from ..runtime.sources import (RATE_WARN_FRACTION, DriverConfig, SerialSource, SerialSourceConfig, SimSourceConfig,
                                SimulatedSource)
-from ..serial_protocol import REQUEST_INFO, REQUEST_STATUS
+from ..serial_protocol import REQUEST_INFO, REQUEST_STATUS, DeviceClock, DeviceInfo, FrameParser
 from ..sim import profiles
 from ..sim.sensor import BridgeSimulator
 from .. import contract
-from .common import (ERROR, OK, WARN, ManagedNode, PolyforceNode, data_qos, declare, declare_qos, declare_settings,
-                     latched_qos, ns_to_stamp, read_settings, run)
+from .common import (ERROR, OK, WARN, CreatePublisher, ManagedNode, PolyforceNode, data_qos, declare, declare_qos,
+                     declare_settings, latched_qos, ns_to_stamp, read_settings, run)
 
 
 class _DriverLogic(PolyforceNode):
@@ -56,8 +61,10 @@ class _DriverLogic(PolyforceNode):
 
     NODE_NAME = "driver_node"
     _active = True
+    source: Union[SimulatedSource, SerialSource]  # from the start (configure) on
+    port: Optional[Any]  # the serial.Serial of the serial backend while it is open
 
-    def _declare_parameters(self):
+    def _declare_parameters(self) -> None:
         for config_type in (DriverConfig, SimSourceConfig, SerialSourceConfig):
             declare_settings(self, config_type)
         declare(self, "diagnostics_period_s", 1.0, "Period of /diagnostics (s)", 0.05, 60.0, read_only=True)
@@ -67,7 +74,7 @@ class _DriverLogic(PolyforceNode):
         self.sim_config = read_settings(self, SimSourceConfig)
         self.serial_config = read_settings(self, SerialSourceConfig)
 
-    def _start(self, create_publisher):
+    def _start(self, create_publisher: CreatePublisher) -> None:
         """Open the source (simulator or serial port) and the topics; raises on bad parameters or files."""
         backend = self.config.backend
         self._make_publisher, self._entities = create_publisher, []
@@ -90,16 +97,17 @@ class _DriverLogic(PolyforceNode):
 
     @property
     def diagnostics_name(self) -> str:
+        """Name of the driver's DiagnosticStatus, with its backend."""
         return f"polyforce_ros: driver ({self.config.backend})"
 
-    def _raw_message(self, stamp_ns, volts):
+    def _raw_message(self, stamp_ns: int, volts: float) -> JointState:
         msg = JointState(name=[self._joint], position=[float(volts)])
         ns_to_stamp(stamp_ns, msg.header.stamp)
         msg.header.frame_id = self._frame
         return msg
 
     # ------------------------------------------------------------------ simulator
-    def _init_sim(self, qos):
+    def _init_sim(self, qos: QoSProfile) -> None:
         self.pub_ref = self._make_publisher(WrenchStamped, contract.Rel.REFERENCE_FORCE, qos)
         self.pub_temp = self._make_publisher(Temperature, contract.Rel.TEMPERATURE, 10)
         cfg = self.sim_config
@@ -115,32 +123,72 @@ class _DriverLogic(PolyforceNode):
         self.get_logger().info(f"sim backend: profile {cfg.profile} ({self.period_n / self.rate_hz:.1f} s), "
                                f"{self.rate_hz:.0f} Hz, truth {chain.viscoelastic}")
 
-    # the source's state, read by diagnostics, the run loop, the demo and tests
-    profile_f = property(lambda self: self.source.profile_f)
-    period_n = property(lambda self: self.source.period_n)
-    start_ns = property(lambda self: self.source.start_ns)
-    done = property(lambda self: getattr(self.source, "done", False))
-    parser = property(lambda self: self.source.parser)
-    clock = property(lambda self: self.source.clock)
+    # the source's state, read by diagnostics, the run loop, the demo and tests; AttributeError before the
+    # start and from a source of the other backend
+    @property
+    def _sim(self) -> SimulatedSource:
+        source = self.source
+        if not isinstance(source, SimulatedSource):
+            raise AttributeError(f"the {self.config.backend} backend has no simulated source")
+        return source
 
-    def _on_restart_profile(self, request, response):
+    @property
+    def _serial(self) -> SerialSource:
+        source = self.source
+        if not isinstance(source, SerialSource):
+            raise AttributeError(f"the {self.config.backend} backend has no serial source")
+        return source
+
+    @property
+    def profile_f(self) -> npt.NDArray[np.float64]:
+        """The simulated force profile, one value per sample (N)."""
+        return self._sim.profile_f
+
+    @property
+    def period_n(self) -> int:
+        """Samples of the simulated force profile."""
+        return self._sim.period_n
+
+    @property
+    def start_ns(self) -> Optional[int]:
+        """Stamp of sample 0 of the simulated profile (ns); None until it starts."""
+        return self._sim.start_ns
+
+    @property
+    def done(self) -> bool:
+        """The simulated profile has ended and does not loop (the run loop then stops); False for serial."""
+        source = self.source
+        return isinstance(source, SimulatedSource) and source.done
+
+    @property
+    def parser(self) -> FrameParser:
+        """The serial source's frame parser, with its counters."""
+        return self._serial.parser
+
+    @property
+    def clock(self) -> DeviceClock:
+        """The serial source's mapping of device time onto host time, with its counters."""
+        return self._serial.clock
+
+    def _on_restart_profile(self, request: Trigger.Request, response: Trigger.Response) -> Trigger.Response:
         """Start the profile again from its first sample, stamped from now, with a relaxed sensor."""
-        self.source.restart()
+        self._sim.restart()
         self.published = 0
         response.success, response.message = True, "profile restarts at its first sample"
         self.get_logger().info(response.message)
         return response
 
-    def _sim_tick(self):
+    def _sim_tick(self) -> None:
         if not self._active:
             return
+        source = self._sim
         now = self.get_clock().now().nanoseconds
-        if not self.source.started:
+        if not source.started:
             if self.pub_raw.get_subscription_count() < self.sim_config.wait_for_subscribers:
                 return  # matched readers are counted by DDS itself: what is published next reaches them
-            self.source.start(now)
+            source.start(now)
             self._publish_sensor_reset(now)
-        block = self.source.due(now)
+        block = source.due(now)
         if block is None:
             return
         temp_every = max(1, int(self.rate_hz / 10))
@@ -156,27 +204,27 @@ class _DriverLogic(PolyforceNode):
                 ns_to_stamp(stamp, temp.header.stamp)
                 temp.header.frame_id = self._frame
                 self.pub_temp.publish(temp)
-        self.published = self.source.published
+        self.published = source.published
 
     # ------------------------------------------------------------------ serial
-    def _init_serial(self):
+    def _init_serial(self) -> None:
         cfg = self.serial_config
         self.source = SerialSource(cfg.volts_per_count, cfg.volts_offset)
         self.port = None
         self.outages = 0
         self.connected = False
         self._last_error = "not opened yet"
-        self._rate_window = None  # (start ns, parser.frames, outages) of the window being counted
-        self._window_rates = deque(maxlen=2)  # frames/s of the last two completed windows
+        self._rate_window: Optional[tuple[int, int, int]] = None  # (start ns, parser.frames, outages) being counted
+        self._window_rates: deque[float] = deque(maxlen=2)  # frames/s of the last two completed windows
         self.pub_temp = self._make_publisher(Temperature, contract.Rel.TEMPERATURE, 10)  # the ADC's own sensor
-        self._known_info = None  # the device info last logged
+        self._known_info: Optional[DeviceInfo] = None  # the device info last logged
         self.pub_serial = self._make_publisher(String, contract.Rel.SENSOR_SERIAL, latched_qos())
-        self._published_serial = None  # the sensor serial last published
+        self._published_serial: Optional[str] = None  # the sensor serial last published
         self._open_port()
         self._entities += [self.create_timer(self.config.publish_period_s, self._serial_tick),
                            self.create_timer(cfg.reconnect_period_s, self._reconnect)]
 
-    def _open_port(self):
+    def _open_port(self) -> bool:
         import serial
 
         try:
@@ -185,26 +233,27 @@ class _DriverLogic(PolyforceNode):
             self.port = None
             self._last_error = str(exc)
             return False
-        self.source.reset()
+        self._serial.reset()
         self.connected = True
         self.get_logger().info(f"serial port {self.serial_config.port} open")
         self._request_identity()
         return True
 
-    def _request_identity(self):
+    def _request_identity(self) -> None:
         """Asks the device for its info and status (a device that knows no messages ignores the bytes)."""
         import serial
 
+        assert self.port is not None  # asked on an open port only
         try:
             self.port.write(REQUEST_INFO + REQUEST_STATUS)
         except (serial.SerialException, OSError, TypeError) as exc:
             self.get_logger().warning(f"cannot ask the device who it is: {exc}")
 
-    def _reconnect(self):
+    def _reconnect(self) -> None:
         if not self.connected and self._open_port():
             self.get_logger().info("serial device back: reconnected")
 
-    def _drop_port(self, reason):
+    def _drop_port(self, reason: str) -> None:
         self._close_port()
         if self.connected:
             self.outages += 1
@@ -212,28 +261,30 @@ class _DriverLogic(PolyforceNode):
         self.connected = False
         self._last_error = reason
 
-    def _publish_sensor_reset(self, stamp_ns):
+    def _publish_sensor_reset(self, stamp_ns: int) -> None:
         reset = Header(frame_id=self._frame)
         ns_to_stamp(stamp_ns, reset.stamp)
         self.pub_reset.publish(reset)
         self.sensor_resets += 1
 
-    def _serial_tick(self):
+    def _serial_tick(self) -> None:
         if not self.connected or not self._active:
             return
         import serial
 
+        port = self.port
+        assert port is not None  # connected: the port is open
         try:
-            waiting = self.port.in_waiting
+            waiting = port.in_waiting
             # read(1) on an idle port returns at once; on a vanished device it raises (EIO)
-            data = self.port.read(waiting or 1)
+            data = port.read(waiting or 1)
         except (serial.SerialException, OSError, TypeError) as exc:
             self._drop_port(str(exc) or type(exc).__name__)
             return
         if not data:
             return
         reanchored = self.clock.reanchored
-        samples = self.source.feed(data, self.get_clock().now().nanoseconds)
+        samples = self._serial.feed(data, self.get_clock().now().nanoseconds)
         if self.clock.reanchored != reanchored and samples:  # the device restarted its clock: it was reset
             self._publish_sensor_reset(samples[0][0])
         for stamp, volts in samples:
@@ -241,9 +292,10 @@ class _DriverLogic(PolyforceNode):
             self.published += 1
         self._publish_device_messages()
 
-    def _publish_device_messages(self):
+    def _publish_device_messages(self) -> None:
         """Logs a new device identity; publishes the device's temperatures."""
-        info = self.source.info
+        source = self._serial
+        info = source.info
         if info is not None and info != self._known_info:
             previous, self._known_info = self._known_info, info
             self.get_logger().info(
@@ -257,7 +309,7 @@ class _DriverLogic(PolyforceNode):
             if info.sensor_serial != self._published_serial:
                 self._published_serial = info.sensor_serial
                 self.pub_serial.publish(String(data=info.sensor_serial))
-        for arrival_ns, reading in self.source.take_temperatures():
+        for arrival_ns, reading in source.take_temperatures():
             # variance: the ADS1220 sensor's typical accuracy, +-0.5 degC, taken as one sigma
             msg = Temperature(temperature=reading.celsius, variance=0.25)
             ns_to_stamp(arrival_ns, msg.header.stamp)
@@ -265,7 +317,7 @@ class _DriverLogic(PolyforceNode):
             self.pub_temp.publish(msg)
 
     # ------------------------------------------------------------------ diagnostics
-    def _count_rate_window(self):
+    def _count_rate_window(self) -> None:
         """Closes the rate window once ``rate_window_s`` of connected time have passed (called per diagnostics)."""
         now = self.get_clock().now().nanoseconds
         window = self._rate_window
@@ -280,8 +332,8 @@ class _DriverLogic(PolyforceNode):
             self._window_rates.append((self.parser.frames - window[1]) * 1e9 / (now - window[0]))
             self._rate_window = (now, self.parser.frames, self.outages)
 
-    def _publish_diagnostics(self):
-        values = {"published": self.published}
+    def _publish_diagnostics(self) -> DiagnosticStatus:
+        values: dict[str, Any] = {"published": self.published}
         if self.config.backend == "sim":
             level, message = OK, "simulating"
             values.update(profile=self.sim_config.profile, rate_hz=self.rate_hz)
@@ -313,9 +365,9 @@ class _DriverLogic(PolyforceNode):
                 level, message = OK, "connected"
         return self.diag.publish(level, message, values)
 
-    def _device_diagnostics(self, values, problems):
+    def _device_diagnostics(self, values: dict[str, Any], problems: list[str]) -> None:
         """The device's own info and status into ``values``; disagreements and faults into ``problems``."""
-        info, status = self.source.info, self.source.status
+        info, status = self._serial.info, self._serial.status
         if info is None:
             values["device_info"] = "not received (asked for at connection; firmware without messages sends none)"
         else:
@@ -333,14 +385,15 @@ class _DriverLogic(PolyforceNode):
                 problems.append(f"device configured its ADC again {status.adc_reconfigs} times (DRDY fell silent)")
 
     def _close_port(self) -> None:
-        if getattr(self, "port", None) is not None:
+        port = getattr(self, "port", None)  # none before the serial backend starts
+        if port is not None:
             try:
-                self.port.close()
+                port.close()
             except Exception:  # noqa: BLE001 - the device may be gone already; closing may fail too
                 pass
         self.port = None
 
-    def destroy_node(self):
+    def destroy_node(self) -> None:
         self._close_port()
         super().destroy_node()
 
@@ -361,22 +414,22 @@ class DriverLifecycleNode(ManagedNode, _DriverLogic, LifecycleNode):
         if self.config.backend == "serial" and not self.connected:
             raise OSError(f"cannot open {self.serial_config.port}: {self._last_error}")
 
-    def on_activate(self, state):
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
         if self.config.backend == "sim":
-            self.source.restart()
+            self._sim.restart()
             self.published = 0
         elif self.port is not None:
             self.port.reset_input_buffer()  # what waited while inactive is not this activation's data
-            self.source.reset()
+            self._serial.reset()
             self._request_identity()
         self._active = True
         return super().on_activate(state)
 
-    def on_deactivate(self, state):
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
         self._active = False
         return super().on_deactivate(state)
 
-    def on_shutdown(self, state):
+    def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
         self._active = False
         return TransitionCallbackReturn.SUCCESS
 
@@ -384,11 +437,11 @@ class DriverLifecycleNode(ManagedNode, _DriverLogic, LifecycleNode):
         self._close_port()
 
 
-def main(args=None):
+def main(args: Optional[list[str]] = None) -> int:
     return run(DriverNode, args)
 
 
-def main_lifecycle(args=None):
+def main_lifecycle(args: Optional[list[str]] = None) -> int:
     return run(DriverLifecycleNode, args)
 
 

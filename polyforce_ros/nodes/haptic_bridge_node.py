@@ -34,17 +34,19 @@ publishes a zero command and waits for it to be acknowledged. Counters on
 from __future__ import annotations
 
 import time
+from typing import Any, Optional
 
+from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import WrenchStamped
 from rcl_interfaces.msg import SetParametersResult
-from rclpy.node import Node
+from rclpy.parameter import Parameter
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile
 from std_msgs.msg import Float64MultiArray
 
 from .. import contract
 from ..haptics import AXES, HapticBridge, HapticConfig, device_vector, parse_axis
-from .common import (DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, data_qos, declare, declare_qos, declare_settings,
-                     read_settings, run, send_last_zero)
+from .common import (DEFAULT_NAMESPACE, ERROR, OK, WARN, Diagnostics, RosNode, data_qos, declare, declare_qos,
+                     declare_settings, read_settings, run, send_last_zero)
 
 #: Relative name of the WrenchStamped command (in the node's namespace).
 HAPTIC_COMMAND = contract.Rel.HAPTIC_COMMAND
@@ -56,8 +58,10 @@ FD_BASE_FRAME = "fd_base"
 COMMAND_QOS_DEPTH = 10
 
 
-class HapticBridgeNode(Node):
-    def __init__(self, **kwargs):
+class HapticBridgeNode(RosNode):
+    """The haptic bridge (``ros2 run polyforce_ros haptic_bridge_node``); ``kwargs`` as for ``Node``."""
+
+    def __init__(self, **kwargs: Any) -> None:
         kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
         super().__init__("haptic_bridge_node", **kwargs)
         declare_settings(self, HapticConfig)
@@ -83,13 +87,15 @@ class HapticBridgeNode(Node):
         self.axis_index, self.axis_sign = parse_axis(self.axis)
         self.bridge = HapticBridge(read_settings(self, HapticConfig))
         self.node_counts = dict(published=0)
-        self._published_n = None   # the last command published, N
-        self._stamp0_ns = None     # the first header stamp seen: stamps are passed on relative to it (float precision)
+        self._published_n: Optional[float] = None  # the last command published, N
+        # the first header stamp seen: stamps are passed on relative to it (float precision)
+        self._stamp0_ns: Optional[int] = None
         self._reported = dict(self.bridge.counts)
 
         qos = data_qos(self)
-        command_qos = QoSProfile(history=HistoryPolicy.KEEP_LAST, depth=COMMAND_QOS_DEPTH,
-                                 reliability=qos.reliability, durability=DurabilityPolicy.VOLATILE)
+        command_qos = QoSProfile(  # type: ignore[no-untyped-call]  # rclpy leaves QoSProfile(**kwargs) unannotated
+            history=HistoryPolicy.KEEP_LAST, depth=COMMAND_QOS_DEPTH, reliability=qos.reliability,
+            durability=DurabilityPolicy.VOLATILE)
         self.pub = self.create_publisher(WrenchStamped, HAPTIC_COMMAND, command_qos)
         self.effort_pub = None
         if p["effort_command_topic"]:
@@ -107,7 +113,7 @@ class HapticBridgeNode(Node):
             f"slew {p['max_slew_n_per_s']} N/s) -> {self.axis} of {p['device_frame_id']} on "
             f"{self.pub.topic_name}" + (f" and {self.effort_pub.topic_name}" if self.effort_pub else ""))
 
-    def _on_set_parameters(self, params):
+    def _on_set_parameters(self, params: list[Parameter]) -> SetParametersResult:
         changes = {p.name: p.value for p in params if p.name in HapticConfig.names()}
         if changes:
             try:
@@ -118,7 +124,7 @@ class HapticBridgeNode(Node):
                 self._publish(self.bridge.command)  # a lower maximum clamps the command now, not at the next wrench
         return SetParametersResult(successful=True)
 
-    def _on_wrench(self, msg: WrenchStamped):
+    def _on_wrench(self, msg: WrenchStamped) -> None:
         now = time.monotonic()
         stamp = msg.header.stamp
         stamp_ns = stamp.sec * 1_000_000_000 + stamp.nanosec
@@ -130,12 +136,12 @@ class HapticBridgeNode(Node):
             stamp_s = (stamp_ns - self._stamp0_ns) * 1e-9
         self._publish(self.bridge.step(now, msg.wrench.force.z, stamp_s))
 
-    def _on_timer(self):
+    def _on_timer(self) -> None:
         command = self.bridge.tick(time.monotonic())
         if self.bridge.stale and command != self._published_n:  # the stale ramp, down to its last zero
             self._publish(command)
 
-    def _publish(self, force_n):
+    def _publish(self, force_n: float) -> None:
         msg = self._out
         msg.header.stamp = self.get_clock().now().to_msg()
         force = self.axis_sign * force_n + 0.0
@@ -149,7 +155,7 @@ class HapticBridgeNode(Node):
         self.node_counts["published"] += 1
         self._published_n = force_n
 
-    def _publish_diagnostics(self):
+    def _publish_diagnostics(self) -> DiagnosticStatus:
         counts = self.bridge.counts
         new = {k: counts[k] - self._reported[k] for k in counts}
         self._reported = dict(counts)
@@ -164,7 +170,7 @@ class HapticBridgeNode(Node):
         values = dict(self.bridge.summary(), **self.node_counts, device_axis=self.axis)
         return self.diag.publish(level, message, values)
 
-    def publish_zero(self, wait_s=0.0):
+    def publish_zero(self, wait_s: float = 0.0) -> None:
         """A zero command now; on shutdown, wait up to ``wait_s`` for subscribers to acknowledge it."""
         self._publish(0.0)
         if wait_s > 0:
@@ -174,12 +180,12 @@ class HapticBridgeNode(Node):
                 if pub is not None:
                     pub.wait_for_all_acked(Duration(nanoseconds=int(wait_s * 1e9)))
 
-    def destroy_node(self):
+    def destroy_node(self) -> None:
         send_last_zero(self)
         super().destroy_node()
 
 
-def main(args=None):
+def main(args: Optional[list[str]] = None) -> int:
     return run(HapticBridgeNode, args)
 
 

@@ -8,20 +8,22 @@ when the node shuts down.
 """
 from __future__ import annotations
 
-from rclpy.node import Node
+from typing import Any, Callable, Optional
 
 from .. import bags, contract
-from .common import DEFAULT_NAMESPACE, OK, Diagnostics, data_qos, declare, declare_qos, message_class, run
+from .common import DEFAULT_NAMESPACE, OK, Diagnostics, RosNode, data_qos, declare, declare_qos, message_class, run
 
 #: Topics the recorder can record: relative name -> (message class, type name), from the contract.
 TOPICS = {rel: (message_class(type_name), type_name) for rel, type_name in contract.RECORDED.items()}
 
 
-class RecorderNode(Node):
+class RecorderNode(RosNode):
+    """The recorder (``ros2 run polyforce_ros recorder_node``); ``kwargs`` as for ``Node``."""
+
     #: run() gives it an executor that passes message info (the sender's timestamp)
     needs_message_info = True
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: Any) -> None:
         kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
         super().__init__("recorder_node", **kwargs)
         path = declare(self, "bag_path", "", "Output mcap file", read_only=True)
@@ -44,15 +46,17 @@ class RecorderNode(Node):
         for name in topics:
             msg_type, type_name = TOPICS[name]
             full = f"{self.get_namespace().rstrip('/')}/{name}"
-            self.create_subscription(msg_type, name, self._make_callback(name, full, type_name), qos, raw=True)
+            callback = self._make_callback(name, full, type_name)
+            # rclpy passes the message info to a callback of two parameters; its annotation knows only one
+            self.create_subscription(msg_type, name, callback, qos, raw=True)  # type: ignore[arg-type]
         self.diag = Diagnostics(self, "polyforce_ros: recorder")
         self.create_timer(1.0, lambda: self.diag.publish(OK, f"recording to {path}", self.counts))
         self.get_logger().info(f"recording {topics} to {path}")
 
-    def _make_callback(self, name, full_topic, type_name):
+    def _make_callback(self, name: str, full_topic: str, type_name: str) -> Callable[[bytes, Any], None]:
         clock = self.get_clock()
 
-        def callback(data: bytes, info):
+        def callback(data: bytes, info: Any) -> None:
             # rosbag2's convention: log time = when the recorder received it, publish time = when it was sent
             log = clock.now().nanoseconds
             sent = info.get("source_timestamp") if isinstance(info, dict) else None  # MessageInfo (a dict here)
@@ -61,13 +65,13 @@ class RecorderNode(Node):
 
         return callback
 
-    def destroy_node(self):
+    def destroy_node(self) -> None:
         self.writer.close()
         self.get_logger().info(f"bag closed: {self.counts}")
         super().destroy_node()
 
 
-def main(args=None):
+def main(args: Optional[list[str]] = None) -> int:
     return run(RecorderNode, args)
 
 

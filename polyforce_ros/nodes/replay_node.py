@@ -28,14 +28,15 @@ from __future__ import annotations
 
 import time
 from collections import deque
+from typing import Any, Optional
 
 import numpy as np
+from diagnostic_msgs.msg import DiagnosticStatus
 from geometry_msgs.msg import WrenchStamped
-from rclpy.node import Node
 
 from .. import bags, contract
-from .common import (DEFAULT_NAMESPACE, OK, WARN, Diagnostics, data_qos, declare, declare_qos, message_class, run,
-                     stamp_to_ns)
+from .common import (DEFAULT_NAMESPACE, OK, WARN, Diagnostics, RosNode, data_qos, declare, declare_qos, message_class,
+                     run, stamp_to_ns)
 
 #: Replayed topics: full name in the bag -> relative name (wrench is what the compensation node makes).
 _RELATIVE = {contract.full_name(rel): rel for rel in contract.RECORDED if rel != contract.Rel.WRENCH}
@@ -55,20 +56,20 @@ class AnswerTracker:
     unanswered.
     """
 
-    def __init__(self, capacity: int):
+    def __init__(self, capacity: int) -> None:
         self.capacity = int(capacity)
-        self._pending: deque = deque()  # (stamp_ns, publish time s), in publish order
-        self._seq: dict = {}            # stamp_ns -> publish ordinal, pending only
+        self._pending: deque[tuple[int, float]] = deque()  # (stamp_ns, publish time s), in publish order
+        self._seq: dict[int, int] = {}  # stamp_ns -> publish ordinal, pending only
         self._next = 0
         self._first = 0                 # ordinal of _pending[0]
         self.answered_count = 0
         self.unanswered = 0
         self.foreign = 0                # answers to stamps we did not publish (or already settled)
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self._pending)
 
-    def published(self, stamp_ns: int, now_s: float):
+    def published(self, stamp_ns: int, now_s: float) -> None:
         if stamp_ns in self._seq:  # a re-sent sample: one entry is enough
             return
         if len(self._pending) >= self.capacity:
@@ -88,22 +89,24 @@ class AnswerTracker:
         self.answered_count += 1
         return True
 
-    def expire(self, now_s: float, timeout_s: float):
+    def expire(self, now_s: float, timeout_s: float) -> None:
         while self._pending and now_s - self._pending[0][1] > timeout_s:
             self._pop(unanswered=True)
 
     def oldest_age_s(self, now_s: float) -> float:
         return now_s - self._pending[0][1] if self._pending else 0.0
 
-    def _pop(self, unanswered: bool):
+    def _pop(self, unanswered: bool) -> None:
         stamp, _ = self._pending.popleft()
         del self._seq[stamp]
         self._first += 1
         self.unanswered += int(unanswered)
 
 
-class ReplayNode(Node):
-    def __init__(self, **kwargs):
+class ReplayNode(RosNode):
+    """The replay (``ros2 run polyforce_ros replay_node``); ``kwargs`` as for ``Node``."""
+
+    def __init__(self, **kwargs: Any) -> None:
         kwargs.setdefault("namespace", DEFAULT_NAMESPACE)
         super().__init__("replay_node", **kwargs)
         path = declare(self, "bag_path", "", "The mcap log to play", read_only=True)
@@ -165,7 +168,7 @@ class ReplayNode(Node):
         # recorder or a plot, with no compensation node, has nothing to answer and loses nothing
         self._tracking = self._lossless
         self._first_answer = False
-        self._handshake_index = None   # timeline index of the first bridge sample, while unanswered
+        self._handshake_index: Optional[int] = None  # timeline index of the first bridge sample, while unanswered
         self._handshake_resends = 0
         self._last_handshake = 0.0
         self.behind_s = 0.0        # how far the last publication was behind schedule
@@ -192,7 +195,7 @@ class ReplayNode(Node):
     def unanswered(self) -> int:
         return self._answers.unanswered
 
-    def _on_answer(self, msg: WrenchStamped):
+    def _on_answer(self, msg: WrenchStamped) -> None:
         if self._answers.answered(stamp_to_ns(msg.header.stamp)):
             self._first_answer = True
 
@@ -205,7 +208,7 @@ class ReplayNode(Node):
         return all(p.get_subscription_count() > 0 for p in raw) and self.count_publishers(
             self.resolve_topic_name(pace)) > 0
 
-    def _tick(self):
+    def _tick(self) -> None:
         if self.done:
             return
         now = time.monotonic()
@@ -246,7 +249,7 @@ class ReplayNode(Node):
                 self.done = True
                 self.get_logger().info(f"replay finished: {self.answered} samples answered, {self.unanswered} unanswered")
 
-    def _publish(self, i, now):
+    def _publish(self, i: int, now: float) -> None:
         kind, pub, is_raw = self._kinds[self._stream[i]]
         stamp = int(self._stamp[i])
         pub.publish(bags.make_message(kind, stamp, self._value[i], self._frame, self._joint))
@@ -257,12 +260,12 @@ class ReplayNode(Node):
         pace = self.get_parameter("pace_topic").value
         return bool(pace) and self.count_publishers(self.resolve_topic_name(pace)) > 0
 
-    def _refresh_tracking(self):
+    def _refresh_tracking(self) -> None:
         """Timed mode: track answers while something publishes the pace topic (it may come and go)."""
         if not self._lossless:
             self._tracking = self._answerer_present()
 
-    def _publish_diagnostics(self):
+    def _publish_diagnostics(self) -> DiagnosticStatus:
         values = {"published": self.index, "total": int(self._log.size), "loops": self.loops,
                   "answered": self.answered, "unanswered": self.unanswered, "in_flight": len(self._answers),
                   "behind_schedule_s": round(self.behind_s, 4), "max_behind_schedule_s": round(self.max_behind_s, 4),
@@ -280,7 +283,7 @@ class ReplayNode(Node):
         return self.diag.publish(level, message, values)
 
 
-def main(args=None):
+def main(args: Optional[list[str]] = None) -> int:
     return run(ReplayNode, args)
 
 

@@ -268,6 +268,7 @@ class Compensator(_Configured):
     """
 
     _rest_since_ns: Optional[int]   # start of the current rest (drift tracking), ns; None = not resting
+    noise_gain: NoiseGain           # of the chain in use, at noise_gain_rate_hz (set with the chain)
 
     def __init__(self, chain: SensorChain, config: CompensatorConfig = CompensatorConfig()) -> None:
         self.config = config
@@ -275,16 +276,15 @@ class Compensator(_Configured):
         self.counts = self.gate.counts
         for name in COMPENSATOR_COUNTERS:
             self.counts.setdefault(name, 0)
-        self._recent_v: deque = deque(maxlen=int(config.tare_window))
+        self._recent_v: deque[float] = deque(maxlen=int(config.tare_window))
         self.tare_offset_v: Optional[float] = None   # bridge offset from the last tare, V
         self.drift_v = 0.0                           # drift corrections since then, V
         self.last_valid_receive_ns: Optional[int] = None
         self.auto_tare_status = "pending" if config.auto_tare else "off"
         self.auto_tare_failed = False                # no rest within auto_tare_timeout_s: the model's offset in use
         self.auto_tare_reason = ""                   # why the last window was not at rest
-        self._auto: Optional[list] = [] if config.auto_tare else None   # (stamp_ns, V) of the window
+        self._auto: Optional[list[tuple[int, float]]] = [] if config.auto_tare else None   # (stamp_ns, V) of the window
         self._auto_since_ns: Optional[int] = None    # stamp of the first sample since the auto-tare was armed
-        self.noise_gain: Optional[NoiseGain] = None  # of the chain in use, at noise_gain_rate_hz
         self._aux: dict[str, Optional[float]] = {"temperature_c": None}  # auxiliary signals for the chain
         self.set_chain(chain)
 

@@ -16,7 +16,7 @@ node declares a parameter of each field and builds its source from them.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Callable, Optional, Protocol
 
 import numpy as np
 import numpy.typing as npt
@@ -114,6 +114,20 @@ class SimBlock:
     temperature_c: np.ndarray   #: sensor temperature, degC
 
 
+class _Simulator(Protocol):
+    """What :class:`SimulatedSource` needs of a sensor simulator (:class:`polyforce_ros.sim.sensor.BridgeSimulator`)."""
+
+    def simulate(self, t_s: npt.NDArray[np.float64], force_n: npt.NDArray[np.float64],
+                 temperature_c: npt.NDArray[np.float64]) -> npt.NDArray[np.float64]:
+        """Bridge voltage (V) at the times ``t_s`` (s) for the forces (N) and temperatures (degC), continuing
+        from the previous call."""
+        ...
+
+
+#: A temperature (degC) at each of the times given (s).
+TemperatureAt = Callable[[npt.NDArray[np.float64]], npt.NDArray[np.float64]]
+
+
 class SimulatedSource:
     """A simulated bridge sensor driven through a force profile on the host clock.
 
@@ -128,8 +142,8 @@ class SimulatedSource:
     loop : start the profile again when it ends (else the source is ``done``).
     """
 
-    def __init__(self, make_simulator: Callable, profile_f: npt.ArrayLike, rate_hz: float, temperature_at: Callable,
-                 loop: bool = True) -> None:
+    def __init__(self, make_simulator: Callable[[], _Simulator], profile_f: npt.ArrayLike, rate_hz: float,
+                 temperature_at: TemperatureAt, loop: bool = True) -> None:
         self._make_simulator = make_simulator
         self.profile_f = np.asarray(profile_f, dtype=float)
         self.period_n = self.profile_f.size
@@ -210,7 +224,7 @@ class SerialSource:
         self.demux = MessageDemux()
         self.info: Optional[DeviceInfo] = None
         self.status: Optional[DeviceStatus] = None
-        self.temperatures: list = []
+        self.temperatures: list[tuple[int, DeviceTemperature]] = []
 
     def reset(self) -> None:
         """A new connection: resynchronise on the sync word and re-learn the device clock."""
@@ -219,7 +233,7 @@ class SerialSource:
         self.demux.reset()
         self.info = self.status = None  # a new connection may be another device: it says who it is again
 
-    def feed(self, data: bytes, arrival_ns: int) -> list:
+    def feed(self, data: bytes, arrival_ns: int) -> list[tuple[int, float]]:
         """Samples of the complete, valid frames in ``data`` (received at ``arrival_ns``).
 
         The frames of one call are stamped together (:meth:`DeviceClock.stamp_batch`): each keeps its
@@ -244,7 +258,7 @@ class SerialSource:
                 self.temperatures.append((arrival_ns, message))
         return data
 
-    def take_temperatures(self) -> list:
+    def take_temperatures(self) -> list[tuple[int, DeviceTemperature]]:
         """The temperatures received since the last call, as ``(arrival_ns, DeviceTemperature)``."""
         out, self.temperatures = self.temperatures, []
         return out

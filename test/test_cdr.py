@@ -1,4 +1,4 @@
-"""polyforce_ros.cdr: CDR bytes that every ROS tool reads, with every byte owned.
+"""polyforce_ros.bags.cdr: CDR bytes that every ROS tool reads, with every byte owned.
 
 Each encoded message must decode to the same values with three independent
 decoders (rosbags' strict decoder, mcap_ros2's dynamic decoder, rclpy), and be
@@ -22,8 +22,9 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from rosbags.typesys import Stores, get_typestore
 
-from polyforce_ros import bags, cdr, contract
-from polyforce_ros.cdr import STAMP_MAX_NS, STAMP_MIN_NS
+from polyforce_ros import bags, contract
+from polyforce_ros.bags import cdr
+from polyforce_ros.bags.cdr import STAMP_MAX_NS, STAMP_MIN_NS
 from polyforce_ros.contract import FLOAT64, JOINT_STATE, TEMPERATURE_MSG, WRENCH_STAMPED
 
 REPO = Path(__file__).resolve().parents[1]

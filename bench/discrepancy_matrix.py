@@ -28,9 +28,10 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 import numpy as np
 from tqdm import tqdm
 
-from polyforce_ros.discrepancy.effects import EFFECTS, SPLITS, families
+from polyforce_ros.discrepancy.effects import EFFECTS
 from polyforce_ros.discrepancy.engine import diagnose
 from polyforce_ros.sim.bench import OUT_OF_CATALOGUE, bench_record, default_base
+from polyforce_ros.sim.truths import SPLITS, families
 
 PAIRS = (("hysteresis", "thermal_drift"), ("sensor_lag", "nonlinear_gain"), ("viscous_flow", "offset_drift"),
          ("hysteresis", "offset_drift"))

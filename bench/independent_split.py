@@ -24,7 +24,7 @@ from collections import Counter
 import numpy as np
 from tqdm import tqdm
 
-from polyforce_ros.discrepancy.effects import EFFECTS, BoucWen, SecondOrderLag, StaticMap
+from polyforce_ros.discrepancy.effects import EFFECTS
 from polyforce_ros.discrepancy.engine import diagnose
 from polyforce_ros.physics.chain import (ModelError, OffsetElement, PlayHysteresisElement, SensorChain, SensorLagElement,
                                          ThermalLagElement, TransportDelayElement, ViscoelasticElement, play_operator)
@@ -32,6 +32,7 @@ from polyforce_ros.physics.viscoelastic import Burgers, Burgers2
 from polyforce_ros.record import Record
 from polyforce_ros.runtime import Compensator, CompensatorConfig
 from polyforce_ros.sim import profiles
+from polyforce_ros.sim.truths import BoucWen, SecondOrderLag, StaticMap
 
 SEED0 = 90_000  # never a seed of the registry's splits (0.. and 5000..)
 DRIFTS = {"offset_drift", "thermal_drift"}

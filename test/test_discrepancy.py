@@ -23,12 +23,13 @@ from polyforce_ros.discrepancy.engine import Fitter, Signals, Structure, Term, _
 from polyforce_ros.model_file import load_model
 from polyforce_ros.physics.viscoelastic import MODEL_TYPES, simulate_deformation
 from polyforce_ros.sim.bench import OUT_OF_CATALOGUE, bench_record, default_base, write_bench_bag
+from polyforce_ros.sim.truths import FAMILIES
 
 DURATION_S, RATE_HZ = 420.0, 100.0
 
 
 def _family(effect, seed):
-    return str(np.random.default_rng(seed).choice(list(EFFECTS[effect].families)))
+    return str(np.random.default_rng(seed).choice(list(FAMILIES[effect])))
 
 
 def _magnitude(seed):
@@ -255,9 +256,9 @@ def test_registry_is_the_one_source_of_effect_names():
     assert tuple(sub.choices) == NAMES
     for effect in EFFECTS.values():
         assert set(effect.elements) <= set(ELEMENT_TYPES), effect.name
-        assert effect.families and effect.hint
+        assert FAMILIES[effect.name] and effect.hint
         assert any(effect.name in HINTS[k] for k in effect.segments + effect.signals)
-        assert any(not f.held_out for f in effect.families.values())  # something to tune on
+        assert any(not f.held_out for f in FAMILIES[effect.name].values())  # something to tune on
 
 
 def test_cli_contract_json_report_and_saved_model(tmp_path):

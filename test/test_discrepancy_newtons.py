@@ -80,7 +80,7 @@ def test_a_pure_delay_is_saved_as_a_delay_with_its_latency_never_as_a_noisy_inve
 
 def _resonant_record(f0_hz, zeta, seed, rate_hz=1000.0):
     """A burgers sensor whose output rings in a lightly damped mechanical mode (not in the catalogue)."""
-    from polyforce_ros.discrepancy.effects import SecondOrderLag
+    from polyforce_ros.sim.truths import SecondOrderLag
     from polyforce_ros.physics.chain import OffsetElement, SensorChain, ViscoelasticElement
     from polyforce_ros.record import Record
     from polyforce_ros.sim.bench import random_core, random_load

@@ -18,14 +18,13 @@ import pytest
 
 from conftest import REPO
 from polyforce_ros import bags
-from polyforce_ros.discrepancy.effects import EFFECTS
 from polyforce_ros.physics.metrics import hysteresis_percent, r_squared
-from polyforce_ros.sim import profiles
+from polyforce_ros.sim import profiles, truths
 from polyforce_ros.sim.bench import simulate_bench
 from polyforce_ros.sim.recording import write_bench_bag
 from polyforce_ros.sim.sensor import BridgeSimulator
 
-FAMILIES = list(EFFECTS["hysteresis"].families)
+FAMILIES = list(truths.FAMILIES["hysteresis"])
 #: Known gaps (see the matrix in docs/discrepancy.md): family -> why the whole pipeline fails for it today (none at present).
 KNOWN_GAPS: dict = {}
 

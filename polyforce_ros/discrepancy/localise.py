@@ -7,18 +7,27 @@ Candidate signals are correlated with the residual; each hints at one effect.
 """
 from __future__ import annotations
 
+from typing import Any, Mapping, Optional
+
 import numpy as np
+import numpy.typing as npt
 from scipy import ndimage
 
+from ..record import Record
 from .effects import hints as _registry_hints
+from .result import Diagnosis
+from .signals import BoolArray, FloatArray
+
+__all__ = ["HINTS", "segment_labels", "localise", "describe"]
 
 #: What a concentration or a correlation suggests: the registry's effects that show there.
 HINTS = {key: " / ".join(names) for key, names in _registry_hints().items()}
 HINTS.setdefault("force", "gain error of the base")
 
 
-def segment_labels(t_s, force_n, temperature_c=None):
-    """Boolean masks of the segment kinds (dict name -> mask)."""
+def segment_labels(t_s: npt.ArrayLike, force_n: npt.ArrayLike, temperature_c: Optional[npt.ArrayLike] = None
+                   ) -> tuple[dict[str, BoolArray], FloatArray]:
+    """Boolean masks of the segment kinds (dict name -> mask), and the smoothed force rate [N/s]."""
     t, f = np.asarray(t_s), np.asarray(force_n)
     dt = float(np.median(np.diff(t)))
     smooth = ndimage.uniform_filter1d(f, max(1, int(0.1 / dt)))
@@ -46,10 +55,16 @@ def segment_labels(t_s, force_n, temperature_c=None):
     return labels, rate
 
 
-def localise(rec, residual_v):
-    """Concentration of the residual per segment kind and its correlation with candidate signals."""
+def localise(rec: Record, residual_v: npt.ArrayLike) -> dict[str, Any]:
+    """Concentration of the residual per segment kind and its correlation with candidate signals.
+
+    Returns ``rms_residual_v``, ``concentration`` (segment kind -> ``rms_ratio``, ``fraction``), ``correlation``
+    (signal -> correlation coefficient) and ``masks`` (segment kind -> samples)."""
+    if rec.force_n is None:
+        raise ValueError("record has no reference force")
     labels, rate = segment_labels(rec.t_s, rec.force_n, rec.temperature_c)
-    r = np.asarray(residual_v) - np.mean(residual_v)
+    residual = np.asarray(residual_v)
+    r = residual - np.mean(residual)
     overall = float(np.sqrt(np.mean(r * r)))
     concentration = {}
     for name, mask in labels.items():
@@ -80,7 +95,7 @@ def localise(rec, residual_v):
     return {"rms_residual_v": overall, "concentration": concentration, "correlation": correlation, "masks": labels}
 
 
-def describe(loc, diag):
+def describe(loc: Mapping[str, Any], diag: Diagnosis) -> list[str]:
     """Evidence as short sentences with numbers (the JSON ``evidence`` list)."""
     out = [f"noise floor estimated from the data: {diag.noise_floor_v:.3e} V (high-frequency differences of the raw "
            f"voltage and of the reference force through the static gain)",

@@ -75,7 +75,7 @@ class ForceQuality:
                 "noise_gain_n_per_v": self.noise_gain.gain_n_per_v, "noise_gain": self.noise_gain.to_dict()}
 
 
-def _aux(temperature_c: Optional[np.ndarray]) -> Optional[dict]:
+def _aux(temperature_c: Optional[np.ndarray]) -> Optional[dict[str, np.ndarray]]:
     return None if temperature_c is None else {"temperature_c": np.asarray(temperature_c, dtype=float)}
 
 
@@ -186,7 +186,7 @@ def with_safe_bandwidth(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarr
                  "force_rmse_n": {f"order {k[0]} x{k[1]:g}": v for k, v in tried.items()}}
 
 
-def fold_chains(build: Callable[[dict], SensorChain], names: Sequence[str], coef_folds: Sequence[np.ndarray],
+def fold_chains(build: Callable[[dict[str, float]], SensorChain], names: Sequence[str], coef_folds: Sequence[np.ndarray],
                 finish: Callable[[SensorChain], SensorChain] = lambda c: c) -> list[SensorChain]:
     """One chain per fold from that fold's coefficients (``build(coef_map)``), each passed through ``finish``."""
     return [finish(build(dict(zip(names, c)))) for c in coef_folds]

@@ -3,20 +3,31 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any, Callable, Collection, Optional, Sequence, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from ..model_file import SensorModel, now_iso, save_model
-from ..record import load_record
-from .engine import diagnose, fold_of
+from ..record import Record, load_record
+from .engine import Diagnosis, diagnose, fold_of
+
+__all__ = ["write_report", "run"]
+
+#: A path as the CLI gives it.
+PathLike = Union[str, Path]
 
 
-def write_report(diag, rec, out_dir, bag_name=""):
+def write_report(diag: Diagnosis, rec: Record, out_dir: PathLike, bag_name: str = "") -> Path:
+    """Write ``report.md`` and its figures (``figures/*.png``) of a diagnosis into ``out_dir``; returns the report's path."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    if rec.force_n is None:
+        raise ValueError("record has no reference force")
+    force_n = rec.force_n
     out = Path(out_dir)
     (out / "figures").mkdir(parents=True, exist_ok=True)
     t = rec.t_s
@@ -24,14 +35,15 @@ def write_report(diag, rec, out_dir, bag_name=""):
     before = rec.voltage_v - diag.simulated_before_v
     after = rec.voltage_v - diag.simulated_after_v
 
-    def over_the_reference(traces, ylabel, title, name):
+    def over_the_reference(traces: Sequence[tuple[npt.ArrayLike, str, float, str]], ylabel: str, title: str,
+                           name: str) -> None:
         """A figure of ``traces`` (y, style, width, label) above the reference force, saved as figures/``name``."""
         fig, ax = plt.subplots(2, 1, figsize=(11, 6), sharex=True)
         for y, style, width, label in traces:
             ax[0].plot(t, y, style, lw=width, label=label)
         ax[0].set(ylabel=ylabel, title=title)
         ax[0].legend(fontsize=8)
-        ax[1].plot(t, rec.force_n, "g", lw=0.8)
+        ax[1].plot(t, force_n, "g", lw=0.8)
         ax[1].set(xlabel="time [s]", ylabel="reference force [N]")
         fig.tight_layout()
         fig.savefig(out / "figures" / name, dpi=100)
@@ -68,23 +80,23 @@ def write_report(diag, rec, out_dir, bag_name=""):
     fig.savefig(out / "figures" / "residual.png", dpi=100)
     plt.close(fig)
 
-    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     names = sorted(conc, key=lambda k: -conc[k]["rms_ratio"])
-    ax[0].barh([n.replace("_", " ") for n in names], [conc[n]["rms_ratio"] for n in names], color="tab:orange")
-    ax[0].axvline(1.0, color="k", lw=0.8)
-    ax[0].set(xlabel="RMS residual inside / overall [-]", title="Where the residual concentrates")
+    axes[0].barh([n.replace("_", " ") for n in names], [conc[n]["rms_ratio"] for n in names], color="tab:orange")
+    axes[0].axvline(1.0, color="k", lw=0.8)
+    axes[0].set(xlabel="RMS residual inside / overall [-]", title="Where the residual concentrates")
     corr = diag.localisation["correlation"]
-    ax[1].barh([n.replace("_", " ") for n in corr], list(corr.values()), color="tab:blue")
-    ax[1].set(xlabel="correlation with the residual [-]", title="What the residual follows", xlim=(-1, 1))
+    axes[1].barh([n.replace("_", " ") for n in corr], list(corr.values()), color="tab:blue")
+    axes[1].set(xlabel="correlation with the residual [-]", title="What the residual follows", xlim=(-1, 1))
     fig.tight_layout()
     fig.savefig(out / "figures" / "localisation.png", dpi=100)
     plt.close(fig)
 
     base_q, saved_q = diag.newtons["base"], diag.newtons["saved"]
     over_the_reference(
-        [(diag.compensated_before_n - rec.force_n, "r", 0.6,
+        [(diag.compensated_before_n - force_n, "r", 0.6,
           f"base {diag.base} (RMSE {base_q['rmse_n']:.3f} N, R2 {base_q['r2']:.4f})"),
-         (diag.compensated_after_n - rec.force_n, "b", 0.6,
+         (diag.compensated_after_n - force_n, "b", 0.6,
           f"saved model (RMSE {saved_q['rmse_n']:.3f} N, R2 {saved_q['r2']:.4f})")],
         "compensated - reference [N]",
         "Force error at the haptic master (each block compensated by the model fitted without it)", "force_error.png")
@@ -132,8 +144,12 @@ def write_report(diag, rec, out_dir, bag_name=""):
     return out / "report.md"
 
 
-def run(bag, base, json_path=None, report_dir=None, save_model_path=None, progress=None, n_folds=5, effects=None,
-        sensor_serial=None):
+def run(bag: PathLike, base: str, json_path: Optional[PathLike] = None, report_dir: Optional[PathLike] = None,
+        save_model_path: Optional[PathLike] = None, progress: Optional[Callable[[str], None]] = None, n_folds: int = 5,
+        effects: Optional[Collection[str]] = None, sensor_serial: Optional[str] = None) -> tuple[Diagnosis, dict[str, Any]]:
+    """``polyforce diagnose``: load the bag, diagnose it, write the JSON (``json_path``), the report (``report_dir``)
+    and the model with every named effect (``save_model_path``, its provenance carrying the figures); returns the
+    diagnosis and its JSON data."""
     rec = load_record(bag)
     diag = diagnose(rec, base=base, n_folds=n_folds, effects=effects, progress=progress)
     data = diag.to_json()

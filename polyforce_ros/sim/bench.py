@@ -4,31 +4,45 @@ A bench record is a random load profile (holds, rests, ramps, reversals, fast
 steps, short sine bursts) applied to a sensor whose truth is a base
 viscoelastic model with random parameters (+-30 % around the base's) plus
 any number of hidden effects. Each effect is drawn from one of its
-*families* in the effect registry (:mod:`polyforce_ros.discrepancy.effects`)
-with random parameters; none is the element the engine fits. Families marked
-``held_out`` and the seeds of the held-out split (``SPLITS``) are never used
-while tuning the engine. Out-of-catalogue effects (:data:`OUT_OF_CATALOGUE`) have no
-element in the catalogue at all. Temperature always varies (independently of
+*families* (:mod:`.truths`) with random parameters; none is the element the
+engine fits. Families marked ``held_out`` and the seeds of the held-out split
+(:data:`~.truths.SPLITS`) are never used while tuning the engine.
+Out-of-catalogue effects (:data:`OUT_OF_CATALOGUE`) have no element in the
+catalogue at all. Temperature always varies (independently of
 the load), so its mere presence gives nothing away; :func:`bench_record`
 adds real recording conditions (rate, stamp jitter, dropped blocks, no
 temperature topic, a reference load cell with its own noise).
 """
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Callable, Mapping, Optional, Sequence, Union
 
 import numpy as np
+import numpy.typing as npt
 
-from ..discrepancy.effects import EFFECTS as REGISTRY, NAMES, Additive, Truth
-from ..physics.chain import OffsetElement, SensorChain, ViscoelasticElement
-from ..physics.preisach import hysteretic_identity  # noqa: F401 - the bench's Preisach truths (re-exported)
-from ..physics.viscoelastic import PAPER_BURGERS, Burgers2, Elastic, KelvinVoigt, Maxwell, Zener, Zener2
+from ..discrepancy.effects import EFFECTS as REGISTRY, NAMES
+from ..physics.chain import ForwardElement, OffsetElement, SensorChain, ViscoelasticElement
+from ..physics.preisach import hysteretic_identity as hysteretic_identity  # the bench's Preisach truths (re-exported)
+from ..physics.viscoelastic import (PAPER_BURGERS, Burgers2, Elastic, KelvinVoigt, Maxwell, ViscoelasticModel, Zener,
+                                    Zener2)
 from .sensor import BridgeSimulator
+from .truths import (FAMILIES, HIDDEN_AGAINST, Additive, FloatArray, MakeFn, Truth, TruthContext,
+                     families as split_families)
 
-def random_load(duration_s, rate_hz, seed):
+if TYPE_CHECKING:
+    from ..record import Record
+
+#: Hidden effects as a caller names them: one name, several, or "none".
+Hidden = Union[str, Sequence[str]]
+
+
+def random_load(duration_s: float, rate_hz: float, seed: int) -> tuple[FloatArray, FloatArray]:
     """Force (N) of a random bench session: holds, rests, ramps, reversals, fast steps, sine bursts."""
     rng = np.random.default_rng(seed)
-    knots_t, knots_f, bursts = [0.0, 2.0], [0.0, 0.0], []
+    knots_t, knots_f = [0.0, 2.0], [0.0, 0.0]
+    bursts: list[tuple[float, float, float, float]] = []
     t_now, f_now = 2.0, 0.0
     while t_now < duration_s:
         kind = rng.choice(["hold", "rest", "ramp", "triangle", "fast", "sine"], p=[0.25, 0.15, 0.2, 0.15, 0.15, 0.1])
@@ -82,16 +96,16 @@ def random_load(duration_s, rate_hz, seed):
     return t, np.clip(f, 0.0, None)
 
 
-def random_temperature(t_s, seed):
+def random_temperature(t_s: npt.ArrayLike, seed: int) -> FloatArray:
     """A slow, load-independent temperature swing of 2-6 degC around 24 degC (degC)."""
     rng = np.random.default_rng(seed + 99)
     period = rng.uniform(150.0, 400.0)
-    return 24.0 + rng.uniform(2.0, 6.0) * np.sin(2 * np.pi * np.asarray(t_s) / period + rng.uniform(0, 2 * np.pi))
-
+    out: FloatArray = 24.0 + rng.uniform(2.0, 6.0) * np.sin(2 * np.pi * np.asarray(t_s) / period + rng.uniform(0, 2 * np.pi))
+    return out
 
 
 #: The base model's truth (randomised +-30 % per seed) for each base type.
-BASE_TRUTH = {
+BASE_TRUTH: dict[str, ViscoelasticModel] = {
     "elastic": Elastic(3.24),
     "maxwell": Maxwell(4.8, 4627.94),
     "kelvin": KelvinVoigt(3.24, 30.0),
@@ -112,16 +126,20 @@ class LoadDependentCore:
 
     kind = "sim"
 
-    def __init__(self, core, alpha):
+    def __init__(self, core: ViscoelasticModel, alpha: float) -> None:
         self.core, self.alpha = core, alpha
 
-    def forward_state(self):
+    def forward_state(self) -> Any:
+        """A fresh state (an empty mapping: each block is simulated from rest)."""
         return {}
 
-    def forward(self, t, f, aux=None, state=None):
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Any = None) -> FloatArray:
+        """Core output [V] for the force ``x`` [N] at times ``t_s``."""
         from ..physics.viscoelastic import simulate_deformation
 
-        f = np.asarray(f, dtype=float)
+        t = np.asarray(t_s, dtype=float)
+        f = np.asarray(x, dtype=float)
         comp = self.core.compliance()
         instant = comp.j0_v_per_n * f
         flow = (comp.fluidity_v_per_n_s * np.concatenate([[0.0], np.cumsum(0.5 * (f[1:] + f[:-1]) * np.diff(t))])
@@ -131,52 +149,71 @@ class LoadDependentCore:
         if comp.fluidity_v_per_n_s:
             g = np.log1p(self.alpha * np.clip(f, 0, None)) / self.alpha
             delayed = delayed - comp.fluidity_v_per_n_s * np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(t))])
-        return instant + flow + delayed
+        out: FloatArray = instant + flow + delayed
+        return out
 
 
-def _sens_drift(rng, m, ctx):
+def _sens_drift(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
     rel = float(np.interp(m, [0, 1], [0.02, 0.1]) * rng.choice([-1, 1]))  # sensitivity change over the record
     p, d = rng.uniform(0.6, 1.4), ctx["duration_s"]
+
+    def gain(s: FloatArray) -> FloatArray:
+        out: FloatArray = 1.0 + rel * (s / d) ** p
+        return out
+
     truth = Truth()
-    truth.after.append(_TimeGain(lambda s, rel=rel, p=p, d=d: 1.0 + rel * (s / d) ** p))
+    truth.after.append(_TimeGain(gain))
     return truth
 
 
-def _stiffening(rng, m, ctx):
+def _stiffening(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
     alpha = float(np.interp(m, [0, 1], [0.1, 0.4]))
     return Truth(core=LoadDependentCore(ctx["core"], alpha))
 
 
-def _periodic(rng, m, ctx):
+def _periodic(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
     amp = float(np.interp(m, [0, 1], [0.004, 0.03]))
     period = rng.uniform(20.0, 90.0)
     phase = rng.uniform(0, 2 * np.pi)
-    return Truth(late=[Additive(lambda s, T, a=amp, w=2 * np.pi / period, ph=phase: a * np.sin(w * s + ph))])
+    w = 2 * np.pi / period
+
+    def interference(s: FloatArray, T: Optional[FloatArray]) -> FloatArray:
+        out: FloatArray = amp * np.sin(w * s + phase)
+        return out
+
+    return Truth(late=[Additive(interference)])
 
 
 class _TimeGain:
+    """Out of catalogue: a sensitivity that changes over time, y = x fn(t - t_first)."""
+
     kind = "sim"
 
-    def __init__(self, fn):
+    def __init__(self, fn: Callable[[FloatArray], FloatArray]) -> None:
         self.fn = fn
 
-    def forward_state(self):
+    def forward_state(self) -> Any:
+        """A fresh state (an empty mapping)."""
         return {}
 
-    def forward(self, t, x, aux=None, state=None):
-        t = np.asarray(t, dtype=float)
-        return np.asarray(x, dtype=float) * self.fn(t - t[0])
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Any = None) -> FloatArray:
+        """The input times the gain at the block's times (counted from the block's first)."""
+        t = np.asarray(t_s, dtype=float)
+        out: FloatArray = np.asarray(x, dtype=float) * self.fn(t - t[0])
+        return out
 
 
 #: Effects no catalogue holds: the workflow must answer "unexplained" (or "none"), never a catalogue name.
-OUT_OF_CATALOGUE = {"sensitivity_drift": _sens_drift, "load_stiffening": _stiffening, "periodic_interference": _periodic}
+OUT_OF_CATALOGUE: dict[str, MakeFn] = {"sensitivity_drift": _sens_drift, "load_stiffening": _stiffening,
+                                        "periodic_interference": _periodic}
 EFFECTS = ("none",) + NAMES
 #: Order of effects along the chain (core first, drift last).
 _ORDER = ("viscous_flow", "delayed_elasticity", "hysteresis", "nonlinear_gain", "thermal_sensitivity", "sensor_lag",
           "thermal_drift", "offset_drift")
 
 
-def default_base(effects):
+def default_base(effects: Sequence[str]) -> str:
     """A base the hidden effects can be hidden against (core effects need a core without them)."""
     effects = [e for e in effects if e in REGISTRY]
     if "viscous_flow" in effects:
@@ -186,62 +223,70 @@ def default_base(effects):
     return "burgers"
 
 
-def random_core(base, rng):
+def random_core(base: str, rng: np.random.Generator) -> ViscoelasticModel:
+    """The base's truth core with every parameter scaled by a random factor of 0.7-1.3."""
     core = BASE_TRUTH[base]
     return type(core).from_vector(core.as_vector() * rng.uniform(0.7, 1.3, core.as_vector().size))
 
 
 @dataclass
 class BenchCase:
-    effects: tuple
-    magnitude: float  # 0..1, from barely detectable to large
+    """A bench session's truth: the hidden effects, their magnitude (0..1, from barely detectable to large) and
+    family, the base, the sensor truth chain and the seed."""
+
+    effects: tuple[str, ...]
+    magnitude: float
     base: str
     truth: SensorChain
     seed: int
-    families: dict = field(default_factory=dict)
+    families: dict[str, str] = field(default_factory=dict)
 
     @property
-    def effect(self):
+    def effect(self) -> str:
+        """The first hidden effect, or "none"."""
         return self.effects[0] if self.effects else "none"
 
 
-def truth_chain(effects, magnitude, base="burgers", seed=0, force_range_n=9.0, duration_s=600.0, split="tune",
-                families=None):
+def truth_chain(effects: Hidden, magnitude: float, base: str = "burgers", seed: int = 0, force_range_n: float = 9.0,
+                duration_s: float = 600.0, split: str = "tune",
+                families: Optional[Mapping[str, str]] = None) -> tuple[SensorChain, dict[str, str]]:
     """The sensor truth and the family of each hidden effect: ``(SensorChain, {effect: family})``.
 
     ``effects``: a name, a list of names (catalogue or :data:`OUT_OF_CATALOGUE`), or "none".
     ``families``: {effect: family} to force a family; otherwise one is drawn from ``split``.
     """
-    from ..discrepancy.effects import families as split_families
-
     if isinstance(effects, str):
         effects = [] if effects == "none" else [effects]
     rng = np.random.default_rng(seed + 1234)
     core = random_core(base, rng)
     comp = core.compliance()
-    ctx = {"core": core, "force_range_n": force_range_n, "duration_s": duration_s,
-           "gain_v_per_n": comp.j0_v_per_n + sum(comp.c_v_per_n)}
+    ctx: TruthContext = {"core": core, "force_range_n": force_range_n, "duration_s": duration_s,
+                         "gain_v_per_n": comp.j0_v_per_n + sum(comp.c_v_per_n)}
     m = float(np.clip(magnitude, 0.0, 1.0))
-    before, after, lags, late, chosen = [], [], [], [], {}
-    core_el = None
+    before: list[ForwardElement] = []
+    after: list[ForwardElement] = []
+    lags: list[ForwardElement] = []
+    late: list[ForwardElement] = []
+    chosen: dict[str, str] = {}
+    core_el: Optional[ForwardElement] = None
     for name in sorted(effects, key=lambda e: _ORDER.index(e) if e in _ORDER else len(_ORDER)):
         if name in OUT_OF_CATALOGUE:
             truth, chosen[name] = OUT_OF_CATALOGUE[name](rng, m, ctx), name
         elif name in REGISTRY:
-            eff = REGISTRY[name]
-            if eff.needs_base and base not in eff.needs_base:
-                raise ValueError(f"{name} is hidden against a base in {eff.needs_base}, not {base}")
+            needs_base = HIDDEN_AGAINST.get(name, ())
+            if needs_base and base not in needs_base:
+                raise ValueError(f"{name} is hidden against a base in {needs_base}, not {base}")
             fam = (families or {}).get(name) or rng.choice(split_families(name, split))
             chosen[name] = str(fam)
-            truth = eff.families[fam].make(rng, m, ctx)
+            truth = FAMILIES[name][fam].make(rng, m, ctx)
         else:
             raise ValueError(f"unknown effect {name!r}; choose from {EFFECTS + tuple(OUT_OF_CATALOGUE)}")
         if truth.core is not None:
-            if isinstance(truth.core, LoadDependentCore):
-                core_el = truth.core
-            else:
+            if isinstance(truth.core, ViscoelasticModel):
                 core = truth.core
                 ctx["core"] = core
+            else:  # an element that simulates the core itself (LoadDependentCore)
+                core_el = truth.core
         before += truth.before
         (lags if name == "sensor_lag" else after).extend(truth.after)
         late += truth.late
@@ -251,8 +296,10 @@ def truth_chain(effects, magnitude, base="burgers", seed=0, force_range_n=9.0, d
     return chain, chosen
 
 
-def simulate_bench(effects, magnitude, base="burgers", duration_s=600.0, rate_hz=200.0, seed=0, noise_std_v=2e-3,
-                   split="tune", families=None):
+def simulate_bench(effects: Hidden, magnitude: float, base: str = "burgers", duration_s: float = 600.0,
+                   rate_hz: float = 200.0, seed: int = 0, noise_std_v: float = 2e-3, split: str = "tune",
+                   families: Optional[Mapping[str, str]] = None
+                   ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, BenchCase]:
     """(t_s, force_n, voltage_v, temperature_c, BenchCase) of a bench session with the effects hidden."""
     t, f = random_load(duration_s, rate_hz, seed)
     temp = random_temperature(t, seed)
@@ -264,8 +311,10 @@ def simulate_bench(effects, magnitude, base="burgers", duration_s=600.0, rate_hz
     return t, f, volts, temp, BenchCase(names, magnitude, base, chain, seed, chosen)
 
 
-def bench_record(effects, magnitude, base="burgers", duration_s=600.0, rate_hz=200.0, seed=0, split="tune", families=None,
-                 jitter=0.0, drops=0, temperature=True, reference_noise_n=0.005, noise_std_v=2e-3):
+def bench_record(effects: Hidden, magnitude: float, base: str = "burgers", duration_s: float = 600.0,
+                 rate_hz: float = 200.0, seed: int = 0, split: str = "tune", families: Optional[Mapping[str, str]] = None,
+                 jitter: float = 0.0, drops: int = 0, temperature: bool = True, reference_noise_n: float = 0.005,
+                 noise_std_v: float = 2e-3) -> tuple[Record, BenchCase]:
     """A :class:`~polyforce_ros.record.Record` of a bench session under recording conditions, and its BenchCase.
 
     jitter: stamp jitter as a fraction of the sample interval (uniform +-); drops: number of
@@ -286,8 +335,9 @@ def bench_record(effects, magnitude, base="burgers", duration_s=600.0, rate_hz=2
     return Record(stamps - stamps[0], f_meas, v, temp if temperature else None), case
 
 
-def write_bench_bag(path, effects, magnitude, base="burgers", duration_s=600.0, rate_hz=200.0, seed=0, split="tune",
-                    families=None, temperature=True):
+def write_bench_bag(path: Union[str, os.PathLike[str]], effects: Hidden, magnitude: float, base: str = "burgers",
+                    duration_s: float = 600.0, rate_hz: float = 200.0, seed: int = 0, split: str = "tune",
+                    families: Optional[Mapping[str, str]] = None, temperature: bool = True) -> BenchCase:
     """Write a hidden-effect bench session as a bag of the topic contract; returns the BenchCase."""
     from .recording import write_bench_bag as write
 

@@ -1,0 +1,349 @@
+"""Model structures, their design matrices and their cross-validated fits, and the chain a fit becomes.
+
+A :class:`Structure` (core type, retardation times, effect terms) is linear in its coefficients: its design
+columns (:func:`design`) are the core's compliance terms and the columns of each effect of the catalogue
+(:mod:`.effects`), filtered by a sensor lag when the structure holds one. A :class:`Fitter` fits any structure on
+one record with each cross-validation fold left out in turn, from per-fold normal matrices (:class:`Fit`);
+:func:`build_chain` turns the coefficients into the model-file chain.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import partial
+from typing import Any, Callable, Iterable, Mapping, Optional, Sequence, cast
+
+import numpy as np
+import numpy.typing as npt
+from scipy import linalg, optimize
+
+from ..physics.chain import Element, OffsetElement, SensorChain, ViscoelasticElement
+from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
+from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
+from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, Col, lag_columns, lag_stages, parameter
+from .signals import BoolArray, FloatArray, IntArray, Signals
+
+__all__ = ["BASES", "BLOCKS_PER_FOLD", "CORE_SHAPE", "TAU_GRID", "TAU_BOUNDS", "Term", "Structure", "Design", "design",
+           "design_columns", "stack", "Fit", "fold_of", "Fitter", "bounded_solve", "core_model", "build_chain",
+           "refresh_ref", "n_params", "size"]
+
+BASES = tuple(MODEL_TYPES)  # every core type the fitting stack knows
+#: Contiguous time blocks dealt to each cross-validation fold (interleaved): a left-out block (but the record's
+#: first and last) lies between blocks that are fitted, so a term that follows time is judged on how it
+#: interpolates, not extrapolates.
+BLOCKS_PER_FOLD = 3
+#: Number of retardation times of each core type, and whether it has instantaneous compliance / flow.
+CORE_SHAPE = {kind: cls.shape for kind, cls in MODEL_TYPES.items()}  # declared by the model types
+TAU_GRID, TAU_BOUNDS = TAU_GRID_S, TAU_LOG_BOUNDS  # physics/fitting.py declares them
+
+
+# ----------------------------------------------------------------------------- model structures
+
+@dataclass(frozen=True)
+class Term:
+    """An effect in a structure: its name, variant and the value of its nonlinear parameter (None: none)."""
+
+    effect: str
+    variant: str = ""
+    param: float | None = None
+
+
+@dataclass(frozen=True)
+class Structure:
+    """A model: the core type, its retardation times [s] and the effects added to it."""
+
+    core: str
+    taus: tuple[float, ...] = ()
+    terms: tuple[Term, ...] = ()
+
+    @property
+    def effects(self) -> list[str]:
+        """The names of the effects added, in order."""
+        return [t.effect for t in self.terms]
+
+    def term(self, effect: str) -> Optional[Term]:
+        """The term of ``effect`` (None when the structure does not hold it)."""
+        return next((t for t in self.terms if t.effect == effect), None)
+
+
+def _core_columns(sig: Signals, kind: str, taus: Sequence[float]) -> list[Col]:
+    n_tau, inst, flow = CORE_SHAPE[kind]
+    cols: list[Col] = []
+    if inst:
+        cols.append(("j0", sig.f, 0.0, np.inf, "sensor", None))
+    if flow:
+        cols.append(("phi", _integral(sig.t, sig.f), 0.0, np.inf, "sensor", None))
+    for i, tau in enumerate(taus[:n_tau]):
+        cols.append((f"c{i}", lag_columns(sig.t, sig.f, tau), 0.0, np.inf, "sensor", None))
+    return cols
+
+
+def _integral(t: FloatArray, f: FloatArray) -> FloatArray:
+    from ..physics.expconv import exp_convolve
+
+    out: FloatArray = exp_convolve(t, f, [0.0])[:, 0]
+    return out
+
+
+def _cached(sig: Signals, key: Any, make: Callable[[], Iterable[Col]]) -> list[Col]:
+    """Design columns ``make()`` (tuples of name, column, ...), made once per signals and kept contiguous (a column
+    of a 2-D basis is a strided view, slow to copy at every evaluation)."""
+    if key not in sig.cache:
+        sig.cache[key] = [(c[0], np.ascontiguousarray(c[1], dtype=float), *c[2:]) for c in make()]
+    cols: list[Col] = sig.cache[key]
+    return cols
+
+
+#: A structure's design on one record: (column names, the columns, lower bounds, upper bounds, ridge mask).
+Design = tuple[list[str], list[FloatArray], FloatArray, FloatArray, BoolArray]
+
+
+def design(sig: Signals, st: Structure) -> tuple[list[str], FloatArray, FloatArray, FloatArray, BoolArray]:
+    """(names, A, lower, upper, ridge group mask) of a structure on these signals."""
+    names, mats, lo, hi, ridge = design_columns(sig, st)
+    return names, stack(mats), lo, hi, ridge
+
+
+_ALL_ROWS = slice(None)
+
+
+def stack(columns: Sequence[FloatArray], rows: slice = _ALL_ROWS) -> FloatArray:
+    """The columns (rows ``rows`` of each) as one column-major matrix: each column is one contiguous copy
+    (``np.column_stack`` writes row-major, a strided store per element, which costs a fifth of a diagnosis)."""
+    first = columns[0][rows]
+    a = np.empty((first.size, len(columns)), order="F")
+    for j, c in enumerate(columns):
+        a[:, j] = c[rows]
+    return a
+
+
+def design_columns(sig: Signals, st: Structure) -> Design:
+    """:func:`design` with the columns of A as a list of arrays (not stacked: the polish needs a few rows)."""
+    cols = list(_cached(sig, ("core", st.core, st.taus), lambda: _core_columns(sig, st.core, st.taus)))
+    lag: Optional[list[float]] = None
+    delay_s = 0.0
+    for term in st.terms:
+        eff = REGISTRY[term.effect]
+        if eff.core_change:
+            continue
+        if term.effect == "sensor_lag":
+            lag = lag_stages(term.variant, parameter(term.param))
+            delay_s = parameter(term.param) if term.variant == "delay" else 0.0
+            continue
+        cols += _cached(sig, (term.effect, term.variant, term.param), partial(eff.columns, sig, term.variant, term.param))
+    names = [c[0] for c in cols] + ["offset"]
+    mats = []
+    for c in cols:
+        x = np.asarray(c[1], dtype=float)
+        if lag is not None and c[4] == "sensor":
+            for tau in lag:
+                x = lag_columns(sig.t, x, tau)
+            if delay_s > 0.0:  # the column as it was delay_s earlier, settled before the record
+                x = np.interp(sig.t - delay_s, sig.t, x, left=x[0])
+        mats.append(x)
+    mats.append(np.ones_like(sig.t))
+    lo = np.array([c[2] for c in cols] + [-np.inf])
+    hi = np.array([c[3] for c in cols] + [np.inf])
+    ridge = np.array([c[5] is not None for c in cols] + [False])  # ridge groups: play weights, spline knots
+    return names, mats, lo, hi, ridge
+
+
+# ----------------------------------------------------------------------------- cross-validated fits
+
+@dataclass
+class Fit:
+    """A structure fitted on one record, with each cross-validation fold left out in turn.
+
+    Attributes
+    ----------
+    structure : Structure
+    names : list of str
+        The design's column names.
+    scale : ndarray
+        The columns' RMS (the solves run on unit-RMS columns).
+    coef : ndarray
+        Coefficients fitted on all blocks, natural units of the columns.
+    coef_folds : list of ndarray
+        One coefficient vector per left-out fold.
+    sse_folds : ndarray
+        Out-of-sample SSE per fold [V^2] (fit rate).
+    cv_mse, fit_mse : float
+        Out-of-sample and in-sample mean squared error [V^2].
+    n : int
+        Samples scored.
+    bic : float
+        Bayesian information criterion of the in-sample fit.
+    """
+
+    structure: Structure
+    names: list[str]
+    scale: FloatArray
+    coef: FloatArray
+    coef_folds: list[FloatArray]
+    sse_folds: FloatArray
+    cv_mse: float
+    fit_mse: float
+    n: int
+    bic: float = 0.0
+
+    @property
+    def coef_map(self) -> dict[str, float]:
+        """Coefficient by column name."""
+        return dict(zip(self.names, self.coef))
+
+    def coefficients(self) -> dict[str, dict[str, float]]:
+        """Each fitted coefficient (units of its design column) with its standard error by the block
+        jackknife over the cross-validation folds."""
+        errors = block_jackknife_standard_errors(self.coef_folds)
+        return {name: {"value": float(c), "standard_error": float(e)}
+                for name, c, e in zip(self.names, self.coef, errors)}
+
+
+def fold_of(t_s: npt.ArrayLike, t0_s: float, duration_s: float, n_folds: int,
+            blocks_per_fold: int = BLOCKS_PER_FOLD) -> IntArray:
+    """Fold (0..n_folds-1) of each time in ``t_s`` (s): the record is cut into ``n_folds * blocks_per_fold``
+    contiguous blocks of equal length, dealt to the folds in turn (block j belongs to fold j mod n_folds)."""
+    u = (np.asarray(t_s, dtype=float) - t0_s) / max(duration_s, 1e-9)
+    n_blocks = n_folds * blocks_per_fold
+    folds: IntArray = np.clip((u * n_blocks).astype(int), 0, n_blocks - 1) % n_folds
+    return folds
+
+
+def _total(terms: Iterable[FloatArray]) -> FloatArray:
+    """The builtin ``sum`` of arrays, left to right from 0 (the first term's values exactly)."""
+    return cast(FloatArray, sum(terms))
+
+
+class Fitter:
+    """Per-fold normal matrices and bounded solves for any structure on one record (fit rate).
+
+    ``sig`` is the record at the fit rate; the stages replace it when they change the reference core.
+    """
+
+    def __init__(self, sig: Signals, n_folds: int, blocks_per_fold: int = BLOCKS_PER_FOLD) -> None:
+        self.sig = sig
+        self.fold = fold = fold_of(sig.t, sig.t0, sig.duration_s, n_folds, blocks_per_fold)
+        self.k, self.blocks_per_fold = n_folds, blocks_per_fold
+        # each fold is a few contiguous runs of rows: slices (no copies)
+        edges = np.flatnonzero(np.diff(fold)) + 1
+        starts, stops = np.r_[0, edges], np.r_[edges, fold.size]
+        self.rows = [[slice(int(a), int(b)) for a, b in zip(starts, stops) if fold[a] == k] for k in range(n_folds)]
+        self.evaluations = 0
+
+    def evaluate(self, st: Structure) -> Fit:
+        """Fit ``st`` on all blocks and with each fold left out; score each fold out of sample."""
+        self.evaluations += 1
+        names, a, lo, hi, ridge = design(self.sig, st)
+        v = self.sig.v
+        if self.sig.valid is not None and not self.sig.valid.all():  # empty bins count for nothing
+            a = a * self.sig.valid[:, None]
+            v = v * self.sig.valid
+        raw = []
+        for runs in self.rows:
+            ab = [a[r] for r in runs]
+            vb = [v[r] for r in runs]
+            raw.append((_total(x.T @ x for x in ab), _total(x.T @ y for x, y in zip(ab, vb)),
+                        float(sum(y @ y for y in vb))))
+        scale = np.sqrt(np.diag(_total(g for g, _, _ in raw)) / max(v.size, 1))  # columns scaled to unit RMS
+        scale[~(scale > 0)] = 1.0
+        grams = [(g / np.outer(scale, scale), h / scale, vv) for g, h, vv in raw]
+        g_all = _total(g for g, _, _ in grams)
+        h_all = _total(h for _, h, _ in grams)
+        vv_all = sum(w for _, _, w in grams)
+        lo_s, hi_s = lo * scale, hi * scale
+        reg = PLAY_RIDGE * float(np.trace(g_all)) / g_all.shape[0] * ridge.astype(float)
+        coef = bounded_solve(g_all, h_all, lo_s, hi_s, reg)
+        fit_sse = float(coef @ g_all @ coef - 2 * h_all @ coef + vv_all)
+        folds, sse = [], []
+        for g, h, vv in grams:
+            c = bounded_solve(g_all - g, h_all - h, lo_s, hi_s, reg * (1 - 1.0 / self.k))
+            folds.append(c / scale)
+            sse.append(max(float(c @ g @ c - 2 * h @ c + vv), 0.0))
+        n = v.size if self.sig.valid is None else int(self.sig.valid.sum())
+        fit = Fit(st, names, scale, coef / scale, folds, np.array(sse), float(np.sum(sse) / n), max(fit_sse, 0.0) / n, n)
+        fit.bic = information_criteria(max(fit_sse, 1e-300), n, n_params(fit))[1]
+        return fit
+
+
+def bounded_solve(g: FloatArray, h: FloatArray, lo: FloatArray, hi: FloatArray, reg: FloatArray) -> FloatArray:
+    """The bounded least-squares solution of the normal equations ``(g + diag(reg)) c = h``, ``lo <= c <= hi``."""
+    p = g.shape[0]
+    g = g + np.diag(reg) + (1e-12 * float(np.trace(g)) / p + 1e-300) * np.eye(p)
+    try:
+        chol = linalg.cholesky(g, lower=True)
+    except linalg.LinAlgError:
+        g = g + 1e-8 * float(np.trace(g)) / p * np.eye(p)
+        chol = linalg.cholesky(g, lower=True)
+    b = linalg.solve_triangular(chol, h, lower=True)
+    if np.all(np.isinf(lo)) and np.all(np.isinf(hi)):
+        return cast(FloatArray, linalg.solve_triangular(chol.T, b, lower=False))
+    return cast(FloatArray, optimize.lsq_linear(chol.T, b, bounds=(lo, hi), method="bvls").x)
+
+
+def n_params(fit: Fit) -> int:
+    """Free parameters of a fit: non-zero coefficients and nonlinear time constants."""
+    st = fit.structure
+    return int(np.count_nonzero(fit.coef)) + len(st.taus) + sum(t.param is not None for t in st.terms)
+
+
+def size(fit: Fit) -> int:
+    """Nominal size of a structure: its design columns and nonlinear time constants (whatever values they took).
+
+    A delayed elasticity that takes all of the instantaneous compliance is a sensor lag in disguise; counted
+    by its non-zero coefficients it would look as small as the lag."""
+    st = fit.structure
+    return len(fit.names) + len(st.taus) + sum(t.param is not None for t in st.terms)
+
+
+# ----------------------------------------------------------------------------- the reference core and the chain
+
+def core_model(st: Structure, coef: Mapping[str, float]) -> ViscoelasticModel:
+    """The viscoelastic model of the fitted compliances (zero compliance -> the stiffest bound)."""
+    kmax = math.exp(LOG_BOUNDS[1])
+    kmin = math.exp(LOG_BOUNDS[0])
+
+    def stiff(c: float) -> float:
+        return float(np.clip(1.0 / c, kmin, kmax)) if c > 0 else kmax
+
+    k1 = stiff(coef.get("j0", 0.0))
+    eta1 = stiff(coef.get("phi", 0.0))
+    kel = [(stiff(coef.get(f"c{i}", 0.0)), tau) for i, tau in enumerate(st.taus)]
+    kel = [(k, float(np.clip(k * tau, kmin, kmax))) for k, tau in kel]
+    kind = st.core
+    model: Callable[..., ViscoelasticModel] = MODEL_TYPES[kind]
+    if kind == "elastic":
+        return model(k1)
+    if kind == "maxwell":
+        return model(k1, eta1)
+    if kind == "kelvin":
+        return KelvinVoigt(*kel[0])
+    if kind == "zener":
+        return model(k1, *kel[0])
+    if kind == "burgers":
+        return model(k1, kel[0][0], eta1, kel[0][1])
+    if kind == "zener2":
+        return model(k1, *kel[0], *kel[1])
+    return model(k1, kel[0][0], eta1, kel[0][1], *kel[1])
+
+
+def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> SensorChain:
+    """Model-file chain: [force-path hysteresis] core [gain, voltage-path hysteresis] [lag] [thermal, drift] offset."""
+    slots: dict[str, list[Element]] = {"before": [], "after": [], "lag": [], "late": []}
+    for term in st.terms:
+        eff = REGISTRY[term.effect]
+        if eff.core_change:
+            continue
+        for slot, element in eff.to_elements(coef, term.variant, term.param, sig):
+            slots[slot].append(element)
+    slots["after"].sort(key=lambda e: 0 if e.kind == "nonlinear_gain" else 1)
+    return SensorChain([*slots["before"], ViscoelasticElement(core_model(st, coef)), *slots["after"], *slots["lag"],
+                        *slots["late"], OffsetElement(float(np.clip(coef.get("offset", 0.0), -1e3, 1e3)))])
+
+
+def refresh_ref(sig: Signals, core: ViscoelasticModel, span_x: Optional[float] = None) -> Signals:
+    """``sig`` with ``core`` as the reference core: its output ``x_ref`` and, unless ``span_x`` is given (the record at
+    another rate takes the fit rate's), the play radii's span from it. Radii that kept an earlier core's span would
+    drift against the signal when a voltage-path hysteresis takes part of the core's gain (a play of small radius is
+    nearly the input itself): each settling round would fit worse, and the loss be named as a drift."""
+    x = simulate_deformation(core, sig.t, sig.f_nonlinear)
+    return replace(sig, core_ref=core, x_ref=x, span_x=span_x if span_x is not None else max(float(np.ptp(x)), 1e-9))

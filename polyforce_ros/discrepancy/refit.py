@@ -1,0 +1,173 @@
+"""The nonlinear side of a fit and the structures a selection step tries.
+
+:func:`polish` refits the few time constants of a structure (the core's retardation times, a lag's, a thermal
+lag's, a settling drift's) by multi-start least squares; :func:`settle` and :func:`refine` make the columns that
+follow the core consistent with the core they fit. :func:`base_structure` fits the base core,
+:func:`candidates_for` lists the structures that add one effect, :func:`without` removes one.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import Optional
+
+import numpy as np
+
+from ..physics.fitting import multistart_least_squares
+from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, Term, bounded_solve, core_model,
+                     design_columns, refresh_ref, stack)
+from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, parameter
+from .signals import FloatArray, Signals
+
+__all__ = ["polish", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]
+
+
+def polish(fitter: Fitter, st: Structure) -> Structure:
+    """Polish the nonlinear time constants (core, lag, thermal lag) by multi-start least squares in log space."""
+    idx = [("core", i) for i in range(len(st.taus))]
+    # a core effect's parameter (a delayed elasticity's time) is one of the core's times, not a column's: it is not
+    # polished on its own (it would stay at its grid value while the core's time moves, and without() drops the core
+    # time nearest to it) but follows the core time it names
+    own_tau = {k: int(np.argmin([abs(math.log(tau / t.param)) for tau in st.taus]))
+               for k, t in enumerate(st.terms) if t.param is not None and REGISTRY[t.effect].core_change and st.taus}
+    idx += [("term", k) for k, t in enumerate(st.terms)
+            if t.param is not None and not REGISTRY[t.effect].core_change]
+    if not idx:
+        return st
+    x0 = np.log([st.taus[i] if kind == "core" else parameter(st.terms[i].param) for kind, i in idx])
+
+    def make(theta: FloatArray) -> Structure:
+        taus, terms = list(st.taus), list(st.terms)
+        for (kind, i), th in zip(idx, theta):
+            if kind == "core":
+                taus[i] = float(math.exp(th))
+            else:
+                terms[i] = replace(terms[i], param=float(math.exp(th)))
+        for k, i in own_tau.items():
+            terms[k] = replace(terms[k], param=taus[i])
+        return Structure(st.core, tuple(taus), tuple(terms))
+
+    sig = fitter.sig
+    sub = slice(None, None, max(1, sig.t.size // 10000))  # at most ~10000 rows for the polish
+    w = np.ones(sig.t.size) if sig.valid is None else sig.valid.astype(float)
+    target = (sig.v * w)[sub]
+
+    def residual(theta: FloatArray) -> FloatArray:
+        s = make(theta)
+        names, mats, lo, hi, ridge = design_columns(sig, s)
+        # scaled by the whole record's RMS, but only the rows used are stacked: stacking every row at every
+        # evaluation costs a third of a diagnosis
+        scale = np.array([math.sqrt(float(m @ m) / m.size) for m in mats])
+        scale[scale <= 0] = 1.0
+        a = stack(mats, sub) / scale * w[sub, None]
+        g, h = a.T @ a, a.T @ target
+        reg = PLAY_RIDGE * float(np.trace(g)) / g.shape[0] * ridge.astype(float)
+        c = bounded_solve(g, h, lo * scale, hi * scale, reg)
+        out: FloatArray = a @ c - target
+        return out
+
+    # a retardation time longer than the record cannot be told from flow within it (its creep is still a
+    # straight line at the end): bounded by the record, so that a missing dashpot is not fitted as a slow Kelvin
+    longest = min(TAU_BOUNDS[1], math.log(max(fitter.sig.duration_s, 1.0)))
+    bounds = [(TAU_BOUNDS[0], longest) if kind == "core" else param_log_bounds(st.terms[i], sig) for kind, i in idx]
+    lower, upper = np.array(bounds).T
+    x0 = np.clip(x0, lower, upper)
+    sol = multistart_least_squares(residual, [x0], lower, upper, max_nfev=8 * len(idx))
+    return make(sol.x)
+
+
+def param_log_bounds(term: Term, sig: Signals) -> tuple[float, float]:
+    """Log bounds of a term's nonlinear parameter in the polish: the span of the effect's grid, which is where the
+    parameter can be told apart in this record (a settling drift faster than a twentieth of the record is an offset
+    step in the first block, one slower than the record its linear part; either left the split with the collinear
+    column undetermined), or the time-constant bounds when the grid is a single value."""
+    grid = [g for g in REGISTRY[term.effect].grid(term.variant, sig) if g is not None]
+    if len(grid) < 2:
+        return TAU_BOUNDS
+    return math.log(min(grid)), math.log(max(grid))
+
+
+def settle(fitter: Fitter, st: Structure, rounds: int = 2) -> Fit:
+    """Fit ``st`` with the columns that follow the core (hysteresis, gain) made from the core it fits, so that the
+    model scored is the model saved (:func:`.design.build_chain` places them after/before that core); ``rounds``
+    refreshes."""
+    fit = fitter.evaluate(st)
+    for _ in range(rounds):
+        fitter.sig = refresh_ref(fitter.sig, core_model(st, fit.coef_map))
+        fit = fitter.evaluate(st)
+    return fit
+
+
+def refine(fitter: Fitter, st: Structure, rounds: int = 2) -> Fit:
+    """Polish the time constants, then make the columns that follow the core (hysteresis, gain) consistent
+    with the refitted core; ``rounds`` times. The polish fits in sample: when the result predicts the left-out
+    blocks worse than the structure as given (e.g. a settling time shorter than a block, which no other block
+    can pin down), the structure as given is kept. Either way the result is settled (:func:`settle`)."""
+    sig0, given = fitter.sig, fitter.evaluate(st)
+    polished = st
+    for _ in range(rounds):
+        polished = polish(fitter, polished)
+        fit = fitter.evaluate(polished)
+        fitter.sig = refresh_ref(fitter.sig, core_model(polished, fit.coef_map))
+    if fitter.evaluate(polished).cv_mse > given.cv_mse:
+        fitter.sig = sig0
+        return settle(fitter, st)
+    return settle(fitter, polished)
+
+
+def without(st: Structure, effect: str) -> Optional[Structure]:
+    """The structure without ``effect`` (None for a core effect other than viscous flow's dashpot)."""
+    term = st.term(effect)
+    if term is None:
+        return None
+    terms = tuple(t for t in st.terms if t.effect != effect)
+    eff = REGISTRY[effect]
+    if eff.core_change:
+        back = {v: k for k, v in eff.core_change.items()}.get(st.core)
+        if back is None:
+            return None
+        taus = st.taus
+        if effect == "delayed_elasticity" and term.param is not None and len(taus) > CORE_SHAPE[back][0]:
+            drop = int(np.argmin([abs(math.log(t / term.param)) for t in taus]))
+            taus = tuple(t for i, t in enumerate(taus) if i != drop)
+        return Structure(back, taus, terms)
+    return Structure(st.core, st.taus, terms)
+
+
+def base_structure(fitter: Fitter, base: str) -> Structure:
+    """The base core's structure, its retardation times chosen on the grid (out of sample) and polished."""
+    n_tau = CORE_SHAPE[base][0]
+    if n_tau == 0:
+        return Structure(base)
+    grid: list[tuple[float, ...]]
+    if n_tau == 1:
+        grid = [(tau,) for tau in TAU_GRID]
+    else:
+        grid = [(a, b) for i, a in enumerate(TAU_GRID[::2]) for b in TAU_GRID[::2][i + 1:]]
+    best = min(grid, key=lambda taus: fitter.evaluate(Structure(base, taus)).cv_mse)
+    return polish(fitter, Structure(base, best))
+
+
+def candidates_for(st: Structure, effect: str, has_temperature: bool, sig: Signals) -> list[Structure]:
+    """Structures that add ``effect`` to ``st`` (each variant, each grid value); [] when it does not apply."""
+    eff = REGISTRY[effect]
+    if eff.core_change:
+        new = eff.core_change.get(st.core)
+        if new is None:
+            return []
+        if effect == "viscous_flow":
+            # the base's retardation times may have stood in for the flow: restart them from the grid too
+            out = [Structure(new, st.taus, st.terms + (Term(effect),))]
+            if len(st.taus) == 1:
+                limit = sig.duration_s / 4.0
+                out += [Structure(new, (tau,), st.terms + (Term(effect),)) for tau in TAU_GRID if tau <= limit]
+            return out
+        return [Structure(new, tuple(sorted(st.taus + (tau,))), st.terms + (Term(effect, "", tau),))
+                for tau in eff.grid("", sig) if tau is not None and all(abs(math.log(tau / t)) > 0.5 for t in st.taus)]
+    if eff.needs_temperature and not has_temperature:
+        return []
+    out = []
+    for variant in eff.variants:
+        for param in eff.grid(variant, sig):
+            out.append(Structure(st.core, st.taus, st.terms + (Term(effect, variant, param),)))
+    return out

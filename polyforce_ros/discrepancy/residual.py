@@ -1,0 +1,193 @@
+"""The noise floor a diagnosis measures against, and the test for structure left in its residual.
+
+* :func:`noise_floor` (stage 1 of :func:`.engine.diagnose`): the white noise of the bridge voltage and of the
+  reference force, from second differences of the raw samples, the reference's through the base fit's
+  instantaneous compliance.
+* :func:`unexplained_test` (stage 5): the out-of-sample residual at the record's rate (:func:`out_of_sample`)
+  averaged to ~1 s and tested for whiteness (Ljung-Box), and split into octave bands (:func:`band_structure`).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+import numpy.typing as npt
+from scipy import stats
+
+from ..physics.identification import block_average
+from .design import Fit, Fitter, design
+from .signals import FloatArray, IntArray, Signals
+
+__all__ = ["noise_std", "NoiseFloor", "noise_floor", "excess", "ljung_box", "band_structure", "Unexplained",
+           "unexplained_test", "out_of_sample", "where"]
+
+
+# ----------------------------------------------------------------------------- the noise floor
+
+def noise_std(x: npt.ArrayLike) -> float:
+    """White-noise standard deviation of a sampled signal from its second differences (robust MAD)."""
+    d2 = np.diff(np.asarray(x, dtype=float), 2)
+    if d2.size < 10:
+        return 0.0
+    return float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / math.sqrt(6.0))
+
+
+@dataclass(frozen=True)
+class NoiseFloor:
+    """The white noise a model cannot predict.
+
+    Attributes
+    ----------
+    floor_v : float
+        RMS at the record's rate [V]: the voltage's and the reference's through the instantaneous compliance.
+    fit_mse : float
+        Its mean square after block averaging to the fit rate [V^2]: what the cross-validation errors are
+        compared with.
+    """
+
+    floor_v: float
+    fit_mse: float
+
+
+def noise_floor(voltage_v: npt.ArrayLike, force_n: npt.ArrayLike, j0_v_per_n: float,
+                samples_per_bin: float) -> NoiseFloor:
+    """The noise floor from the data: the voltage's white noise, and the reference's through the instantaneous
+    compliance ``j0_v_per_n`` of the base fit (the creep terms low-pass it away; the static gain, 1.5-2x larger for
+    a burgers, would overestimate the floor, and validation RMSEs would come out at 0.73-0.93x of it).
+
+    ``samples_per_bin``: raw samples per fit-rate bin (white noise averages down by it).
+    """
+    sigma_v, sigma_f = noise_std(voltage_v), noise_std(force_n)
+    gain = abs(float(j0_v_per_n))
+    floor = math.sqrt(sigma_v ** 2 + (gain * sigma_f) ** 2)
+    return NoiseFloor(floor, floor ** 2 / samples_per_bin)
+
+
+def excess(mse: float, floor_mse: float) -> float:
+    """A mean square error's excess over the noise floor's, counted as at least a quarter of the floor's own: the
+    denominator of every share of the excess (acceptance, candidates' report, explained share), which a model at or
+    below the floor would otherwise make a ratio over ~0."""
+    return max(mse - floor_mse, 0.25 * floor_mse)
+
+
+# ----------------------------------------------------------------------------- the unexplained residual
+
+def ljung_box(x: npt.ArrayLike, lags: int = 20) -> tuple[float, float]:
+    """Ljung-Box statistic and p-value of the first ``lags`` autocorrelations of x (white -> large p)."""
+    samples = np.asarray(x, dtype=float)
+    d = samples - np.mean(samples)
+    n = d.size
+    lags = min(lags, n // 4)
+    denom = float(d @ d)
+    if lags < 1 or denom <= 0:
+        return 0.0, 1.0
+    rho = np.array([float(d[:-k] @ d[k:]) / denom for k in range(1, lags + 1)])
+    q = n * (n + 2) * float(np.sum(rho ** 2 / (n - np.arange(1, lags + 1))))
+    return q, float(stats.chi2.sf(q, lags))
+
+
+def band_structure(resid_v: npt.ArrayLike, t_s: npt.ArrayLike, floor_v: float,
+                   lowest_hz: float = 0.5) -> list[dict[str, float]]:
+    """Structured RMS of a residual in octave bands from ``lowest_hz`` to Nyquist, over a white floor.
+
+    The residual's one-sided power spectrum (Welch, segments of ~8 s) is integrated over each octave and the
+    power white noise of RMS ``floor_v`` would put there is subtracted: what remains is structure at that time
+    scale (a resonance rings in its band, an unmodelled lag in the fast ones) that 1 s averages do not see.
+
+    Returns
+    -------
+    list of dict
+        ``low_hz``, ``high_hz``, ``rms_v`` (the structured RMS in the band, 0 when below the floor).
+    """
+    from scipy import signal
+
+    resid_v = np.asarray(resid_v, dtype=float)
+    rate_hz = 1.0 / float(np.median(np.diff(t_s)))
+    nperseg = int(min(resid_v.size, 2 ** round(math.log2(max(8.0 * rate_hz, 16.0)))))
+    freq, psd = signal.welch(resid_v - resid_v.mean(), fs=rate_hz, nperseg=nperseg)
+    white = 2.0 * floor_v ** 2 / rate_hz
+    df = freq[1] - freq[0]
+    out, low = [], lowest_hz
+    while low < rate_hz / 2.0:
+        high = min(2.0 * low, rate_hz / 2.0)
+        band = (freq >= low) & (freq < high)
+        structured = float(np.sum(psd[band] - white) * df) if band.any() else 0.0
+        out.append({"low_hz": low, "high_hz": high, "rms_v": math.sqrt(max(structured, 0.0))})
+        low = high
+    return out
+
+
+@dataclass(frozen=True)
+class Unexplained:
+    """Whether an out-of-sample residual holds structure (:func:`unexplained_test`).
+
+    Attributes
+    ----------
+    present : bool
+        Structure of at least the ratio asked of the noise floor, in the 1 s averages or in a band.
+    rms_v : float
+        The larger structured RMS of the two views [V].
+    ljung_box_q, ljung_box_p : float
+        Whiteness of the 1 s averages.
+    bands : list of dict
+        The octave bands (:func:`band_structure`).
+    """
+
+    present: bool
+    rms_v: float
+    ljung_box_q: float
+    ljung_box_p: float
+    bands: list[dict[str, float]] = field(default_factory=list)
+
+
+def unexplained_test(t_s: FloatArray, resid_v: FloatArray, floor_v: float, ratio: float) -> Unexplained:
+    """Whether an out-of-sample residual holds structure.
+
+    Two views, each against the white noise floor: the residual averaged to ~1 s, tested for whiteness
+    (Ljung-Box) with a structured RMS of at least ``ratio`` of the floor; and the residual at the record's rate
+    in octave bands (:func:`band_structure`), any band holding at least ``ratio`` of the floor (a resonance or
+    a fast dynamic leaves nothing in 1 s averages). ``rms_v`` is the larger structured RMS of the two views.
+    """
+    slow = block_average(t_s, resid_v, rate_hz=1.0)[1]
+    q, p_value = ljung_box(slow, lags=20)
+    m_slow = t_s.size / max(slow.size, 1)
+    structured = math.sqrt(max(float(np.var(slow)) - floor_v ** 2 / m_slow, 0.0))
+    bands = band_structure(resid_v, t_s, floor_v)
+    in_bands = max((b["rms_v"] for b in bands), default=0.0)
+    present = bool((p_value < 1e-3 and structured >= ratio * floor_v) or in_bands >= ratio * floor_v)
+    return Unexplained(present, max(structured, in_bands), q, p_value, bands)
+
+
+def out_of_sample(sig_full: Signals, fit: Fit, fitter: Fitter, bin_of_sample: IntArray
+                  ) -> tuple[float, FloatArray, FloatArray]:
+    """Out-of-sample prediction at the record's rate: each sample predicted by the fit that left its fold out.
+
+    A sample's fold is that of the fit-rate bin it was averaged into (a fold of its own, from its own time,
+    would put the few samples of a bin that straddles a block boundary in a fold whose fit used them).
+
+    Returns
+    -------
+    rmse_v : float
+        RMS of the residual [V].
+    resid_v, predicted_v : (n,) ndarray
+        Measured minus predicted voltage, and the prediction [V].
+    """
+    names, a, lo, hi, ridge = design(sig_full, fit.structure)
+    block = fitter.fold[bin_of_sample]
+    pred = np.empty_like(sig_full.v)
+    for b in range(fitter.k):
+        rows = block == b
+        pred[rows] = a[rows] @ fit.coef_folds[b]
+    resid = sig_full.v - pred
+    return float(np.sqrt(np.mean(resid ** 2))), resid, pred
+
+
+def where(loc: Mapping[str, Any]) -> dict[str, dict[str, float]]:
+    """The two segment kinds the residual concentrates in most and the two signals it follows most."""
+    conc = loc.get("concentration", {})
+    top = sorted(conc.items(), key=lambda kv: -kv[1]["rms_ratio"])[:2]
+    corr = sorted(loc.get("correlation", {}).items(), key=lambda kv: -abs(kv[1]))[:2]
+    return {"segments": {k: round(v["rms_ratio"], 3) for k, v in top},
+            "follows": {k: round(v, 3) for k, v in corr}}

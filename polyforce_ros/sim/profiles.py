@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
+import numpy.typing as npt
 from scipy import signal
 
 __all__ = ["PROFILE_NAMES", "creep", "sawtooth", "step", "sine_sweep", "resolution", "needle_insertion",
@@ -16,13 +18,18 @@ __all__ = ["PROFILE_NAMES", "creep", "sawtooth", "step", "sine_sweep", "resoluti
 
 PROFILE_NAMES = ("creep", "sawtooth", "step", "sine_sweep", "resolution", "needle_insertion")
 
+FloatArray = npt.NDArray[np.float64]
+#: A profile: times [s] and force [N].
+Profile = tuple[FloatArray, FloatArray]
 
-def _time(duration_s, rate_hz):
+
+def _time(duration_s: float, rate_hz: float) -> FloatArray:
     n = int(round(duration_s * rate_hz)) + 1
     return np.arange(n) / float(rate_hz)
 
 
-def creep(force_n=5.0, hold_s=120.0, rest_s=60.0, pre_s=2.0, rise_s=0.2, rate_hz=1000.0):
+def creep(force_n: float = 5.0, hold_s: float = 120.0, rest_s: float = 60.0, pre_s: float = 2.0, rise_s: float = 0.2,
+          rate_hz: float = 1000.0) -> Profile:
     """Creep test (Fig. 8): rest, ramp to ``force_n`` in ``rise_s``, hold, release, recover."""
     t = _time(pre_s + rise_s + hold_s + rise_s + rest_s, rate_hz)
     knots_t = [0, pre_s, pre_s + rise_s, pre_s + rise_s + hold_s, pre_s + 2 * rise_s + hold_s, t[-1]]
@@ -30,7 +37,8 @@ def creep(force_n=5.0, hold_s=120.0, rest_s=60.0, pre_s=2.0, rise_s=0.2, rate_hz
     return t, np.interp(t, knots_t, knots_f)
 
 
-def sawtooth(peak_n=10.0, cycles=4, ramp_rate_n_per_s=1.0, pre_s=2.0, post_s=10.0, rate_hz=1000.0):
+def sawtooth(peak_n: float = 10.0, cycles: int = 4, ramp_rate_n_per_s: float = 1.0, pre_s: float = 2.0,
+             post_s: float = 10.0, rate_hz: float = 1000.0) -> Profile:
     """Triangle sawtooth (Fig. 10): ``cycles`` ramps 0 -> peak -> 0 at a constant force rate."""
     ramp_s = peak_n / ramp_rate_n_per_s
     t = _time(pre_s + cycles * 2 * ramp_s + post_s, rate_hz)
@@ -39,7 +47,8 @@ def sawtooth(peak_n=10.0, cycles=4, ramp_rate_n_per_s=1.0, pre_s=2.0, post_s=10.
     return t, np.where(phase > 0, peak_n * 0.5 * (tri + 1.0), 0.0)
 
 
-def step(force_n=5.0, pre_s=2.0, hold_s=30.0, rise_s=0.0, rate_hz=1000.0):
+def step(force_n: float = 5.0, pre_s: float = 2.0, hold_s: float = 30.0, rise_s: float = 0.0,
+         rate_hz: float = 1000.0) -> Profile:
     """Step of ``force_n`` (Fig. 16) at ``pre_s``: within one sample, or a ramp of ``rise_s`` (an actuator's)."""
     t = _time(pre_s + hold_s, rate_hz)
     if rise_s <= 0:
@@ -47,14 +56,16 @@ def step(force_n=5.0, pre_s=2.0, hold_s=30.0, rise_s=0.0, rate_hz=1000.0):
     return t, force_n * np.clip((t - pre_s) / rise_s, 0.0, 1.0)
 
 
-def sine_sweep(f_start_hz=0.01, f_stop_hz=10.0, amplitude_n=1.0, offset_n=3.0, duration_s=600.0, rate_hz=1000.0):
+def sine_sweep(f_start_hz: float = 0.01, f_stop_hz: float = 10.0, amplitude_n: float = 1.0, offset_n: float = 3.0,
+               duration_s: float = 600.0, rate_hz: float = 1000.0) -> Profile:
     """Logarithmic chirp from ``f_start_hz`` to ``f_stop_hz`` around a preload ``offset_n``."""
     t = _time(duration_s, rate_hz)
     wave = signal.chirp(t, f0=f_start_hz, t1=t[-1], f1=f_stop_hz, method="logarithmic", phi=-90)
     return t, offset_n + amplitude_n * wave
 
 
-def resolution(preload_n=3.75, step_n=0.1, half_period_s=60.0, cycles=4, pre_s=10.0, rate_hz=1000.0):
+def resolution(preload_n: float = 3.75, step_n: float = 0.1, half_period_s: float = 60.0, cycles: int = 4,
+               pre_s: float = 10.0, rate_hz: float = 1000.0) -> Profile:
     """Resolution test (Fig. 13): ``step_n`` square wave on a ``preload_n`` preload."""
     t = _time(pre_s + cycles * 2 * half_period_s, rate_hz)
     square = (np.floor((t - pre_s) / half_period_s) % 2 == 0) & (t >= pre_s)
@@ -62,7 +73,8 @@ def resolution(preload_n=3.75, step_n=0.1, half_period_s=60.0, cycles=4, pre_s=1
     return t, preload_n * ramp_in + step_n * square
 
 
-def needle_insertion(peak_n=4.0, punctures=3, duration_s=30.0, seed=0, rate_hz=1000.0):
+def needle_insertion(peak_n: float = 4.0, punctures: int = 3, duration_s: float = 30.0, seed: int = 0,
+                     rate_hz: float = 1000.0) -> Profile:
     """Synthetic needle insertion: layered loading, puncture drops, hold, retraction.
 
     Force rises as the needle deforms each tissue layer, drops by 30-60 % when
@@ -95,7 +107,7 @@ def needle_insertion(peak_n=4.0, punctures=3, duration_s=30.0, seed=0, rate_hz=1
     return t, np.clip(smooth, 0.0, None)
 
 
-def okamura_csv_path():
+def okamura_csv_path() -> Optional[Path]:
     """Path of the measured insertion profile in ``shared/data`` if present, else None.
 
     Looked up in ``$POLYFORCE_DATA_DIR``, then in ``../shared/data`` beside the
@@ -112,7 +124,8 @@ def okamura_csv_path():
     return None
 
 
-def okamura_insertion(path=None, peak_n=4.0, rate_hz=1000.0, pre_s=1.0, post_s=5.0):
+def okamura_insertion(path: Union[str, os.PathLike[str], None] = None, peak_n: float = 4.0, rate_hz: float = 1000.0,
+                      pre_s: float = 1.0, post_s: float = 5.0) -> Profile:
     """Measured needle-insertion force (Okamura et al. 2004, bovine liver), resampled.
 
     The digitised record has irregular, repeated time values: samples are
@@ -137,9 +150,9 @@ def okamura_insertion(path=None, peak_n=4.0, rate_hz=1000.0, pre_s=1.0, post_s=5
     return t, f
 
 
-def make_profile(name, rate_hz=1000.0, seed=0, **kwargs):
+def make_profile(name: str, rate_hz: float = 1000.0, seed: int = 0, **kwargs: Any) -> Profile:
     """Profile by name (one of :data:`PROFILE_NAMES`, or ``okamura``)."""
-    table = {
+    table: dict[str, Callable[..., Profile]] = {
         "creep": creep,
         "sawtooth": sawtooth,
         "step": step,

@@ -1,9 +1,12 @@
 """Simulated bench experiments written as bags of the topic contract."""
 from __future__ import annotations
 
+import os
 from pathlib import Path
+from typing import Any, Callable, Optional, Union
 
 import numpy as np
+import numpy.typing as npt
 
 from .. import bags
 from . import profiles
@@ -11,12 +14,15 @@ from .sensor import BridgeSimulator
 
 __all__ = ["T0_NS", "SAMPLE_BAGS", "write_bench_bag", "simulate_bag", "make_sample_bags"]
 
+#: A bag's path: a file (``.mcap``) or a bag directory.
+PathLike = Union[str, os.PathLike[str]]
+
 #: Start of simulated records (2025-01-01T00:00:00Z): a realistic epoch for stamps.
 T0_NS = 1_735_689_600_000_000_000
 
 #: The shipped sample bags: name -> (profile, rate in Hz, profile options).
 #: Rates keep each bag under 5 MB; the needle insertion is at the 1 kHz sensor rate.
-SAMPLE_BAGS = {
+SAMPLE_BAGS: dict[str, tuple[str, float, dict[str, Any]]] = {
     "creep_5n": ("creep", 200.0, {"force_n": 5.0, "hold_s": 120.0, "rest_s": 60.0}),
     "sawtooth": ("sawtooth", 200.0, {}),
     "step_5n": ("step", 500.0, {"force_n": 5.0}),
@@ -26,8 +32,9 @@ SAMPLE_BAGS = {
 }
 
 
-def write_bench_bag(path, t_s, force_n, voltage_v, temperature_c=None, t0_ns=T0_NS, temperature_every=10,
-                    directory=False):
+def write_bench_bag(path: PathLike, t_s: npt.ArrayLike, force_n: npt.ArrayLike, voltage_v: npt.ArrayLike,
+                    temperature_c: Optional[npt.ArrayLike] = None, t0_ns: int = T0_NS, temperature_every: int = 10,
+                    directory: bool = False) -> Path:
     """Write a bench record (raw voltage, reference force, optional temperature) as a bag.
 
     Stamps and log times are ``t0_ns + t_s``; temperature is written every
@@ -44,15 +51,17 @@ def write_bench_bag(path, t_s, force_n, voltage_v, temperature_c=None, t0_ns=T0_
     return Path(path)
 
 
-def simulate_bag(path, profile, rate_hz=1000.0, simulator=None, seed=0, temperature_c=24.0, directory=False,
-                 **profile_kwargs):
+def simulate_bag(path: PathLike, profile: str, rate_hz: float = 1000.0, simulator: Optional[BridgeSimulator] = None,
+                 seed: int = 0, temperature_c: Optional[npt.ArrayLike] = 24.0, directory: bool = False,
+                 **profile_kwargs: Any) -> Path:
     """Run a profile through the simulator (default: paper truth, 1 mV noise) and write the bag."""
     t, f = profiles.make_profile(profile, rate_hz=rate_hz, seed=seed, **profile_kwargs)
     sim = simulator if simulator is not None else BridgeSimulator(seed=seed)
     return write_bench_bag(path, t, f, sim.simulate(t, f), temperature_c, directory=directory)
 
 
-def make_sample_bags(out_dir, progress=None, directory=False):
+def make_sample_bags(out_dir: PathLike, progress: Optional[Callable[[str], None]] = None,
+                     directory: bool = False) -> list[Path]:
     """(Re)generate the shipped sample bags into ``out_dir``; returns their paths.
 
     Deterministic: fixed seeds and epoch, no wall-clock time in the content, so every run gives

@@ -2,8 +2,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any, Optional
 
 import numpy as np
+import numpy.typing as npt
 
 from ..physics.chain import SensorChain
 from ..physics.viscoelastic import PAPER_BURGERS, ViscoelasticModel
@@ -25,39 +27,49 @@ class BridgeSimulator:
     after block: element states carry over.
     """
 
-    model: ViscoelasticModel = PAPER_BURGERS
+    model: Optional[ViscoelasticModel] = PAPER_BURGERS
     offset_v: float = 0.05
     noise_std_v: float = 1e-3
     adc_bits: int = 16
-    adc_range_v: tuple = (-5.0, 5.0)
+    adc_range_v: tuple[float, float] = (-5.0, 5.0)
     seed: int = 0
-    chain: SensorChain = None
-    _states: list = field(init=False, repr=False)
+    chain: Optional[SensorChain] = None
+    _states: list[Any] = field(init=False, repr=False)
     _rng: np.random.Generator = field(init=False, repr=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self.chain is None:
+            if self.model is None:
+                raise ValueError("a simulator needs a viscoelastic model or a chain")
             self.chain = SensorChain.from_model(self.model, offset_v=self.offset_v)
         else:
             self.model = self.chain.viscoelastic
         self.reset()
 
-    def reset(self):
+    def _truth(self) -> SensorChain:
+        """The sensor truth the simulator runs (``chain``, set by the constructor)."""
+        if self.chain is None:
+            raise ValueError("the simulator has no chain")
+        return self.chain
+
+    def reset(self) -> None:
         """Sensor relaxed and unloaded, noise sequence restarted."""
-        self._states = self.chain.forward_states()
+        self._states = self._truth().forward_states()
         self._rng = np.random.default_rng(self.seed)
 
     @property
     def lsb_v(self) -> float:
+        """One quantiser step [V] (0 without a quantiser)."""
         lo, hi = self.adc_range_v
         return (hi - lo) / (2**self.adc_bits) if self.adc_bits else 0.0
 
-    def simulate(self, t_s, force_n, temperature_c=None):
+    def simulate(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike,
+                 temperature_c: Optional[npt.ArrayLike] = None) -> npt.NDArray[np.float64]:
         """Bridge voltage (V) for the force samples; continues from the previous block.
 
         temperature_c: per-sample (or scalar) temperature for thermal elements.
         """
-        v = self.chain.forward(t_s, force_n, aux={"temperature_c": temperature_c}, states=self._states)
+        v = self._truth().forward(t_s, force_n, aux={"temperature_c": temperature_c}, states=self._states)
         if self.noise_std_v:
             v = v + self._rng.normal(0.0, self.noise_std_v, size=v.shape)
         if self.adc_bits:

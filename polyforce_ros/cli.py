@@ -18,6 +18,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
+from typing import Mapping, Optional, Sequence
 
 import numpy as np
 
@@ -27,24 +28,28 @@ from .physics.chain import ModelError
 from .physics.metrics import error_summary
 from .sim import profiles
 from .sim.sensor import BridgeSimulator
-from .workflows import CalibrationConfig, compensate_record
 from .runtime import CompensatorConfig
 from .runtime.sources import SerialSourceConfig, SimSourceConfig
+from .workflows import CalibrationConfig, compensate_record
 
-def _print_row(profile, label, e):
+
+def _print_row(profile: str, label: str, e: Mapping[str, float]) -> None:
     print(f"{profile:<18} {label:<12} {e['rmse_n']:9.4f} {e['max_abs_n']:11.4f} {e['r2']:7.4f}")
 
 
-def _header():
+def _header() -> None:
     print(f"{'profile':<18} {'method':<12} {'RMSE [N]':>9} {'max|e| [N]':>11} {'R2':>7}")
 
 
-def cmd_simulate(args) -> int:
+def cmd_simulate(args: argparse.Namespace) -> int:
     model = load_model(args.model or default_model_path())
     if args.profile == "okamura" and profiles.okamura_csv_path() is None:
         print("Okamura data not found; using the synthetic needle-insertion profile", file=sys.stderr)
         args.profile = "needle_insertion"
-    truth = BridgeSimulator(model=model.chain.viscoelastic, noise_std_v=args.noise_v, seed=args.seed)
+    core = model.chain.viscoelastic
+    if core is None:
+        raise ModelError("polyforce simulate needs a model with a viscoelastic core")
+    truth = BridgeSimulator(model=core, noise_std_v=args.noise_v, seed=args.seed)
     print(f"sensor truth: {truth.model}  noise {args.noise_v * 1e3:.2f} mV, {truth.adc_bits}-bit ADC")
     print(f"compensation model: {args.model or default_model_path()}")
     _header()
@@ -62,7 +67,7 @@ def cmd_simulate(args) -> int:
     return 0 if ok else 1
 
 
-def cmd_demo(args) -> int:
+def cmd_demo(args: argparse.Namespace) -> int:
     from .demo import plot, run_live_demo
 
     model_file = args.model or ""
@@ -82,7 +87,7 @@ def cmd_demo(args) -> int:
     return 0 if good else 1
 
 
-def cmd_calibrate(args) -> int:
+def cmd_calibrate(args: argparse.Namespace) -> int:
     from .physics.fitting import check_model_types
     from .workflows import calibrate_bag
 
@@ -102,7 +107,7 @@ def cmd_calibrate(args) -> int:
     return 0 if result.written else 3
 
 
-def cmd_compensate(args) -> int:
+def cmd_compensate(args: argparse.Namespace) -> int:
     from .runtime.compensator import check_noise_gain
     from .workflows import compensate_bag
 
@@ -121,7 +126,7 @@ def cmd_compensate(args) -> int:
     return 0
 
 
-def cmd_replay(args) -> int:
+def cmd_replay(args: argparse.Namespace) -> int:
     from .nodes.replay_node import main as replay_main
 
     ros_args = ["polyforce-replay", "--ros-args", "-p", f"bag_path:={args.bag}", "-p", f"rate_factor:={args.rate}",
@@ -130,7 +135,7 @@ def cmd_replay(args) -> int:
     return replay_main(ros_args)
 
 
-def cmd_evaluate(args) -> int:
+def cmd_evaluate(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from .evaluation.common import Settings
@@ -139,7 +144,7 @@ def cmd_evaluate(args) -> int:
     settings = Settings(seed=args.seed, noise_std_v=args.noise_v, quick=args.quick)
     bar = tqdm(total=len(EXPERIMENTS) + len(args.bag), desc="evaluate", unit="experiment")
 
-    def progress(name):
+    def progress(name: str) -> None:
         bar.set_postfix_str(name)
         bar.update(1)
 
@@ -152,14 +157,14 @@ def cmd_evaluate(args) -> int:
     return 0 if data["seed000_all_met"] else 4
 
 
-def cmd_diagnose(args) -> int:
+def cmd_diagnose(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from .discrepancy.report import run
 
     bar = tqdm(desc="diagnose", unit="step", disable=not sys.stderr.isatty() and not args.progress)
 
-    def progress(step):
+    def progress(step: str) -> None:
         bar.set_postfix_str(step)
         bar.update(1)
 
@@ -192,7 +197,7 @@ def cmd_diagnose(args) -> int:
     return 0
 
 
-def cmd_make_bags(args) -> int:
+def cmd_make_bags(args: argparse.Namespace) -> int:
     from .sim.recording import make_sample_bags
 
     progress = lambda name: print(f"simulating {name} ...", file=sys.stderr)  # noqa: E731
@@ -202,14 +207,14 @@ def cmd_make_bags(args) -> int:
     return 0
 
 
-def cmd_bringup(args) -> int:
+def cmd_bringup(args: argparse.Namespace) -> int:
     from .bringup import bringup
 
     return bringup(backend=args.backend, port=args.port, model=args.model, with_bridge=args.with_bridge, record=args.record,
                    namespace=args.namespace, stop_timeout_s=args.stop_timeout, dry_run=args.dry_run)
 
 
-def cmd_check_device(args) -> int:
+def cmd_check_device(args: argparse.Namespace) -> int:
     """The bring-up checklist of polyforce_ros.device_check: 0 when every check passes, 1 when one fails, 2 on bad
     input (no such port, a bad option)."""
     from .device_check import DeviceOpenError, Limits, evaluate, format_report, read_device
@@ -230,7 +235,7 @@ def cmd_check_device(args) -> int:
     return 0 if all(r.passed for r in results) else 1
 
 
-def build_parser():
+def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="polyforce", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
 
@@ -363,10 +368,11 @@ def build_parser():
     return parser
 
 
-def main(argv=None) -> int:
+def main(argv: Optional[Sequence[str]] = None) -> int:
     args = build_parser().parse_args(argv)
     try:
-        return args.func(args)
+        code: int = args.func(args)
+        return code
     except (ModelError, BagError, FileNotFoundError, ValueError) as exc:
         print(f"polyforce {args.command}: error: {exc}", file=sys.stderr)
         return 2

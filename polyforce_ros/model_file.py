@@ -95,7 +95,7 @@ class _ModelLoader(yaml.SafeLoader):
             self._refuse(f"YAML expands to more than {MAX_NODES} nodes (aliases)", event)
 
     def compose_node(self, parent: Optional[yaml.Node], index: int) -> Optional[yaml.Node]:
-        event = self.peek_event()  # type: ignore[no-untyped-call, unused-ignore]  # unannotated in types-PyYAML
+        event = self.peek_event()  # type: ignore[no-untyped-call]  # unannotated in types-PyYAML
         if isinstance(event, yaml.AliasEvent):
             if event.anchor in self._open_anchors:
                 self._refuse(f"recursive YAML alias *{event.anchor}", event)
@@ -162,7 +162,7 @@ def parse_model_yaml(text: str) -> object:
     except RecursionError:  # not reached within MAX_DEPTH; kept as a last line of defence
         raise ModelError(f"YAML nested too deeply (limit {MAX_DEPTH})") from None
     finally:
-        loader.dispose()  # type: ignore[no-untyped-call, unused-ignore]  # unannotated in types-PyYAML
+        loader.dispose()  # type: ignore[no-untyped-call]  # unannotated in types-PyYAML
 
 
 @dataclass

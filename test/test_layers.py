@@ -25,3 +25,13 @@ def test_no_module_imports_a_private_name_of_another_module():
                     if alias.name.startswith("_") and not alias.name.startswith("__"):
                         offenders.append(f"{path.relative_to(REPO)}:{node.lineno} imports {alias.name} from {node.module}")
     assert not offenders, "\n".join(offenders)
+
+
+#: A module longer than this holds more than one concern: split it into a package by concern.
+MAX_MODULE_LINES = 800
+
+
+def test_no_module_is_longer_than_one_concern():
+    long = {str(p.relative_to(REPO)): n for p in sorted((REPO / "polyforce_ros").rglob("*.py"))
+            if (n := len(p.read_text().splitlines())) > MAX_MODULE_LINES}
+    assert not long, f"modules over {MAX_MODULE_LINES} lines: {long}"

@@ -30,7 +30,7 @@ def test_ruff_finds_no_errors():
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
 
-def test_mypy_checks_the_ros_free_core():
+def test_mypy_strict_checks_the_whole_package():
     proc = _run(BIN / "mypy")  # files and options: pyproject.toml [tool.mypy]
     assert proc.returncode == 0, proc.stdout + proc.stderr
 
@@ -43,7 +43,7 @@ def test_checks_are_configured_where_the_tools_look():
     assert "build-system" not in config and "project" not in config, "pyproject.toml is tool configuration only"
     assert config["tool"]["ruff"]["line-length"] == 130
     assert set(config["tool"]["ruff"]["lint"]["select"]) == {"F", "E", "W", "B"}
-    assert config["tool"]["mypy"]["files"]
+    assert config["tool"]["mypy"]["files"] == ["polyforce_ros"] and config["tool"]["mypy"]["strict"] is True
     assert "[mypy" not in (REPO / "setup.cfg").read_text(), "mypy's configuration lives in pyproject.toml only"
     ignored = (REPO / ".gitignore").read_text().split()
     assert {".ruff_cache/", ".mypy_cache/"} <= set(ignored)

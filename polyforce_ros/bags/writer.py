@@ -218,7 +218,7 @@ class BagWriter:
         info = self.metadata()
         self._writer.add_metadata("rosbag2", {"serialized_metadata": yaml.safe_dump(
             info["rosbag2_bagfile_information"], sort_keys=False)})
-        self._writer.finish()  # type: ignore[no-untyped-call, unused-ignore]  # mcap: Writer.finish() is unannotated
+        self._writer.finish()  # type: ignore[no-untyped-call]  # mcap: Writer.finish() is unannotated
         self._fh.close()
         if self.directory is not None:
             (self.directory / "metadata.yaml").write_text(yaml.safe_dump(info, sort_keys=False))

@@ -17,7 +17,7 @@ import numpy as np
 import numpy.typing as npt
 from scipy import linalg, optimize
 
-from ..physics.chain import Element, OffsetElement, SensorChain, ViscoelasticElement
+from ..physics.chain import BridgeHysteresisElement, Element, OffsetElement, SensorChain, ViscoelasticElement
 from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
 from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, Col, lag_columns, lag_stages, parameter
@@ -328,7 +328,7 @@ def core_model(st: Structure, coef: Mapping[str, float]) -> ViscoelasticModel:
 
 def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> SensorChain:
     """Model-file chain: [force-path hysteresis] core [gain, voltage-path hysteresis] [lag] [thermal, drift] offset."""
-    slots: dict[str, list[Element]] = {"before": [], "after": [], "lag": [], "late": []}
+    slots: dict[str, list[Element]] = {"before": [], "bridge": [], "after": [], "lag": [], "late": []}
     for term in st.terms:
         eff = REGISTRY[term.effect]
         if eff.core_change:
@@ -336,8 +336,14 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
         for slot, element in eff.to_elements(coef, term.variant, term.param, sig):
             slots[slot].append(element)
     slots["after"].sort(key=lambda e: 0 if e.kind == "nonlinear_gain" else 1)
-    return SensorChain([*slots["before"], ViscoelasticElement(core_model(st, coef)), *slots["after"], *slots["lag"],
-                        *slots["late"], OffsetElement(float(np.clip(coef.get("offset", 0.0), -1e3, 1e3)))])
+    core: Element = ViscoelasticElement(core_model(st, coef))
+    bridges = [e for e in slots["bridge"] if isinstance(e, BridgeHysteresisElement)]
+    if bridges:  # hysteresis at the bridge (one term per effect, so one element): the fitted core, plays beside it
+        b = bridges[0]
+        core = BridgeHysteresisElement(ViscoelasticElement(core_model(st, coef)), b.radii_n, b.weights_v_per_n,
+                                       b.linear_v_per_n, b.history_max_n)
+    return SensorChain([*slots["before"], core, *slots["after"], *slots["lag"], *slots["late"],
+                        OffsetElement(float(np.clip(coef.get("offset", 0.0), -1e3, 1e3)))])
 
 
 def refresh_ref(sig: Signals, core: ViscoelasticModel, span_x: Optional[float] = None) -> Signals:

@@ -34,7 +34,8 @@ import numpy as np
 import numpy.typing as npt
 
 from ..physics.chain import (
-    Element, ExponentialDriftElement, PlayHysteresisElement, PolynomialDriftElement, PolynomialGainElement,
+    BridgeHysteresisElement, Element, ExponentialDriftElement, PlayHysteresisElement, PolynomialDriftElement,
+    PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
     TransportDelayElement, play_operator,
 )
@@ -148,6 +149,12 @@ def _hyst_start(radii: FloatArray, variant: str) -> FloatArray:
     return radii if variant.endswith("descending") else np.zeros(radii.size)
 
 
+def _hyst_path(variant: str) -> str:
+    """Where the hysteresis acts: ``force`` (before the core, creeping with it), ``voltage`` (on the core's output)
+    or ``bridge`` (on the applied force, added at the bridge beside the core, without creep)."""
+    return variant.split("_")[0]
+
+
 def _hyst_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
     """Columns of a Prandtl-Ishlinskii hysteresis on the path of ``variant``, each zero at rest at the start.
 
@@ -155,42 +162,52 @@ def _hyst_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
     (``_stop``, Bouc-Wen-like loops, loading above unloading): stop operators s_r = input - p_r, bounded by
     +-r, non-negative weights. Fitting stops rather than negative plays keeps every column away from the
     input itself, so the core's gain and the weights cannot trade large opposite values."""
-    force = variant.startswith("force")
+    path = _hyst_path(variant)
+    on_force = path in ("force", "bridge")
     stop = "_stop" in variant
-    key = ("hysteresis columns", force, stop, variant.endswith("descending"))
+    key = ("hysteresis columns", path, stop, variant.endswith("descending"))
     if key not in sig.cache:
-        span = sig.span_f if force else sig.span_x
+        span = sig.span_f if on_force else sig.span_x
         radii = PLAY_FRACTIONS * span
         start = _hyst_start(radii, variant)
         # the plays of the play and the stop type are the same: made once per path and start (the force's once per
         # record, the core output's once per reference core)
-        plays_key = ("force plays" if force else "voltage plays", variant.endswith("descending"))
-        store = sig.record_cache if force else sig.cache
-        u = sig.f_nonlinear if force else sig.core_output
+        plays_key = ("force plays" if on_force else "voltage plays", variant.endswith("descending"))
+        store = sig.record_cache if on_force else sig.cache
+        u = sig.f_nonlinear if on_force else sig.core_output
         cols = store.get(plays_key)
         if cols is None:
             cols = store[plays_key] = play_operator(u, radii, start) - start
         if stop:
             cols = u[:, None] - cols
-        sig.cache[key] = simulate_deformation_columns(sig.reference_core, sig.t, cols) if force else cols
+        sig.cache[key] = simulate_deformation_columns(sig.reference_core, sig.t, cols) if path == "force" else cols
     cols = sig.cache[key]
     return [(f"play{i}", cols[:, i], 0.0, np.inf, "sensor", "play") for i in range(cols.shape[1])]
 
 
 def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
-    span = sig.span_f if variant.startswith("force") else sig.span_x
+    path = _hyst_path(variant)
+    span = sig.span_f if path in ("force", "bridge") else sig.span_x
     w = np.clip([max(coef.get(f"play{i}", 0.0), 0.0) for i in range(PLAY_FRACTIONS.size)], 0.0, 1e6)
     keep = w > 1e-12 * max(w.max(), 1e-300)
     if not keep.any():
         return []
+    history = 2.0 * span if variant.endswith("descending") else 0.0
+    radii = PLAY_FRACTIONS[keep] * span
+    if path == "bridge":
+        # V = core(F) + sum w op(F); a stop is F - p(F): sum w s(F) = (sum w) F - sum w p(F). The core here is a
+        # stand-in: build_chain puts the fitted core in its place.
+        if "_stop" in variant:
+            w = w * min(1.0, 1e3 / max(float(np.sum(w[keep])), 1e-300))  # linear_v_per_n within its bound
+        linear, weights = (float(np.sum(w[keep])), -w[keep]) if "_stop" in variant else (0.0, w[keep])
+        return [("bridge", BridgeHysteresisElement(ViscoelasticElement(sig.reference_core), radii, weights,
+                                                   linear_v_per_n=linear, history_max_n=history))]
     # on the force path the operator enters through the core (core(F + sum w op(F))); on the voltage path
     # the core output x stands for itself (x + sum w op(x)); x + sum w (x - p(x)) = (1 + sum w) x - sum w p(x)
     if "_stop" in variant:
         w = w * min(1.0, (1e6 - 1.0) / max(float(np.sum(w[keep])), 1e-300))  # linear_weight within its bound
     linear, weights = (1.0 + float(np.sum(w[keep])), -w[keep]) if "_stop" in variant else (1.0, w[keep])
-    history = 2.0 * span if variant.endswith("descending") else 0.0
-    return [("before" if variant.startswith("force") else "after",
-             PlayHysteresisElement(linear, PLAY_FRACTIONS[keep] * span, weights, history_max=history))]
+    return [("before" if path == "force" else "after", PlayHysteresisElement(linear, radii, weights, history_max=history))]
 
 
 def _lag_apply(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
@@ -327,9 +344,10 @@ EFFECTS: dict[str, Effect] = {
         core_change={"elastic": "zener", "maxwell": "burgers", "zener": "zener2", "burgers": "burgers2"}),
     "hysteresis": Effect(
         "hysteresis", "path dependence at load reversals (hysteresis)", ("load_reversal",), ("load_direction",),
-        ("play_hysteresis",),
-        variants=("force", "voltage", "force_descending", "voltage_descending",
-                  "force_stop", "voltage_stop", "force_stop_descending", "voltage_stop_descending"),
+        ("play_hysteresis", "bridge_hysteresis"),
+        variants=("force", "voltage", "bridge", "force_descending", "voltage_descending", "bridge_descending",
+                  "force_stop", "voltage_stop", "bridge_stop", "force_stop_descending", "voltage_stop_descending",
+                  "bridge_stop_descending"),
         columns=_hyst_columns, to_elements=_hyst_elements),
     "sensor_lag": Effect(
         "sensor_lag", "dynamics faster than the model (sensor_lag)", ("fast_transient",), ("force_rate",), ("sensor_lag",),

@@ -16,12 +16,14 @@ import numpy.typing as npt
 
 from ..physics.chain import (
     ForwardElement, PlayHysteresisElement, PreisachElement, SensorLagElement, ThermalDriftElement, ThermalLagElement,
-    ThermalSensitivityElement, TransportDelayElement,
+    ThermalSensitivityElement, TransportDelayElement, play_operator,
 )
 from ..physics.preisach import hysteretic_identity
-from ..physics.viscoelastic import (Burgers, Burgers2, Elastic, Maxwell, ViscoelasticModel, Zener, Zener2)
+from ..physics.viscoelastic import (Burgers, Burgers2, Elastic, ForwardState, Maxwell, ViscoelasticModel, Zener, Zener2,
+                                   simulate_deformation)
 
-__all__ = ["FloatArray", "TruthContext", "BoucWen", "SecondOrderLag", "StaticMap", "AdditiveFn", "Additive", "Truth",
+__all__ = ["FloatArray", "TruthContext", "BoucWen", "PlaysAtBridge",
+           "SecondOrderLag", "StaticMap", "AdditiveFn", "Additive", "Truth",
            "MakeFn", "Family", "FAMILIES", "HIDDEN_AGAINST", "SPLITS", "families"]
 
 FloatArray = npt.NDArray[np.float64]
@@ -130,6 +132,30 @@ class Additive(_SimElement):
         return np.asarray(x, dtype=float) + self.fn(t - t[0], temp)
 
 
+class PlaysAtBridge(_SimElement):
+    """A core with play operators on the applied force added at the bridge, without creep:
+    V = core(F) + sum_i w_i (p_{r_i}(F) - c F), with c = 1 for a bounded term (each play less the force) or 0."""
+
+    def __init__(self, core: ViscoelasticModel, radii_n: FloatArray, weights_v_per_n: FloatArray, bounded: bool) -> None:
+        self.core, self.radii_n, self.weights_v_per_n = core, radii_n, weights_v_per_n
+        self.linear = 1.0 if bounded else 0.0
+
+    def forward_state(self) -> Any:
+        """The core's state and the plays' (relaxed, virgin)."""
+        return {"core": ForwardState(self.core), "plays": np.zeros(self.radii_n.size)}
+
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Any = None) -> FloatArray:
+        """Core output plus the plays' term [V] for the force ``x`` [N]."""
+        f = np.asarray(x, dtype=float)
+        st = state if state is not None else self.forward_state()
+        plays = play_operator(f, self.radii_n, st["plays"])
+        if f.size:
+            st["plays"] = plays[-1].copy()
+        term = (plays - self.linear * f[:, None]) @ self.weights_v_per_n
+        return np.asarray(simulate_deformation(self.core, t_s, f, state=st["core"]) + term, dtype=float)
+
+
 @dataclass
 class Truth:
     """What a family does to the sensor truth: core replaced, elements before/after the core, at the end.
@@ -195,6 +221,21 @@ def _pi_family(operator: Callable[[np.random.Generator, float, float, int], Play
         span = ctx["force_range_n"] if path == "force" else _span_v(ctx)
         element = operator(rng, span, frac, int(rng.integers(2, n_high)))
         return Truth(before=[element]) if path == "force" else Truth(after=[element])
+
+    return make
+
+
+def _bridge_family(bounded: bool) -> MakeFn:
+    """Family maker: 2..7 plays of random radii (1-35 % of the force range) on the applied force added at the
+    bridge beside the truth core, loop 1-6 % of the voltage span; ``bounded``: each play less the force."""
+
+    def make(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
+        frac = np.interp(m, [0, 1], [0.01, 0.06])
+        n = int(rng.integers(2, 8))
+        radii = np.sort(rng.uniform(0.01, 0.35, n)) * ctx["force_range_n"] + 1e-9 * np.arange(n)
+        w = rng.gamma(1.5, 1.0, n)
+        w *= frac * _span_v(ctx) / (2.0 * np.sum(w * radii))
+        return Truth(core=PlaysAtBridge(ctx["core"], np.maximum.accumulate(radii), w, bounded))
 
     return make
 
@@ -391,7 +432,9 @@ FAMILIES: dict[str, dict[str, Family]] = {
                    "stop_force": _FAM(_pi_family(_random_stop, "force", 5)),
                    "stop_voltage": _FAM(_pi_family(_random_stop, "voltage", 5)),
                    "play_force": _FAM(_pi_family(_random_play, "force", 6), held_out=True),
-                   "bouc_wen_voltage": _FAM(_hyst_bouc_wen, held_out=True)},
+                   "bouc_wen_voltage": _FAM(_hyst_bouc_wen, held_out=True),
+                   "play_bridge": _FAM(_bridge_family(bounded=False)),
+                   "bounded_bridge": _FAM(_bridge_family(bounded=True), held_out=True)},
     "sensor_lag": {"first_order": _FAM(_lag_first), "two_stage": _FAM(_lag_two_stage), "transport_delay": _FAM(_lag_delay),
                    "pole_pair": _FAM(_lag_second, held_out=True)},
     "nonlinear_gain": {"polynomial": _FAM(_gain_poly), "exp_approach": _FAM(_gain_exp),

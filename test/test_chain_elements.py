@@ -326,3 +326,15 @@ def test_the_core_stream_states_its_next_step_as_an_affine_map_without_advancing
             assert stream.affine(t) == (force0, stiffness)  # asking twice changes nothing
             assert stream.step(t, deformation) == pytest.approx(force0 + stiffness * deformation, rel=1e-9, abs=1e-9), kind
         assert stream.affine(t - 1.0) is None
+
+
+def test_a_stop_type_bridge_hysteresis_whose_weights_sum_to_zero_in_rounding_loads():
+    """linear = sum(w), weights = -w: the last partial sum is 0 exactly in arithmetic, +-1e-17 in float64."""
+    from polyforce_ros.physics.chain import BridgeHysteresisElement
+
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        w = rng.uniform(0.0, 0.05, int(rng.integers(2, 23)))
+        radii = np.geomspace(0.01, 5.0, w.size)
+        element = BridgeHysteresisElement(ViscoelasticElement(PAPER_BURGERS), radii, -w, linear_v_per_n=float(np.sum(w)))
+        assert np.isfinite(element.forward(np.arange(50) * 1e-3, np.linspace(0.0, 9.0, 50))).all()

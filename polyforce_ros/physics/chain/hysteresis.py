@@ -381,7 +381,8 @@ class BridgeHysteresisElement(Frozen):
         if linear < 0 or history < 0:
             raise ModelError(f"{self.kind}: linear_v_per_n and history_max_n must be >= 0")
         slopes = linear + np.cumsum(weights)
-        if np.any(slopes < 0):
+        # a stop-type term sums to zero at its last play: rounding may leave -1e-17 there
+        if np.any(slopes < -1e-12 * (linear + float(np.sum(np.abs(weights))))):
             raise ModelError(f"{self.kind}: linear_v_per_n + weights_v_per_n[0] + ... + weights_v_per_n[i] must be "
                              f">= 0 for every i (a term that never falls while the force rises); the smallest is "
                              f"{slopes.min():.6g}")

@@ -89,3 +89,17 @@ def test_a_degenerate_inverse_is_refused_not_raised_as_a_numerical_error():
     assert np.isfinite(gain.gain_n_per_v)
     with pytest.raises(ValueError):
         backward_noise_gain(SensorChain.from_model(PAPER_BURGERS, 0.0), float("nan"))
+
+
+def test_plays_at_the_bridge_are_judged_against_their_core_alone():
+    """The bridge_hysteresis element holds the core: the attribution compares it with its core, never removes the core."""
+    from polyforce_ros.physics.chain import BridgeHysteresisElement, ViscoelasticElement
+    from polyforce_ros.physics.noise_gain import backward_noise_gain
+    from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+
+    core = ViscoelasticElement(PAPER_BURGERS)
+    bridge = BridgeHysteresisElement(core, [0.1, 0.5, 1.0], [0.01, 0.01, 0.01])
+    with_plays = backward_noise_gain(SensorChain([bridge, OffsetElement(0.01)]), 1000.0)
+    alone = backward_noise_gain(SensorChain([core, OffsetElement(0.01)]), 1000.0)
+    assert with_plays.element == alone.element == "burgers"  # the plays (slope >= 1 in the solve) amplify nothing
+    assert with_plays.gain_n_per_v <= 1.05 * alone.gain_n_per_v

@@ -19,8 +19,8 @@ from typing import Any, Optional
 import numpy as np
 from scipy import signal
 
-from .chain import (OffsetElement, SensorChain, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
-                    ViscoelasticElement)
+from .chain import (BridgeHysteresisElement, OffsetElement, SensorChain, ThermalDriftElement, ThermalLagElement,
+                    ThermalSensitivityElement, ViscoelasticElement)
 
 __all__ = ["NoiseGain", "backward_noise_gain", "white_noise_gain"]
 
@@ -146,7 +146,10 @@ def backward_noise_gain(chain: SensorChain, rate_hz: float, seed: int = 0) -> No
     for i, e in enumerate(chain.elements):
         if isinstance(e, (ViscoelasticElement, OffsetElement)):
             continue
-        rest = SensorChain([x for j, x in enumerate(chain.elements) if j != i])
+        if isinstance(e, BridgeHysteresisElement):  # the plays beside the core: judged against the core alone
+            rest = SensorChain([e.core if j == i else x for j, x in enumerate(chain.elements)])
+        else:
+            rest = SensorChain([x for j, x in enumerate(chain.elements) if j != i])
         without = _gain(_response(rest, t_s, noise_v, aux), noise_v)
         ratio = gain / without if without > 0 else float("inf")
         if ratio > factor * 1.05:  # 5 %: a probe's own scatter does not name an element

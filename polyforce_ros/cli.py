@@ -154,7 +154,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
         judged = [r for r in section["rows"] if r["passed"] is not None]
         print(f"{section['title']}: {sum(r['passed'] for r in judged)} of {len(judged)} judged rows meet the paper")
     print(f"report: {report}")
-    return 0 if data["seed000_all_met"] else 4
+    return 0 if data["polymer_sensor_all_met"] else 4
 
 
 def cmd_diagnose(args: argparse.Namespace) -> int:

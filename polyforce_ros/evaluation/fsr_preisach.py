@@ -147,7 +147,7 @@ def generalised(settings: Settings, n_sensors: int) -> list[dict[str, float]]:
 
 
 def run(settings: Settings) -> Section:
-    section = Section("Seed 001: FSR hysteresis, Preisach model and closest-match inverse")
+    section = Section("Hysteresis in force sensing resistors: Preisach model and closest-match inverse")
     truth = fsr_truth(seed=settings.seed)
     res = evaluate_sensor(truth, settings.seed, noise_v=0.005)
     mse = res["mse"]

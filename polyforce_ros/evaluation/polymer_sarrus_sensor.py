@@ -22,6 +22,9 @@ from ..sim.sensor import BridgeSimulator
 from ..workflows import static_and_compensated
 from .common import Row, Section, Settings, figure
 
+#: The paper this module reproduces (its title heads the report's section).
+TITLE = "Design and Modeling of a Polymer Force Sensor"
+
 
 class _PaperFigures(TypedDict):
     creep_r2: float
@@ -73,7 +76,8 @@ def identify(settings: Settings, section: Section) -> SensorChain:
     ax[0, 0].plot(t, fitted, "r", lw=1.2, label=f"{best.kind} fit, R² = {best.r2:.4f}")
     ax[0, 0].set(xlabel="time [s]", ylabel="bridge output [V]", title="Creep test at 5 N and the identified model")
     ax[0, 0].legend()
-    section.figures.append(("s000_creep_fit.png", fig, "Creep test at 5 N (Fig. 9): measured output and the selected model."))
+    section.figures.append(("polymer_sensor_creep_fit.png", fig,
+                            "Creep test at 5 N (Fig. 9): measured output and the selected model."))
     return SensorChain.from_model(best.model, offset_v=best.offset_v)
 
 
@@ -117,7 +121,7 @@ def sawtooth_and_hysteresis(settings: Settings, chain: SensorChain, section: Sec
     ax[0, 1].set(xlabel="normalised applied force [-]", ylabel="normalised reading [-]",
                  title="Hysteresis of the first cycle (Fig. 11)")
     ax[0, 1].legend()
-    section.figures.append(("s000_sawtooth_hysteresis.png", fig, "Sawtooth drift and first-cycle hysteresis."))
+    section.figures.append(("polymer_sensor_sawtooth_hysteresis.png", fig, "Sawtooth drift and first-cycle hysteresis."))
 
 
 def resolution(settings: Settings, chain: SensorChain, section: Section) -> tuple[float, float]:
@@ -154,7 +158,7 @@ def step(settings: Settings, chain: SensorChain, section: Section) -> None:
     ax[0, 0].plot(t, comp, "b", lw=0.7, label="compensated")
     ax[0, 0].set(xlabel="time [s]", ylabel="force [N]", title="Response to a 5 N step (Fig. 16)")
     ax[0, 0].legend()
-    section.figures.append(("s000_step.png", fig, "Step response."))
+    section.figures.append(("polymer_sensor_step.png", fig, "Step response."))
 
 
 def bode(settings: Settings, chain: SensorChain, section: Section) -> float:
@@ -183,7 +187,7 @@ def bode(settings: Settings, chain: SensorChain, section: Section) -> float:
     ax[0, 0].axhline(-3.0, color="gray", ls="--", lw=0.8)
     ax[0, 0].set(xlabel="frequency [Hz]", ylabel="|reading / applied| [dB]", title="Bode magnitude (Fig. 17)")
     ax[0, 0].legend()
-    section.figures.append(("s000_bode.png", fig, "Bode magnitude of the force reading relative to the applied force."))
+    section.figures.append(("polymer_sensor_bode.png", fig, "Bode magnitude of the force reading relative to the applied force."))
     return bw_c
 
 
@@ -211,7 +215,7 @@ def insertion(settings: Settings, chain: SensorChain, section: Section) -> None:
     ax[0, 0].plot(t, comp, "b", lw=0.7, label=f"compensated, R² {r_squared(f, comp):.4f}")
     ax[0, 0].set(xlabel="time [s]", ylabel="force [N]", title="Needle insertion (Fig. 18)")
     ax[0, 0].legend()
-    section.figures.append(("s000_insertion.png", fig, f"Needle insertion: {source}."))
+    section.figures.append(("polymer_sensor_insertion.png", fig, f"Needle insertion: {source}."))
 
 
 def rated_range(settings: Settings, chain: SensorChain, section: Section) -> tuple[float, float]:
@@ -223,7 +227,7 @@ def rated_range(settings: Settings, chain: SensorChain, section: Section) -> tup
 
 
 def run(settings: Settings) -> Section:
-    section = Section("Seed 000: polymer force sensor, Burgers compensation")
+    section = Section(f"{TITLE}: Burgers compensation")
     chain = identify(settings, section)
     sawtooth_and_hysteresis(settings, chain, section)
     res_mean, res_std = resolution(settings, chain, section)

@@ -16,7 +16,7 @@ RECORDING_NOISE_V = 0.15
 
 
 def run(settings: Settings) -> Section:
-    section = Section("Seed 002: thin-film sensor on a pneumatic artificial muscle")
+    section = Section("Thin-film force sensor on pneumatic artificial muscles: geometry-modulated model")
     truth = PatchSensor()
     muscle = PneumaticMuscle()
     rng = np.random.default_rng(settings.seed + 2)

@@ -1,25 +1,9 @@
-"""Linear viscoelastic sensor models (seed 000, section IV) and their forward/backward runs.
+"""Linear viscoelastic sensor models (seed 000, section IV) and their runs over a record.
 
-Convention (as in seed 000): the sensor "deformation" gamma is measured as the
-bridge voltage, so stiffnesses are in N/V and viscosities in N*s/V. Force is in
-newtons, compression positive.
-
-Each model is a frozen dataclass of its mechanical parameters and exposes
-
-* ``creep_compliance(t_s)``  J(t) in V/N: deformation per newton of a unit force step;
-* ``relaxation()``           G(t) in N/V as exponentials, derived like eq. 7-8:
-                             the roots of the relaxation ODE's characteristic
-                             polynomial give the rates, the initial conditions
-                             G(0) and G'(0) (plus G(inf)) give the coefficients;
-* ``compliance()``           the creep compliance as a Prony series, which drives
-                             forward simulation.
-
-``simulate_deformation`` runs a model forward (force -> volts) and
-``compensate`` / :class:`StreamingCompensator` run it backward (volts -> force)
-with the Boltzmann-superposition law of eq. 10-12. Both rest on
-:mod:`polyforce_ros.physics.expconv`, exact for piecewise-linear signals and
-stable for any record length. The sensor is taken to be unloaded and relaxed
-before the first sample.
+:mod:`.models`: each model's creep compliance J(t) [V/N] and relaxation modulus G(t) [N/V] (stiffnesses in N/V,
+viscosities in N*s/V: the deformation is read as bridge volts). :mod:`.superposition`: ``simulate_deformation``
+(force -> volts) and ``compensate`` / :class:`StreamingCompensator` (volts -> force) by Boltzmann superposition,
+exact for piecewise-linear signals; the sensor is unloaded and relaxed before the first sample.
 """
 from .models import (MODEL_TYPES, PAPER_BURGERS, Burgers, Burgers2, CreepCompliance, Elastic, KelvinVoigt, Maxwell,
                      RelaxationModulus, ViscoelasticModel, Zener, Zener2)

@@ -338,3 +338,50 @@ def test_a_stop_type_bridge_hysteresis_whose_weights_sum_to_zero_in_rounding_loa
         radii = np.geomspace(0.01, 5.0, w.size)
         element = BridgeHysteresisElement(ViscoelasticElement(PAPER_BURGERS), radii, -w, linear_v_per_n=float(np.sum(w)))
         assert np.isfinite(element.forward(np.arange(50) * 1e-3, np.linspace(0.0, 9.0, 50))).all()
+
+
+# -- a lightly damped mechanical mode ------------------------------------------------------------------------
+
+@pytest.mark.parametrize("seed", range(6))
+def test_a_resonance_rings_like_its_ode_and_its_inverse_damps_it_without_amplifying_noise(seed):
+    from scipy import signal
+
+    from polyforce_ros.physics.chain import ResonanceElement
+    from polyforce_ros.physics.noise_gain import backward_noise_gain
+
+    rng = np.random.default_rng(seed)
+    f0, zeta = float(rng.uniform(3.0, 60.0)), float(rng.uniform(0.01, 0.3))
+    element = ResonanceElement(frequency_hz=f0, damping_ratio=zeta)
+    w = 2 * np.pi * f0
+    t = np.arange(0.0, 4.0, 1e-3)
+    x = np.where(t > 0.5, 1.0, 0.0) + 0.3 * np.sin(2 * np.pi * rng.uniform(0.5, 5.0) * t)
+    _, expected, _ = signal.lsim(signal.lti([w * w], [1.0, 2 * zeta * w, w * w]), x, t)
+    y = element.forward(t, x)
+    np.testing.assert_allclose(y, expected, rtol=0, atol=1e-9)
+    halves = SensorChain([element]).forward_states()
+    blocks = np.concatenate([SensorChain([element]).forward(t[:1700], x[:1700], states=halves),
+                             SensorChain([element]).forward(t[1700:], x[1700:], states=halves)])
+    np.testing.assert_allclose(blocks, y, rtol=0, atol=1e-12)
+    # the inverse leaves the input through a mode of the same frequency damped at inverse_damping_ratio
+    zeta_f = element.inverse_damping_ratio
+    _, damped, _ = signal.lsim(signal.lti([w * w], [1.0, 2 * zeta_f * w, w * w]), x, t)
+    back = element.backward(t, y)
+    assert np.abs(back - damped).max() <= 0.01 * np.abs(x).max() + 1e-3
+    step = np.where(t > 0.5, 1.0, 0.0)  # a unit step rings up to exp(-pi zeta / sqrt(1 - zeta^2)) over; inverted, far less
+    ringing, damped_ringing = element.forward(t, step).max() - 1.0, element.backward(t, element.forward(t, step)).max() - 1.0
+    assert damped_ringing <= np.exp(-np.pi * zeta_f / np.sqrt(1 - zeta_f ** 2)) + 0.01 and damped_ringing < ringing
+    stream = element.streaming()
+    np.testing.assert_allclose([stream.step(a, b) for a, b in zip(t, y)], back, rtol=0, atol=1e-12)
+    core = ViscoelasticElement(PAPER_BURGERS)
+    with_mode = backward_noise_gain(SensorChain([core, element, OffsetElement(0.0)]), 1000.0).gain_n_per_v
+    assert with_mode <= 1.02 * backward_noise_gain(SensorChain([core, OffsetElement(0.0)]), 1000.0).gain_n_per_v
+
+
+def test_a_resonance_refuses_an_inverse_that_rings_more_than_the_mode():
+    from polyforce_ros.physics.chain import ELEMENT_TYPES
+
+    with pytest.raises(ModelError, match="inverse_damping_ratio"):
+        ELEMENT_TYPES["resonance"].from_dict({"type": "resonance", "frequency_hz": 20.0, "damping_ratio": 0.3,
+                                              "inverse_damping_ratio": 0.2})
+    with pytest.raises(ModelError, match="damping_ratio"):
+        ELEMENT_TYPES["resonance"].from_dict({"type": "resonance", "frequency_hz": 20.0, "damping_ratio": 1.5})

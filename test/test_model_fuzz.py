@@ -273,6 +273,7 @@ def _example_chains():
         "nonlinear_gain": NonlinearGainElement(quadratic_per_v=0.08),
         "sensor_lag": SensorLagElement(tau_s=0.03, noise_filter_tau_s=0.005),
         "transport_delay": ELEMENT_TYPES["transport_delay"](delay_s=0.02),
+        "resonance": ELEMENT_TYPES["resonance"](frequency_hz=25.0, damping_ratio=0.05),
         "thermal_sensitivity": ELEMENT_TYPES["thermal_sensitivity"](span_coefficient_per_c=0.003, reference_c=22.0),
         "thermal_drift": ThermalDriftElement(coefficient_v_per_c=2e-3, reference_c=22.0),
         "offset_drift": OffsetDriftElement(rate_v_per_s=1e-4),

@@ -29,14 +29,14 @@ from .drift import (
                    ThermalDriftElement,
                    ThermalLagElement,
 )
-from .dynamics import SensorLagElement, TransportDelayElement
+from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
 from .hysteresis import BridgeHysteresisElement, PlayHysteresisElement, PreisachElement, play_operator
 from .sensor_chain import ELEMENT_TYPES, ChainStream, SensorChain
 from .static import GainElement, NonlinearGainElement, OffsetElement, PolynomialGainElement, ThermalSensitivityElement
 
 __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "ForwardElement", "Element", "PARAMETER_BOUNDS",
            "MAX_PREISACH_LEVELS", "ViscoelasticElement", "OffsetElement", "GainElement", "NonlinearGainElement",
-           "SensorLagElement", "TransportDelayElement", "ThermalDriftElement", "ThermalSensitivityElement",
+           "SensorLagElement", "TransportDelayElement", "ResonanceElement", "ThermalDriftElement", "ThermalSensitivityElement",
            "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement",
            "ThermalLagElement",
            "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement",

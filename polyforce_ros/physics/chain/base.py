@@ -196,6 +196,10 @@ PARAMETER_BOUNDS = {
     "noise_filter_order": (1.0, 2.0, "", "first- or second-order roll-off of the inverse"),
     # DAQ buffering and transport: microseconds to a few seconds (diagnosis fits 2..100 ms)
     "delay_s": (1e-7, 10.0, "s", "a force felt seconds late is no force feedback"),
+    # a mechanical mode: from a slow suspension (1 mHz) to a stiff structure (100 kHz); damped below critical
+    "frequency_hz": (1e-3, 1e5, "Hz", "beyond any mechanical mode a force sensor shows"),
+    "damping_ratio": (1e-3, 0.95, "", "a mode at or above critical damping is a lag (sensor_lag)"),
+    "inverse_damping_ratio": (1e-3, 0.95, "", "the inverse's damping, above the mode's"),
     # V per degC: 10 V/degC swings a 10 V range in 1 degC (diagnosis fits +-1 V/degC)
     "coefficient_v_per_c": (-10.0, 10.0, "V/degC", "full scale within 1 degC already"),
     # span change per degC: 5 %/degC halves or doubles the span within 20 degC (diagnosis fits +-2 %/degC)

@@ -1,7 +1,11 @@
 """Dynamic elements between the sensor and the ADC: a sensor lag (first order, pole pair, with an
-explicitly band-limited inverse) and a transport delay (never inverted).
+explicitly band-limited inverse), a transport delay (never inverted) and a lightly damped mechanical mode
+(inverted with its damping raised).
 """
 from __future__ import annotations
+
+import cmath
+import math
 
 from typing import Any, Mapping, Optional, TypedDict
 
@@ -11,7 +15,7 @@ import numpy.typing as npt
 from ..expconv import ExpConvState, exp_convolve
 from .base import ElementStream, FloatArray, FunctionStream, ModelError, SimpleElement, short_repr
 
-__all__ = ["SensorLagElement", "TransportDelayElement"]
+__all__ = ["SensorLagElement", "TransportDelayElement", "ResonanceElement"]
 
 
 class _LagForwardState(TypedDict):
@@ -195,3 +199,150 @@ class TransportDelayElement(SimpleElement):
     def streaming(self) -> ElementStream:
         """The per-sample form of :meth:`backward` (the sample unchanged)."""
         return FunctionStream(lambda t_s, y, aux=None: y)
+
+
+class _Mode:
+    """One complex first-order mode z' = p z + a u, exact for piecewise-linear u, one sample at a time or over a record.
+
+    A real second-order section is the real part of two conjugate modes: 2 Re(z) with one of them.
+    """
+
+    def __init__(self, pole: complex, residue: complex) -> None:
+        self.pole, self.residue = pole, residue
+        self.z: complex = 0.0j
+        self.t_prev: Optional[float] = None
+        self.u_prev = 0.0
+        self._h: Optional[float] = None
+        self._weights = (1.0 + 0.0j, 0.0j, 0.0j)
+
+    def weights(self, h: float) -> tuple[complex, complex, complex]:
+        """(e^{p h}, a (I0 - I1/h), a I1/h): z_next = e z + w_prev u_prev + w_next u_next for u linear over h > 0."""
+        if self._h is not None and abs(h - self._h) <= 1e-12 * self._h:
+            return self._weights
+        p, ph = self.pole, self.pole * h
+        e = cmath.exp(ph)
+        if abs(ph) < 1e-3:  # series: the closed forms cancel
+            i0 = h * (1.0 + ph / 2.0 + ph * ph / 6.0)
+            i1 = h * h * (0.5 + ph / 6.0 + ph * ph / 24.0)
+        else:
+            i0 = (e - 1.0) / p
+            i1 = (e - 1.0 - ph) / (p * p)
+        self._h, self._weights = h, (e, self.residue * (i0 - i1 / h), self.residue * i1 / h)
+        return self._weights
+
+    def settle(self, u: float) -> None:
+        """The state of a mode that has seen ``u`` for ever: z = -a u / p."""
+        self.z = -self.residue * u / self.pole
+
+    def step(self, t_s: float, u: float) -> Optional[complex]:
+        """The state after a sample at ``t_s``; None (nothing changed) for a stamp before the previous one."""
+        if self.t_prev is not None:
+            h = t_s - self.t_prev
+            if h < 0.0:
+                return None
+            if h > 0.0:
+                e, w_prev, w_next = self.weights(h)
+                self.z = e * self.z + w_prev * self.u_prev + w_next * u
+        self.t_prev, self.u_prev = t_s, u
+        return self.z
+
+    def run(self, t_s: FloatArray, u: FloatArray) -> npt.NDArray[np.complex128]:
+        """The states over a record (one :meth:`step` per sample; one IIR filter when the step is constant)."""
+        out = np.empty(u.size, dtype=complex)
+        if u.size == 0:
+            return out
+        dt = np.diff(t_s)
+        if self.t_prev is None and dt.size and dt[0] > 0 and np.all(np.abs(dt - dt[0]) <= 1e-9 * dt[0]):
+            from scipy import signal
+
+            e, w_prev, w_next = self.weights(float(dt[0]))
+            rest, _ = signal.lfilter([w_next, w_prev], [1.0, -e], u[1:],
+                                     zi=[e * self.z + w_prev * u[0]])  # the state before u[1]: e z_0 + w_prev u_0
+            out[0] = self.z
+            out[1:] = rest
+            self.z, self.t_prev, self.u_prev = complex(out[-1]), float(t_s[-1]), float(u[-1])
+            return out
+        for i, (ti, ui) in enumerate(zip(t_s.tolist(), u.tolist())):
+            z = self.step(ti, ui)
+            out[i] = z if z is not None else self.z
+        return out
+
+
+class ResonanceElement(SimpleElement):
+    """A lightly damped mechanical mode: y'' + 2 zeta w y' + w^2 y = w^2 x, w = 2 pi frequency_hz (unit DC gain).
+
+    Forward: exact for piecewise-linear x, from rest. The exact inverse (s^2 + 2 zeta w s + w^2) / w^2 would
+    differentiate twice; the saved inverse keeps the mode's frequency and replaces its damping:
+    (s^2 + 2 zeta w s + w^2) / (s^2 + 2 zeta_f w s + w^2), zeta_f = ``inverse_damping_ratio`` > zeta. It cancels
+    the ringing without amplifying noise (its gain never exceeds 1), and the compensated signal then follows
+    the input through a well-damped mode at the same frequency, about 2 zeta_f / w late. The inverse assumes
+    y constant before its first sample.
+    """
+
+    kind = "resonance"
+    PARAMS = (("frequency_hz", True), ("damping_ratio", True))
+    OPTIONAL = {"inverse_damping_ratio": 0.7}
+    frequency_hz: float
+    damping_ratio: float
+    inverse_damping_ratio: float
+
+    def __init__(self, **values: float) -> None:
+        super().__init__(**values)
+        if not self.damping_ratio < self.inverse_damping_ratio:
+            raise ModelError(f"{self.kind}: inverse_damping_ratio ({self.inverse_damping_ratio:g}) must exceed "
+                             f"damping_ratio ({self.damping_ratio:g}): the inverse damps the mode, never rings more")
+
+    @property
+    def latency_s(self) -> float:
+        """How late the compensated signal follows: ``2 inverse_damping_ratio / w`` [s]."""
+        return 2.0 * self.inverse_damping_ratio / (2.0 * math.pi * self.frequency_hz)
+
+    def _pole(self, zeta: float) -> complex:
+        w = 2.0 * math.pi * self.frequency_hz
+        return complex(-zeta * w, w * math.sqrt(1.0 - zeta * zeta))
+
+    def _forward_mode(self) -> _Mode:
+        p, w = self._pole(self.damping_ratio), 2.0 * math.pi * self.frequency_hz
+        return _Mode(p, w * w / (p - p.conjugate()))
+
+    def _inverse_mode(self) -> _Mode:
+        q, w = self._pole(self.inverse_damping_ratio), 2.0 * math.pi * self.frequency_hz
+        c = 2.0 * (self.damping_ratio - self.inverse_damping_ratio) * w
+        return _Mode(q, c * q / (q - q.conjugate()))
+
+    def forward_state(self) -> _Mode:
+        """A fresh mode (at rest, no previous sample) for block-wise :meth:`forward` runs."""
+        return self._forward_mode()
+
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_Mode] = None) -> FloatArray:
+        """The mode's output, exact for piecewise-linear ``x``, from rest."""
+        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        mode = state if state is not None else self.forward_state()
+        y: FloatArray = 2.0 * mode.run(t, x).real
+        return y
+
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """The input, through the inverse with the mode's damping raised to ``inverse_damping_ratio``."""
+        t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+        if y.size == 0:
+            return y.copy()
+        mode = self._inverse_mode()
+        mode.settle(float(y[0]))
+        x: FloatArray = y + 2.0 * mode.run(t, y).real
+        return x
+
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`, O(1) per sample."""
+        mode = self._inverse_mode()
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+            if mode.t_prev is None:
+                mode.settle(y)
+            z = mode.step(t_s, y)
+            return y + 2.0 * (z if z is not None else mode.z).real
+
+        def reset() -> None:
+            mode.z, mode.t_prev, mode.u_prev = 0.0j, None, 0.0
+
+        return FunctionStream(step, reset)

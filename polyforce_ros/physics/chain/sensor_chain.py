@@ -24,7 +24,7 @@ from .drift import (
     ThermalDriftElement,
     ThermalLagElement,
 )
-from .dynamics import SensorLagElement, TransportDelayElement
+from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
 from .hysteresis import BridgeHysteresisElement, PlayHysteresisElement, PreisachElement
 from .static import (
     GainElement,
@@ -46,7 +46,8 @@ class _ElementType(Protocol):
 
 ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
-for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportDelayElement, ThermalDriftElement,
+for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportDelayElement, ResonanceElement,
+                 ThermalDriftElement,
                  ThermalSensitivityElement, OffsetDriftElement, PreisachElement, PlayHysteresisElement, BridgeHysteresisElement,
                  ThermalLagElement, PolynomialDriftElement, PolynomialGainElement, ExponentialDriftElement, SplineDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
@@ -236,7 +237,7 @@ class SensorChain:
         """How late the compensated force follows the applied force [s]: every transport delay, which the
         inverse cannot undo, plus the filter time of every bandwidth-limited lag inverse."""
         return float(sum(e.delay_s for e in self.elements if isinstance(e, TransportDelayElement))
-                     + sum(e.latency_s for e in self.elements if isinstance(e, SensorLagElement)))
+                     + sum(e.latency_s for e in self.elements if isinstance(e, (SensorLagElement, ResonanceElement))))
 
     def static_gain_v_per_n(self) -> float:
         """The core's static gain (1.0 without a core); the other elements are not included.

@@ -385,3 +385,40 @@ def test_a_resonance_refuses_an_inverse_that_rings_more_than_the_mode():
                                               "inverse_damping_ratio": 0.2})
     with pytest.raises(ModelError, match="damping_ratio"):
         ELEMENT_TYPES["resonance"].from_dict({"type": "resonance", "frequency_hz": 20.0, "damping_ratio": 1.5})
+
+
+def test_bridge_hysteresis_history_settled_start_stop_type_and_static_gain_against_independent_references():
+    from polyforce_ros.physics.chain import BridgeHysteresisElement, play_operator
+
+    core = ViscoelasticElement(PAPER_BURGERS)
+    radii, w = np.array([0.2, 0.8, 2.0]), np.array([0.01, 0.02, 0.015])
+    t = np.arange(0.0, 20.0, 1e-3)
+    force = 4.0 + 3.0 * np.sin(2 * np.pi * t / 5.0)
+    # the history: the force came down from 6 N to 0 before the record, plays outside the element
+    history = play_operator(np.array([0.0, 6.0, 0.0]), radii)[-1]
+    expected = core.forward(t, force) + (play_operator(force, radii, history) - history) @ w
+    element = BridgeHysteresisElement(core, radii, w, history_max_n=6.0)
+    np.testing.assert_allclose(element.forward(t, force), expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(element.backward(t, expected), force, rtol=0, atol=1e-7)
+    # a stop-type term (the force less each play) inverts as exactly
+    stop = BridgeHysteresisElement(core, radii, -w, linear_v_per_n=float(w.sum()))
+    stops = force[:, None] - play_operator(force, radii)
+    np.testing.assert_allclose(stop.forward(t, force), core.forward(t, force) + stops @ w, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(stop.backward(t, stop.forward(t, force)), force, rtol=0, atol=1e-7)
+    chain = SensorChain([element, OffsetElement(0.0)])
+    assert chain.static_gain_v_per_n() == pytest.approx(PAPER_BURGERS.static_gain_v_per_n() + w.sum())
+    with pytest.raises(ValueError, match="non-decreasing"):
+        element.backward(t[::-1], expected)
+
+
+def test_a_resonance_inverse_starts_settled_and_refuses_a_stamp_before_the_previous():
+    from polyforce_ros.physics.chain import ResonanceElement
+
+    element = ResonanceElement(frequency_hz=12.0, damping_ratio=0.04)
+    t = np.arange(0.0, 1.0, 1e-3)
+    np.testing.assert_allclose(element.backward(t, np.full(t.size, 2.5)), 2.5, rtol=0, atol=1e-12)  # no start-up ring
+    stream = element.streaming()
+    assert stream.step(1.0, 2.5) == pytest.approx(2.5)
+    assert stream.step(0.5, 2.5) is None
+    with pytest.raises(ValueError, match="non-decreasing"):
+        element.forward(t[::-1], t)

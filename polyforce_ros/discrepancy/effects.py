@@ -199,6 +199,7 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
         # stand-in: build_chain puts the fitted core in its place.
         if "_stop" in variant:
             w = w * min(1.0, 1e3 / max(float(np.sum(w[keep])), 1e-300))  # linear_v_per_n within its bound
+        w = np.minimum(w, 1e3)  # weights_v_per_n within its bound
         linear, weights = (float(np.sum(w[keep])), -w[keep]) if "_stop" in variant else (0.0, w[keep])
         return [("bridge", BridgeHysteresisElement(ViscoelasticElement(sig.reference_core), radii, weights,
                                                    linear_v_per_n=linear, history_max_n=history))]

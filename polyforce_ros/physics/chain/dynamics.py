@@ -318,6 +318,8 @@ class ResonanceElement(SimpleElement):
                 state: Optional[_Mode] = None) -> FloatArray:
         """The mode's output, exact for piecewise-linear ``x``, from rest."""
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        if t.size > 1 and np.any(np.diff(t) < 0):
+            raise ValueError("t_s must be non-decreasing")
         mode = state if state is not None else self.forward_state()
         y: FloatArray = 2.0 * mode.run(t, x).real
         return y
@@ -327,6 +329,8 @@ class ResonanceElement(SimpleElement):
         t, y = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
         if y.size == 0:
             return y.copy()
+        if t.size > 1 and np.any(np.diff(t) < 0):
+            raise ValueError("t_s must be non-decreasing")
         mode = self._inverse_mode()
         mode.settle(float(y[0]))
         x: FloatArray = y + 2.0 * mode.run(t, y).real
@@ -336,11 +340,11 @@ class ResonanceElement(SimpleElement):
         """The per-sample form of :meth:`backward`, O(1) per sample."""
         mode = self._inverse_mode()
 
-        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
             if mode.t_prev is None:
                 mode.settle(y)
             z = mode.step(t_s, y)
-            return y + 2.0 * (z if z is not None else mode.z).real
+            return None if z is None else y + 2.0 * z.real
 
         def reset() -> None:
             mode.z, mode.t_prev, mode.u_prev = 0.0j, None, 0.0

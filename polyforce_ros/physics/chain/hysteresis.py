@@ -386,6 +386,7 @@ class BridgeHysteresisElement(Frozen):
             raise ModelError(f"{self.kind}: linear_v_per_n + weights_v_per_n[0] + ... + weights_v_per_n[i] must be "
                              f">= 0 for every i (a term that never falls while the force rises); the smallest is "
                              f"{slopes.min():.6g}")
+        linear += max(0.0, -float(slopes.min()))  # within rounding of 0: raised so that every slope is >= 0 exactly
         start = (play_operator(np.array([0.0, history, 0.0]), radii)[-1] if history > 0 else np.zeros(radii.size))
         self._freeze(core=core, radii_n=radii, weights_v_per_n=weights, linear_v_per_n=linear,
                      history_max_n=history, _start=start, _rest_v=float(start @ weights))
@@ -414,6 +415,8 @@ class BridgeHysteresisElement(Frozen):
     def backward(self, t_s: npt.ArrayLike, voltage_v: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
         """The force for a deformation record, sample by sample (the inverse is implicit)."""
         t, v = np.asarray(t_s, dtype=float), np.asarray(voltage_v, dtype=float)
+        if t.size > 1 and np.any(np.diff(t) < 0):
+            raise ValueError("t_s must be non-decreasing")
         stream = self.streaming()
         out = np.empty(v.size)
         last = 0.0
@@ -446,20 +449,22 @@ class BridgeHysteresisElement(Frozen):
                             + [(yi + r, w) for yi, r, w in zip(plays, radii, weights)])
             f_prev = events[0][0] if events else 0.0
             g_prev = f_prev + stiffness * (linear * f_prev + sum(w * (f_prev + r) for r, w in zip(radii, weights)))
-            slope = 1.0 + stiffness * total_w  # below every breakpoint every play is dragged down
+            # below every breakpoint every play is dragged down; every slope is >= 1 (partial sums >= 0): the floor
+            # keeps a running sum's rounding (stiffness up to 1e13 N/V) from turning a slope negative
+            slope = max(1.0 + stiffness * total_w, 1.0)
             force = None
             if target <= g_prev:
                 force = f_prev + (target - g_prev) / slope
             else:
                 for f_event, dw in events:
                     g_event = g_prev + slope * (f_event - f_prev)
-                    if target <= g_event and slope > 0.0:
+                    if target <= g_event:
                         force = f_prev + (target - g_prev) / slope
                         break
-                    slope += stiffness * dw
+                    slope = max(slope + stiffness * dw, 1.0)
                     f_prev, g_prev = f_event, g_event
                 if force is None:
-                    force = f_prev + (target - g_prev) / slope if slope > 0.0 else f_prev
+                    force = f_prev + (target - g_prev) / slope
             hyst = linear * force - rest
             for i, (r, w) in enumerate(zip(radii, weights)):
                 plays[i] = min(max(plays[i], force - r), force + r)

@@ -240,7 +240,8 @@ class SensorChain:
                      + sum(e.latency_s for e in self.elements if isinstance(e, (SensorLagElement, ResonanceElement))))
 
     def static_gain_v_per_n(self) -> float:
-        """The core's static gain (1.0 without a core); the other elements are not included.
+        """The core's static gain (1.0 without a core), with the large-signal slope of hysteresis at the bridge
+        beside it; the other elements are not included.
 
         Returns
         -------
@@ -248,7 +249,11 @@ class SensorChain:
             Static gain [V/N].
         """
         core = self.viscoelastic
-        return core.static_gain_v_per_n() if core is not None else 1.0
+        gain = core.static_gain_v_per_n() if core is not None else 1.0
+        for e in self.elements:
+            if isinstance(e, BridgeHysteresisElement):  # every play dragged: linear + sum of the weights
+                gain += e.linear_v_per_n + float(np.sum(e.weights_v_per_n))
+        return gain
 
     def to_dict(self) -> dict[str, Any]:
         """The chain as a model-file mapping.

@@ -46,11 +46,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     if args.profile == "okamura" and profiles.okamura_csv_path() is None:
         print("Okamura data not found; using the synthetic needle-insertion profile", file=sys.stderr)
         args.profile = "needle_insertion"
-    core = model.chain.viscoelastic
-    if core is None:
+    if model.chain.viscoelastic is None:
         raise ModelError("polyforce simulate needs a model with a viscoelastic core")
-    truth = BridgeSimulator(model=core, noise_std_v=args.noise_v, seed=args.seed)
-    print(f"sensor truth: {truth.model}  noise {args.noise_v * 1e3:.2f} mV, {truth.adc_bits}-bit ADC")
+    # the sensor is the model itself (every element, the simulator's bridge offset), read with noise and an ADC
+    sensor = model.chain.with_offset(BridgeSimulator.offset_v)
+    truth = BridgeSimulator(chain=sensor, noise_std_v=args.noise_v, seed=args.seed)
+    kinds = " -> ".join(e.kind for e in sensor.elements)
+    print(f"sensor truth: {truth.model} ({kinds})  noise {args.noise_v * 1e3:.2f} mV, {truth.adc_bits}-bit ADC")
     print(f"compensation model: {args.model or default_model_path()}")
     _header()
     names = [args.profile] if args.profile != "all" else ["needle_insertion", "step", "sawtooth", "creep"]

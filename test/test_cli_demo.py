@@ -34,3 +34,17 @@ def test_demo_reports_bad_model_file(tmp_path):
     )
     assert proc.returncode == 2
     assert "missing keys" in proc.stderr
+
+
+def test_simulate_reads_the_sensor_as_the_whole_model_not_its_core_alone(tmp_path):
+    """A model with hysteresis at the bridge: the simulated sensor has the plays too, so compensation is exact."""
+    from polyforce_ros.model_file import SensorModel, save_model
+    from polyforce_ros.physics.chain import BridgeHysteresisElement, OffsetElement, SensorChain, ViscoelasticElement
+    from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+
+    chain = SensorChain([BridgeHysteresisElement(ViscoelasticElement(PAPER_BURGERS), [0.2, 1.0], [0.02, 0.03]),
+                         OffsetElement(0.0)])
+    model = save_model(tmp_path / "m.yaml", SensorModel(chain, {"source": "test"}))
+    out, rows = run_demo("--model", str(model), "--profile", "sawtooth", "--noise-v", "0")
+    assert "bridge_hysteresis -> offset" in out
+    assert rows[("sawtooth", "compensated")] < 0.01, out

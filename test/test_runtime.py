@@ -479,3 +479,21 @@ def test_a_sensor_restart_clears_the_history_rezeroes_and_drops_older_samples():
     out = np.array(_feed(comp, rest, t0=restart_ns))
     assert comp.counts["auto_tares"] == 2 and comp.tare_offset_v == pytest.approx(0.051, abs=3e-4)
     assert np.abs(out).max() < 0.03  # no pull on the master in the unloaded second after the restart
+
+
+def test_drift_tracking_re_zeroes_a_bridge_hysteresis_model_in_one_window():
+    """A stop-type term at the bridge adds its linear part to the instantaneous compliance at rest: the drift
+    correction divides by the small-signal stiffness G0 / (1 + G0 linear), so one window takes the whole error."""
+    from polyforce_ros.physics.chain import BridgeHysteresisElement, ViscoelasticElement
+    from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
+
+    w = np.array([0.02, 0.03, 0.04])
+    chain = SensorChain([BridgeHysteresisElement(ViscoelasticElement(PAPER_BURGERS), [0.2, 0.5, 1.0], -w,
+                                                 linear_v_per_n=float(w.sum())), OffsetElement(0.1)])
+    comp = Compensator(chain, CompensatorConfig(auto_tare=False, drift_tracking=True, drift_band_n=0.5,
+                                                drift_window_s=1.0))
+    t = np.arange(0.0, 3.0, 1e-3)
+    volts = chain.forward(t, np.zeros(t.size)) + 0.02  # unloaded, with the bridge zero 20 mV off
+    _, out = comp.run(np.round(t * 1e9).astype(np.int64), volts)
+    assert comp.counts["drift_corrections"] >= 1
+    assert abs(out[(t > 1.2) & (t < 2.0)].mean()) < 0.01  # N: the first correction took the whole offset error

@@ -60,7 +60,7 @@ from typing import Any, Mapping, Optional
 import numpy as np
 import numpy.typing as npt
 
-from ..physics.chain import ModelError, SensorChain
+from ..physics.chain import BridgeHysteresisElement, ModelError, SensorChain
 from ..physics.noise_gain import NoiseGain, backward_noise_gain
 from ..settings import setting
 from ..stamps import REANCHOR_AFTER_S, STAMP_TOLERANCE_S, ConsistentRun
@@ -313,7 +313,11 @@ class Compensator(_Configured):
         self.chain = chain
         self._stream = chain.streaming()
         core = chain.viscoelastic
-        self._g0 = core.relaxation().g0_n_per_v if core is not None else 1.0
+        g0 = core.relaxation().g0_n_per_v if core is not None else 1.0
+        # plays at the bridge rest inside their bands at a steady force: only their linear part adds to the
+        # instantaneous compliance that turns a resting force into an offset error
+        linear_v_per_n = sum(e.linear_v_per_n for e in chain.elements if isinstance(e, BridgeHysteresisElement))
+        self._g0 = g0 / (1.0 + g0 * linear_v_per_n)
         self._update_shift()
         self._restart()
 

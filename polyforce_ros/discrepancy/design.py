@@ -336,12 +336,12 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
         for slot, element in eff.to_elements(coef, term.variant, term.param, sig):
             slots[slot].append(element)
     slots["after"].sort(key=lambda e: 0 if e.kind == "nonlinear_gain" else 1)
-    core: Element = ViscoelasticElement(core_model(st, coef))
+    fitted = ViscoelasticElement(core_model(st, coef))
+    core: Element = fitted
     bridges = [e for e in slots["bridge"] if isinstance(e, BridgeHysteresisElement)]
     if bridges:  # hysteresis at the bridge (one term per effect, so one element): the fitted core, plays beside it
         b = bridges[0]
-        core = BridgeHysteresisElement(ViscoelasticElement(core_model(st, coef)), b.radii_n, b.weights_v_per_n,
-                                       b.linear_v_per_n, b.history_max_n)
+        core = BridgeHysteresisElement(fitted, b.radii_n, b.weights_v_per_n, b.linear_v_per_n, b.history_max_n)
     return SensorChain([*slots["before"], core, *slots["after"], *slots["lag"], *slots["late"],
                         OffsetElement(float(np.clip(coef.get("offset", 0.0), -1e3, 1e3)))])
 

@@ -247,23 +247,25 @@ class _Mode:
         return self.z
 
     def run(self, t_s: FloatArray, u: FloatArray) -> npt.NDArray[np.complex128]:
-        """The states over a record (one :meth:`step` per sample; one IIR filter when the step is constant)."""
+        """The states over a record (one :meth:`step` per sample; one IIR filter when the step is constant, a
+        block that continues an earlier one included)."""
         out = np.empty(u.size, dtype=complex)
         if u.size == 0:
             return out
-        dt = np.diff(t_s)
-        if self.t_prev is None and dt.size and dt[0] > 0 and np.all(np.abs(dt - dt[0]) <= 1e-9 * dt[0]):
+        first = 0
+        if self.t_prev is None:  # the first sample only becomes the previous one
+            out[0], self.t_prev, self.u_prev, first = self.z, float(t_s[0]), float(u[0]), 1
+        steps = np.diff(t_s[first - 1:] if first else np.concatenate([[self.t_prev], t_s]))
+        if steps.size and steps[0] > 0 and np.all(np.abs(steps - steps[0]) <= 1e-9 * steps[0]):
             from scipy import signal
 
-            e, w_prev, w_next = self.weights(float(dt[0]))
-            rest, _ = signal.lfilter([w_next, w_prev], [1.0, -e], u[1:],
-                                     zi=[e * self.z + w_prev * u[0]])  # the state before u[1]: e z_0 + w_prev u_0
-            out[0] = self.z
-            out[1:] = rest
+            e, w_prev, w_next = self.weights(float(steps[0]))
+            out[first:], _ = signal.lfilter([w_next, w_prev], [1.0, -e], u[first:],
+                                            zi=[e * self.z + w_prev * self.u_prev])  # e z + w_prev u before the block
             self.z, self.t_prev, self.u_prev = complex(out[-1]), float(t_s[-1]), float(u[-1])
             return out
-        for i, (ti, ui) in enumerate(zip(t_s.tolist(), u.tolist())):
-            z = self.step(ti, ui)
+        for i in range(first, u.size):
+            z = self.step(float(t_s[i]), float(u[i]))
             out[i] = z if z is not None else self.z
         return out
 

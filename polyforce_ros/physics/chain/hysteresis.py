@@ -27,7 +27,8 @@ from .core import ViscoelasticElement
 if TYPE_CHECKING:  # for annotations only: at run time the Preisach model loads when first used
     from ..preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
 
-__all__ = ["PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement"]
+__all__ = ["PreisachElement", "play_operator", "history_input", "play_states_after", "PlayHysteresisElement",
+           "BridgeHysteresisElement"]
 
 
 class _PreisachForwardState(TypedDict):
@@ -161,6 +162,18 @@ def play_operator(x: npt.ArrayLike, radii: npt.ArrayLike, y0: Optional[npt.Array
 
 
 
+def history_input(history_max: float) -> FloatArray:
+    """The input before a record whose input came down from ``history_max`` to 0: 0, up to it and back to 0
+    (no samples for 0, a virgin sensor). Play operators run over it give their states at the record's start."""
+    return np.array([0.0, history_max, 0.0]) if history_max > 0 else np.zeros(0)
+
+
+def play_states_after(history_max: float, radii: FloatArray) -> FloatArray:
+    """Each play's state after :func:`history_input` (zeros for a virgin sensor) [the input's unit]."""
+    h = history_input(history_max)
+    return play_operator(h, radii)[-1] if h.size else np.zeros(radii.size)
+
+
 class _PlayForwardState(TypedDict):
     y: FloatArray  # forward play states, input unit
 
@@ -219,10 +232,6 @@ class PlayHysteresisElement(Frozen):
             raise ModelError(f"{self.kind}: history_max must be >= 0")
         self._freeze(linear_weight=linear_weight, radii=radii, weights=weights, history_max=history_max)
 
-    def _history(self) -> FloatArray:
-        """Input samples before the record: 0, then up to history_max and back to 0 (none when 0)."""
-        return np.array([0.0, self.history_max, 0.0]) if self.history_max > 0 else np.zeros(0)
-
     def initial_states(self) -> tuple[FloatArray, FloatArray]:
         """The play states after the ``history_max`` history (zeros for a virgin sensor).
 
@@ -233,8 +242,8 @@ class PlayHysteresisElement(Frozen):
         inverse : (m,) ndarray of float
             States of the inverse plays (radii from :meth:`inverse_parameters`) [output unit].
         """
-        h = self._history()
-        fwd = play_operator(h, self.radii)[-1] if h.size else np.zeros(self.radii.size)
+        h = history_input(self.history_max)
+        fwd = play_states_after(self.history_max, self.radii)
         b0, r_inv, b = self.inverse_parameters()
         if h.size:
             y_hist = self.linear_weight * h + play_operator(h, self.radii) @ self.weights
@@ -387,7 +396,7 @@ class BridgeHysteresisElement(Frozen):
                              f">= 0 for every i (a term that never falls while the force rises); the smallest is "
                              f"{slopes.min():.6g}")
         linear += max(0.0, -float(slopes.min()))  # within rounding of 0: raised so that every slope is >= 0 exactly
-        start = (play_operator(np.array([0.0, history, 0.0]), radii)[-1] if history > 0 else np.zeros(radii.size))
+        start = play_states_after(history, radii)
         self._freeze(core=core, radii_n=radii, weights_v_per_n=weights, linear_v_per_n=linear,
                      history_max_n=history, _start=start, _rest_v=float(start @ weights))
 

@@ -39,7 +39,7 @@ from polyforce_ros.physics.chain import (ModelError, OffsetElement, PlayHysteres
                                          ThermalDriftElement, ThermalLagElement, TransportDelayElement,
                                          ViscoelasticElement, play_operator)
 from polyforce_ros.physics.expconv import exp_convolve
-from polyforce_ros.physics.viscoelastic import Burgers, Burgers2, Elastic, Zener, simulate_deformation
+from polyforce_ros.physics.viscoelastic import Burgers, Burgers2, Zener, simulate_deformation
 from polyforce_ros.record import Record
 from polyforce_ros.runtime import Compensator, CompensatorConfig
 from polyforce_ros.sim import profiles
@@ -266,10 +266,14 @@ def make_truth(effect, shape, m, rng, duration_s, rate):
         if shape == "wlf":  # log10 a = -C1 dT / (C2 + dT)
             c1 = float(np.interp(m, [0, 1], [3.0, 12.0])) * rng.uniform(0.8, 1.2)
             c2 = rng.uniform(60.0, 150.0)
-            log_shift = (lambda T, c1=c1, c2=c2: -np.log(10.0) * c1 * (T - T_REF_C) / (c2 + T - T_REF_C))
+
+            def log_shift(T, c1=c1, c2=c2):
+                return -np.log(10.0) * c1 * (T - T_REF_C) / (c2 + T - T_REF_C)
         else:  # Arrhenius near the reference: ln a = -b dT
             b = float(np.interp(m, [0, 1], [0.04, 0.15])) * rng.uniform(0.8, 1.2)
-            log_shift = (lambda T, b=b: -b * (T - T_REF_C))
+
+            def log_shift(T, b=b):
+                return -b * (T - T_REF_C)
         return "burgers", Truth(_chain(core_element=ReducedTimeCore(c, log_shift)))
     if effect == "gain_drift":
         g = float(np.interp(m, [0, 1], [0.015, 0.06]) * rng.choice([-1, 1]))

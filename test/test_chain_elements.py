@@ -1,6 +1,8 @@
 """Effect elements of the sensor chain: inverses, streaming == batch, YAML, block-wise simulation."""
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from polyforce_ros.model_file import SensorModel, load_model, save_model
 from polyforce_ros.physics.chain import (
@@ -422,3 +424,56 @@ def test_a_resonance_inverse_starts_settled_and_refuses_a_stamp_before_the_previ
     assert stream.step(0.5, 2.5) is None
     with pytest.raises(ValueError, match="non-decreasing"):
         element.forward(t[::-1], t)
+
+
+# -- friction: Coulomb friction on the force path -------------------------------------------------------------------
+
+@settings(max_examples=60, deadline=None)
+@given(radius=st.floats(0.01, 2.0), coupling=st.floats(0.0, 1.0), deadband=st.floats(0.0, 0.2),
+       seed=st.integers(0, 2**31 - 1))
+def test_friction_forward_is_the_play_its_inverse_is_exact_in_motion_and_never_further_than_its_band(radius, coupling,
+                                                                                                        deadband, seed):
+    from polyforce_ros.physics.chain import FrictionElement, PlayHysteresisElement
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(4000) * 1e-3
+    force = np.cumsum(rng.normal(0.0, 0.05, t.size)) + 3.0 * np.sin(t * rng.uniform(0.5, 5.0))
+    e = FrictionElement(radius, coupling, deadband)
+    core_force = e.forward(t, force)
+    if coupling < 1.0:  # F - c stop_r(F) = (1 - c) F + c play_r(F): the Prandtl-Ishlinskii form, independently
+        np.testing.assert_allclose(core_force, PlayHysteresisElement(1.0 - coupling, [radius], [coupling]).forward(t, force),
+                                   atol=1e-9)
+    back = e.backward(t, core_force)
+    stream = e.streaming()
+    np.testing.assert_allclose([stream.step(0.0, float(y)) for y in core_force], back, atol=1e-12)
+    assert np.all(np.abs(back - force) <= 2.0 * coupling * (radius + deadband) + 1e-9)
+    # a ramp one way, once the core's force has moved 2 (r + d): exact
+    ramp = np.linspace(0.0, 10.0 * (radius + deadband) + 1.0, 500)
+    out = e.backward(t[:500], e.forward(t[:500], ramp))
+    moved = ramp - ramp[0] > 2.0 * (radius + deadband) / max(1.0 - coupling, 1e-3) + 2.0 * (radius + deadband)
+    np.testing.assert_allclose(out[moved], ramp[moved], atol=1e-9)
+
+
+def test_friction_inverse_passes_noise_inside_its_dead_band_with_gain_one():
+    from polyforce_ros.physics.chain import FrictionElement, SensorChain, ViscoelasticElement
+    from polyforce_ros.physics.noise_gain import white_noise_gain
+    from polyforce_ros.physics.viscoelastic import Burgers
+
+    core = ViscoelasticElement(Burgers(5.0, 10.0, 5000.0, 50.0))
+    alone = white_noise_gain(SensorChain([core]), 1000.0)
+    # the probe's 1 mV is 5 mN at the core's 5 N/V: a 30 mN dead band holds it, none lets the stop follow it
+    assert white_noise_gain(SensorChain([FrictionElement(0.2, 1.0, 0.03), core]), 1000.0) == pytest.approx(alone, rel=0.02)
+    assert white_noise_gain(SensorChain([FrictionElement(0.2, 1.0, 0.0), core]), 1000.0) == pytest.approx(2 * alone, rel=0.05)
+
+
+@pytest.mark.parametrize("bad", [{"radius_n": 0.0, "coupling": 1.0}, {"radius_n": 0.1, "coupling": 1.5},
+                                 {"radius_n": 0.1, "coupling": -0.1}, {"radius_n": 0.1, "coupling": 1.0, "deadband_n": -1},
+                                 {"radius_n": float("nan"), "coupling": 1.0}, {"radius_n": 0.1},
+                                 {"radius_n": 0.1, "coupling": True}])
+def test_a_friction_outside_its_ranges_is_a_model_error(bad):
+    from polyforce_ros.physics.chain import FrictionElement, ModelError
+
+    with pytest.raises(ModelError):
+        FrictionElement.from_dict({"type": "friction", **bad})
+    good = FrictionElement.from_dict({"type": "friction", "radius_n": 0.1, "coupling": 0.9, "deadband_n": 0.01})
+    assert FrictionElement.from_dict(good.to_dict()).to_dict() == good.to_dict()

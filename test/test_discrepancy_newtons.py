@@ -161,6 +161,43 @@ def test_a_span_that_follows_temperature_is_named_and_its_saved_model_compensate
     assert np.sqrt(np.mean((out - force) ** 2)) <= 0.01 * np.ptp(force)  # within 1 % of full scale
 
 
+@pytest.mark.parametrize("magnitude, seed, rate_hz", [(0.1, 51, 200.0), (0.9, 52, 1000.0)])
+def test_coulomb_friction_is_named_saved_with_its_band_and_compensates_within_it(magnitude, seed, rate_hz, tmp_path):
+    """A rigid friction contact (a play with no linear part) on the force the core sees: named ``friction`` with its
+    band, saved, reloaded and run by the runtime. On a slow sawtooth, where the force moves one way for long, the
+    saved model removes most of the base's error; on a needle profile, whose tremor and punctures keep the contact
+    stuck for a quarter of the time, no inverse can know the force inside the band, and the error stays within it."""
+    from polyforce_ros.model_file import SensorModel, load_model, save_model
+    from polyforce_ros.physics.chain import FrictionElement, PlayHysteresisElement
+
+    rec, case = bench_record("friction", magnitude, rate_hz=rate_hz, duration_s=420.0, seed=seed,
+                             families={"friction": "rigid_contact"}, noise_std_v=2e-3)
+    truth_r = float(next(e for e in case.truth.elements if isinstance(e, PlayHysteresisElement)).radii[0])
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["friction"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    friction = next(e for e in diag.chain.elements if isinstance(e, FrictionElement))
+    # the friction force taken from the core (coupling x band) is what the record shows; a small band trades the two
+    assert friction.coupling * friction.radius_n == pytest.approx(truth_r, rel=0.2) and friction.coupling >= 0.8
+    assert 0.0 < friction.deadband_n <= friction.radius_n  # set from the record's noise
+    assert diag.newtons["saved"]["rmse_n"] < diag.newtons["base"]["rmse_n"]
+    save_model(tmp_path / "m.yaml", SensorModel(diag.chain, {"source": "test"}))
+    saved = load_model(tmp_path / "m.yaml").chain
+    rng = np.random.default_rng(seed)
+
+    def rmse(chain, t, force):
+        volts = case.truth.forward(t, force) + rng.normal(0.0, 2e-3, t.size)
+        comp = Compensator(chain, CompensatorConfig(auto_tare=False, noise_gain_rate_hz=rate_hz))  # the guard accepts it
+        used, out = comp.run(np.round(t * 1e9).astype(np.int64), volts)
+        assert used.all()
+        return float(np.sqrt(np.mean((out - force) ** 2)))
+
+    ts, fs = profiles.sawtooth(peak_n=10.0, cycles=2, ramp_rate_n_per_s=1.0, rate_hz=rate_hz)
+    saw = rmse(saved, ts, fs)
+    assert saw <= 0.5 * rmse(diag.base_chain, ts, fs) and saw <= 0.01 * np.ptp(fs)
+    tn, fn = profiles.make_profile("needle_insertion", rate_hz=rate_hz, seed=seed)
+    assert rmse(saved, tn, fn) <= truth_r
+
+
 def test_diagnose_save_model_names_its_sensor_and_carries_the_force_figures(tmp_path):
     import subprocess
     import sys

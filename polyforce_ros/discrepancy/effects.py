@@ -21,7 +21,7 @@ parameters (retardation times, lag and thermal time constants) are fixed::
     V = Lag_tau( sum_j c_j s_j ) + sum_k d_k a_k + offset
 
 with *sensor* columns ``s_j`` (the core's compliance terms F, int F, K_tau F;
-hysteresis play operators; the squared core output) and *additive* columns
+hysteresis play operators; a friction's stop; the squared core output) and *additive* columns
 ``a_k`` (temperature, drift polynomials). Cores are written in compliance
 form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
 """
@@ -34,7 +34,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..physics.chain import (
-    BridgeHysteresisElement, Element, ExponentialDriftElement, PlayHysteresisElement, PolynomialDriftElement,
+    BridgeHysteresisElement, Element, ExponentialDriftElement, FrictionElement, PlayHysteresisElement, PolynomialDriftElement,
     PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
     TransportDelayElement, play_operator,
@@ -44,7 +44,7 @@ from ..physics.viscoelastic import simulate_deformation_columns
 from .signals import FloatArray, Signals
 
 __all__ = ["Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
-           "SPLINE_INTERVALS", "lag_columns", "lag_stages", "variant_group", "parameter", "hints"]
+           "SPLINE_INTERVALS", "FRICTION_FRACTIONS", "lag_columns", "lag_stages", "variant_group", "parameter", "hints"]
 
 #: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
 Col = tuple[str, FloatArray, float, float, str, Optional[str]]
@@ -123,6 +123,8 @@ class Effect:
         Base core kind -> augmented kind (the core effects only).
     needs_temperature : bool
         Testable only on a record with a temperature topic.
+    rivals : tuple of str
+        Effects it cannot be told apart from in one record: one is named, never both (the swap check chooses).
     """
 
     name: str
@@ -136,6 +138,7 @@ class Effect:
     to_elements: ElementsFn = _no_elements
     core_change: Optional[Mapping[str, str]] = None
     needs_temperature: bool = False
+    rivals: tuple[str, ...] = ()
 
 
 # --------------------------------------------------------------------------- columns and elements
@@ -209,6 +212,34 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
         w = w * min(1.0, (1e6 - 1.0) / max(float(np.sum(w[keep])), 1e-300))  # linear_weight within its bound
     linear, weights = (1.0 + float(np.sum(w[keep])), -w[keep]) if "_stop" in variant else (1.0, w[keep])
     return [("before" if path == "force" else "after", PlayHysteresisElement(linear, radii, weights, history_max=history))]
+
+
+#: Stiction half-widths searched for a friction, as fractions of the force span; the polish refines the radius
+#: within them (:func:`.refit.param_log_bounds`).
+FRICTION_FRACTIONS = (0.001, 0.15)
+
+
+def _friction_grid(variant: str, sig: Signals) -> list[Optional[float]]:
+    """Half-widths (N) of the stiction band searched, 0.1-15 % of the force span."""
+    lo, hi = FRICTION_FRACTIONS
+    return _log_grid(lo * sig.span_f, hi * sig.span_f, 12)
+
+
+def _friction_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
+    """One column: the reference core's output for the stop of half-width ``param`` on the force, taken away
+    (F_core = F - w stop_r(F)); its weight w is the coupling, 1 for a rigid contact."""
+    r = parameter(param)
+    key = ("friction column", r)
+    if key not in sig.cache:
+        f = sig.f_nonlinear
+        stop = f - play_operator(f, [r])[:, 0]
+        sig.cache[key] = -simulate_deformation_columns(sig.reference_core, sig.t, stop[:, None])[:, 0]
+    return [("friction", sig.cache[key], 0.0, 1.0, "sensor", None)]
+
+
+def _friction_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
+    coupling = float(np.clip(coef.get("friction", 0.0), 0.0, 1.0))
+    return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling))] if coupling > 0 else []
 
 
 def _lag_apply(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
@@ -349,7 +380,13 @@ EFFECTS: dict[str, Effect] = {
         variants=("force", "voltage", "bridge", "force_descending", "voltage_descending", "bridge_descending",
                   "force_stop", "voltage_stop", "bridge_stop", "force_stop_descending", "voltage_stop_descending",
                   "bridge_stop_descending"),
-        columns=_hyst_columns, to_elements=_hyst_elements),
+        columns=_hyst_columns, to_elements=_hyst_elements, rivals=("friction",)),
+    "friction": Effect(
+        "friction", "a dead band at load reversals, the same width at every load (friction)", ("load_reversal",),
+        ("load_direction",), ("friction",), grid=_friction_grid, columns=_friction_columns, to_elements=_friction_elements,
+        # a partial friction is a single force play (F - c stop = (1 - c) F + c play), and a few plays are a spread
+        # friction: with both named, each takes the other's misfit between their radii
+        rivals=("hysteresis",)),
     "sensor_lag": Effect(
         "sensor_lag", "dynamics faster than the model (sensor_lag)", ("fast_transient",), ("force_rate",), ("sensor_lag",),
         # one pole, two equal poles (a critically damped pair) of the same total delay param, or a pure delay

@@ -84,7 +84,7 @@ from .design import (BASES, BLOCKS_PER_FOLD, Fit, Fitter, Structure, Term, build
                      refresh_ref)
 from .effects import EFFECTS as REGISTRY, NAMES
 from .localise import describe, localise
-from .newtons import fold_chains, force_quality, with_filter, with_safe_bandwidth
+from .newtons import fold_chains, force_quality, with_filter, with_friction_deadband, with_safe_bandwidth
 from .refit import base_structure
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
 from .residual import excess, noise_floor, out_of_sample, unexplained_test, where
@@ -180,12 +180,14 @@ class _Judgement:
 
 
 def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec: IntArray, chain: SensorChain,
-                      base_chain: SensorChain, base_fit: Fit, fit: Fit, sig: Signals, named: Sequence[str],
+                      base_chain: SensorChain, base_fit: Fit, fit: Fit, sig: Signals, named: Sequence[str], noise_v: float,
                       say: Callable[[str], None]) -> _Judgement:
     """Stage 6: the saved model compensates the left-out blocks at least as well as the base, with a bounded inverse;
-    otherwise its effects are partial fits (they predict the voltage but not the force) and the base is saved."""
+    otherwise its effects are partial fits (they predict the voltage but not the force) and the base is saved.
+    ``noise_v``: the record's noise floor, which sets the friction inverse's dead band."""
     say("judge in newtons")
     t, rec_temp = data.t, data.temperature_c
+    chain = with_friction_deadband(chain, noise_v)
     chain, bandwidth = with_safe_bandwidth(chain, t, rec.voltage_v, force_n, rec_temp,
                                            rates_hz=(CompensatorConfig.noise_gain_rate_hz,))
     factor, order = bandwidth.get("filter_factor", 0.0), bandwidth.get("filter_order", 1)
@@ -195,7 +197,8 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     saved_q = base_q
     if named:
         saved_q = force_quality(fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names,
-                                            fit.coef_folds, lambda c: with_filter(c, factor, order)),
+                                            fit.coef_folds,
+                                            lambda c: with_filter(with_friction_deadband(c, noise_v), factor, order)),
                                 fold_rec, t, rec.voltage_v, force_n, rec_temp, noise_chain=chain)
     judged = _Judgement(chain, {"base": base_q.to_dict(), "saved": saved_q.to_dict(), "lag_bandwidth": bandwidth,
                                 "latency_s": chain.latency_s,
@@ -268,7 +271,7 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     base_chain = build_chain(base_fit.structure, base_fit.coef_map, sig)
     # 6. judged in newtons
     judged = _judge_in_newtons(rec, force_n, data, fitter.fold[bin_of_sample], chain, base_chain, base_fit, current, sig,
-                               selection.accepted, say)
+                               selection.accepted, floor, say)
     present = test.present
     if judged.rejected:
         partial = partial + [e for e in selection.accepted if e not in partial]

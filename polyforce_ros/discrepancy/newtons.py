@@ -22,11 +22,12 @@ from typing import Any, Callable, Optional, Sequence
 
 import numpy as np
 
-from ..physics.chain import SensorChain, SensorLagElement
+from ..physics.chain import FrictionElement, SensorChain, SensorLagElement
 from ..physics.noise_gain import NoiseGain, backward_noise_gain, white_noise_gain
 from ..runtime import CompensatorConfig
 
-__all__ = ["ForceQuality", "force_quality", "with_safe_bandwidth", "with_filter", "fold_chains", "rate_of", "FILTER_FACTORS"]
+__all__ = ["ForceQuality", "force_quality", "with_safe_bandwidth", "with_filter", "fold_chains", "rate_of", "FILTER_FACTORS",
+           "with_friction_deadband", "DEADBAND_SIGMAS"]
 
 #: Filter times tried for a lag's inverse, as multiples of each stage's own time constant (0: the exact inverse).
 #: A saved model's noise gain stays this far inside ``max_noise_gain``: the probe's estimate scatters by a few
@@ -184,6 +185,23 @@ def with_safe_bandwidth(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarr
                  "noise_gain_n_per_v": dict(zip((f"{r:g} Hz" for r in rates), gains[(order, factor)])),
                  "within_max_noise_gain": best is not None, "max_noise_gain": max_noise_gain,
                  "force_rmse_n": {f"order {k[0]} x{k[1]:g}": v for k, v in tried.items()}}
+
+
+#: The friction inverse's dead band, in standard deviations of the force noise that the bridge noise makes through
+#: the core's instantaneous stiffness: white noise leaves a 3-sigma band in 0.3 % of its samples.
+DEADBAND_SIGMAS = 3.0
+
+
+def with_friction_deadband(chain: SensorChain, noise_v: float) -> SensorChain:
+    """Give every friction element's inverse a dead band that white bridge noise of RMS ``noise_v`` [V] rarely
+    crosses (:data:`DEADBAND_SIGMAS` times that noise in newtons, at most the stiction band itself); ``chain`` itself
+    when it holds no friction or no core."""
+    core = chain.viscoelastic
+    if core is None or not any(isinstance(e, FrictionElement) for e in chain.elements):
+        return chain
+    noise_n = float(noise_v) * core.relaxation().g0_n_per_v
+    return SensorChain([e.with_deadband(min(DEADBAND_SIGMAS * noise_n, e.radius_n)) if isinstance(e, FrictionElement)
+                        else e for e in chain.elements])
 
 
 def fold_chains(build: Callable[[dict[str, float]], SensorChain], names: Sequence[str], coef_folds: Sequence[np.ndarray],

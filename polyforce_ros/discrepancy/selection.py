@@ -228,8 +228,9 @@ class Selection:
     # ------------------------------------------------------------------------- the stages
 
     def forward_step(self, catalogue: Sequence[str], skipped: Sequence[str]) -> Optional[Candidate]:
-        """One step of the forward selection: every effect of ``catalogue`` not named yet nor ``skipped`` added to
-        the current model and scored; returns the candidate to judge (:func:`parsimonious`), None when none applies.
+        """One step of the forward selection: every effect of ``catalogue`` not named yet nor ``skipped`` nor a
+        rival of a named one (:attr:`.effects.Effect.rivals`) added to the current model and scored; returns the
+        candidate to judge (:func:`parsimonious`), None when none applies.
 
         A candidate that removes ``min_excess_share`` of the current error above the floor but not in enough folds
         is tried again with the shapes named before it re-chosen beside it (they were chosen without it, e.g. a fine
@@ -241,7 +242,7 @@ class Selection:
         step_candidates = []
         reshaped: Optional[Fit] = None  # the current model with its named shapes re-chosen (made when a retry needs it)
         for name in catalogue:
-            if name in self.accepted or name in skipped:
+            if name in self.accepted or name in skipped or set(REGISTRY[name].rivals) & set(self.accepted):
                 continue
             self.say(f"step {self.step}: {name}")
             fit = self.addition(current, name)

@@ -251,6 +251,18 @@ def _hyst_bouc_wen(rng: np.random.Generator, m: float, ctx: TruthContext) -> Tru
     return Truth(after=[BoucWen(a * rng.uniform(0.8, 1.2), beta, total - beta, n)])
 
 
+def _friction_family(rigid: bool) -> MakeFn:
+    """Family maker: Coulomb friction in the mechanism, a stiction band of half-width 0.5-3 % of the force range on
+    the force the core sees; ``rigid``: the whole force sticks (a play with no linear part), else 60-95 % of it."""
+
+    def make(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
+        r = float(np.interp(m, [0, 1], [0.005, 0.03]) * ctx["force_range_n"] * rng.uniform(0.8, 1.2))
+        coupling = 1.0 - 1e-6 if rigid else float(rng.uniform(0.6, 0.95))
+        return Truth(before=[PlayHysteresisElement(1.0 - coupling, [r], [coupling])])
+
+    return make
+
+
 def _lag_first(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
     return Truth(after=[SensorLagElement(tau_s=float(np.interp(m, [0, 1], [0.01, 0.15]) * rng.uniform(0.8, 1.2)))])
 
@@ -435,6 +447,8 @@ FAMILIES: dict[str, dict[str, Family]] = {
                    "bouc_wen_voltage": _FAM(_hyst_bouc_wen, held_out=True),
                    "play_bridge": _FAM(_bridge_family(bounded=False)),
                    "bounded_bridge": _FAM(_bridge_family(bounded=True), held_out=True)},
+    "friction": {"rigid_contact": _FAM(_friction_family(rigid=True)),
+                 "partial_contact": _FAM(_friction_family(rigid=False), held_out=True)},
     "sensor_lag": {"first_order": _FAM(_lag_first), "two_stage": _FAM(_lag_two_stage), "transport_delay": _FAM(_lag_delay),
                    "pole_pair": _FAM(_lag_second, held_out=True)},
     "nonlinear_gain": {"polynomial": _FAM(_gain_poly), "exp_approach": _FAM(_gain_exp),

@@ -30,7 +30,7 @@ from .drift import (
                    ThermalLagElement,
 )
 from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
-from .hysteresis import BridgeHysteresisElement, PlayHysteresisElement, PreisachElement, play_operator
+from .hysteresis import BridgeHysteresisElement, FrictionElement, PlayHysteresisElement, PreisachElement, play_operator
 from .sensor_chain import ELEMENT_TYPES, ChainStream, SensorChain
 from .static import GainElement, NonlinearGainElement, OffsetElement, PolynomialGainElement, ThermalSensitivityElement
 
@@ -38,6 +38,7 @@ __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "Forwar
            "MAX_PREISACH_LEVELS", "ViscoelasticElement", "OffsetElement", "GainElement", "NonlinearGainElement",
            "SensorLagElement", "TransportDelayElement", "ResonanceElement", "ThermalDriftElement", "ThermalSensitivityElement",
            "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement",
+           "FrictionElement",
            "ThermalLagElement",
            "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement",
            "ELEMENT_TYPES", "SensorChain", "ChainStream"]

@@ -221,6 +221,10 @@ PARAMETER_BOUNDS = {
     "weights_v_per_n": (-1e3, 1e3, "V/N", "a loop of 1 kV per newton is beyond any bridge"),
     "linear_v_per_n": (0.0, 1e3, "V/N", "a loop of 1 kV per newton is beyond any bridge"),
     "history_max_n": (0.0, 1e6, "N", "the force's maximum before the record"),
+    # Coulomb friction on the force path: the stiction band's half-width and the share of it the contact takes
+    "radius_n": (1e-9, 1e6, "N", "a friction force of 1 MN is beyond any mechanism"),
+    "coupling": (0.0, 1.0, "", "a share of the friction force"),
+    "deadband_n": (0.0, 1e6, "N", "the inverse's dead band on the core's force, a few times its noise"),
     # polynomial offset drift: y = x + r t + c2 t**2 + c3 t**3 (t since the first sample)
     # polynomial gain y = x + q x**2 + c x**3 (V in, V out); monotone over the range it was fitted on
     "cubic_per_v2": (-1e3, 1e3, "1/V^2", "100 % nonlinearity at 30 mV already"),

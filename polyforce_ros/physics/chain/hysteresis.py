@@ -1,5 +1,5 @@
-"""Rate-independent hysteresis: the Preisach relay model, the Prandtl-Ishlinskii play operator, and play
-operators at the bridge beside a viscoelastic core.
+"""Rate-independent hysteresis: the Preisach relay model, the Prandtl-Ishlinskii play operator, play
+operators at the bridge beside a viscoelastic core, and Coulomb friction in the mechanism.
 """
 from __future__ import annotations
 
@@ -28,7 +28,7 @@ if TYPE_CHECKING:  # for annotations only: at run time the Preisach model loads 
     from ..preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
 
 __all__ = ["PreisachElement", "play_operator", "history_input", "play_states_after", "PlayHysteresisElement",
-           "BridgeHysteresisElement"]
+           "BridgeHysteresisElement", "FrictionElement"]
 
 
 class _PreisachForwardState(TypedDict):
@@ -504,3 +504,105 @@ class BridgeHysteresisElement(Frozen):
             raise ModelError(f"{cls.kind}: core must be a mapping (a viscoelastic core), got {short_repr(d['core'])}")
         return cls(ViscoelasticElement.from_dict(d["core"]), d["radii_n"], d["weights_v_per_n"],
                    d.get("linear_v_per_n", 0.0), d.get("history_max_n", 0.0))
+
+
+class _FrictionForwardState(TypedDict):
+    play_n: float  # the forward play's state [N]
+
+
+class FrictionElement(Frozen):
+    """Coulomb friction in the mechanism, on the force path before the core: the core sees
+
+        F_core = F - coupling * stop_r(F),    stop_r(F) = F - play_r(F),  |stop_r| <= r
+
+    With ``coupling`` 1 the mechanism sticks inside a band of +-r about the force it passes on: the core's force
+    moves only once the applied force has moved 2 r since a reversal (a play with no linear part). Below 1, part of
+    the force passes while it sticks.
+
+    No exact inverse exists: every force inside the band gives the same core force. The inverse runs the same
+    friction on the core's force the other way, ``F = F_core + coupling * stop_r(q)``, where ``q = play_d(F_core)``
+    is the core's force with a dead band ``d`` that noise does not cross: exact while the force moves one way (once
+    the core's force has moved 2 (r + d) since a reversal); while the mechanism sticks and during a reversal the
+    error is at most ``2 coupling r``. The inverse never divides by the stuck slope (1 - coupling), which an exact
+    inverse of a partial coupling would; noise smaller than ``d`` passes with gain 1 (1 + coupling without the dead
+    band: a stop moves with its input inside its band).
+
+    Parameters (model file keys)
+    ----------------------------
+    radius_n : float > 0
+        Half-width r of the stiction band [N] (the Coulomb friction force).
+    coupling : float in [0, 1]
+        Share of the stop taken from the force; 1 is a rigid friction contact.
+    deadband_n : float >= 0, optional
+        Half-width d of the inverse's dead band on the core's force [N]: a few times its noise (0: none).
+
+    Both runs start from rest (the play at 0: a virgin mechanism).
+    """
+
+    kind = "friction"
+    KEYS = ("radius_n", "coupling")
+    OPTIONAL = {"deadband_n": 0.0}
+    radius_n: float
+    coupling: float
+    deadband_n: float
+
+    def __init__(self, radius_n: float, coupling: float = 1.0, deadband_n: float = 0.0) -> None:
+        radius_n = check_number(self.kind, "radius_n", radius_n, positive=True)
+        coupling = check_number(self.kind, "coupling", coupling, positive=False)
+        deadband_n = check_number(self.kind, "deadband_n", deadband_n, positive=False)
+        self._freeze(radius_n=radius_n, coupling=coupling, deadband_n=deadband_n)
+
+    def forward_state(self) -> _FrictionForwardState:
+        """A fresh state for block-wise :meth:`forward` runs (the play at rest)."""
+        return {"play_n": 0.0}
+
+    def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_FrictionForwardState] = None) -> FloatArray:
+        """The force the core sees [N] for the applied force ``force_n`` [N]."""
+        f = np.asarray(force_n, dtype=float)
+        st = state if state is not None else self.forward_state()
+        play = play_operator(f, [self.radius_n], [st["play_n"]])[:, 0]
+        if f.size:
+            st["play_n"] = float(play[-1])
+        out: FloatArray = f - self.coupling * (f - play)
+        return out
+
+    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """The applied force [N] for the core's force ``y`` [N] (see the class docstring for its error bound)."""
+        y = np.asarray(y, dtype=float)
+        q = play_operator(y, [self.deadband_n])[:, 0] if self.deadband_n > 0 else y
+        out: FloatArray = y + self.coupling * (q - play_operator(q, [self.radius_n])[:, 0])
+        return out
+
+    def streaming(self) -> ElementStream:
+        """The per-sample form of :meth:`backward`, O(1) per sample."""
+        r, c, d = self.radius_n, self.coupling, self.deadband_n
+        state = [0.0, 0.0]  # the dead band's play, the stiction band's play [N]
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+            q = min(max(state[0], y - d), y + d)
+            p = min(max(state[1], q - r), q + r)
+            state[0], state[1] = q, p
+            return y + c * (q - p)
+
+        def reset() -> None:
+            state[:] = [0.0, 0.0]
+
+        return FunctionStream(step, reset)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping."""
+        out = {"type": self.kind, "radius_n": float(self.radius_n), "coupling": float(self.coupling)}
+        if self.deadband_n:
+            out["deadband_n"] = float(self.deadband_n)
+        return out
+
+    def with_deadband(self, deadband_n: float) -> FrictionElement:
+        """The same friction with the inverse's dead band ``deadband_n`` [N]."""
+        return FrictionElement(self.radius_n, self.coupling, deadband_n)
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping."""
+        check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
+        return cls(d["radius_n"], d["coupling"], d.get("deadband_n", 0.0))

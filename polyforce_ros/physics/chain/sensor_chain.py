@@ -25,7 +25,7 @@ from .drift import (
     ThermalLagElement,
 )
 from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
-from .hysteresis import BridgeHysteresisElement, PlayHysteresisElement, PreisachElement
+from .hysteresis import BridgeHysteresisElement, FrictionElement, PlayHysteresisElement, PreisachElement
 from .static import (
     GainElement,
     NonlinearGainElement,
@@ -49,6 +49,7 @@ ELEMENT_TYPES["offset"] = OffsetElement
 for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportDelayElement, ResonanceElement,
                  ThermalDriftElement,
                  ThermalSensitivityElement, OffsetDriftElement, PreisachElement, PlayHysteresisElement, BridgeHysteresisElement,
+                 FrictionElement,
                  ThermalLagElement, PolynomialDriftElement, PolynomialGainElement, ExponentialDriftElement, SplineDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
 

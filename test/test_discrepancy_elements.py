@@ -158,3 +158,18 @@ def test_parsimony_compares_every_smaller_candidate_with_the_overall_best():
     assert engine._parsimonious([a, b, c], lambda _: True, justified) is b  # not C, which A clearly beats
     assert engine._parsimonious([a, c], lambda _: True, justified) is a
     assert engine._parsimonious([a, b, c], lambda x: x is not b, justified) is a  # only acceptable ones compete
+
+
+@pytest.mark.parametrize("sigma_n", [0.002, 0.01, 0.05])
+def test_the_reference_force_noise_is_measured_under_a_moving_load_and_bounds_the_narrowest_friction(sigma_n):
+    from polyforce_ros.discrepancy.effects import EFFECTS, FRICTION_NOISE_SIGMAS, force_noise_n
+    from polyforce_ros.discrepancy.signals import Signals
+
+    rng = np.random.default_rng(int(sigma_n * 1e4))
+    t = np.arange(60000) * 0.01
+    load = 5.0 + 4.0 * np.sin(2 * np.pi * t / 37.0) + 2.0 * np.sin(2 * np.pi * t / 5.3)  # moving all the time
+    force = load + rng.normal(0.0, sigma_n, t.size)
+    sig = Signals(t=t, f=force, v=np.zeros_like(t), temp=None, t0=0.0, duration_s=float(t[-1]), temp_ref=0.0,
+                  span_f=float(np.ptp(force)))
+    assert force_noise_n(sig) == pytest.approx(sigma_n, rel=0.1)
+    assert min(EFFECTS["friction"].grid("", sig)) >= FRICTION_NOISE_SIGMAS * 0.9 * sigma_n

@@ -27,6 +27,7 @@ form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable, Mapping, Optional, Sequence
 
@@ -44,7 +45,8 @@ from ..physics.viscoelastic import simulate_deformation_columns
 from .signals import FloatArray, Signals
 
 __all__ = ["Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
-           "SPLINE_INTERVALS", "FRICTION_FRACTIONS", "lag_columns", "lag_stages", "variant_group", "parameter", "hints"]
+           "SPLINE_INTERVALS", "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n", "lag_columns", "lag_stages",
+           "variant_group", "parameter", "hints"]
 
 #: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
 Col = tuple[str, FloatArray, float, float, str, Optional[str]]
@@ -219,10 +221,27 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
 FRICTION_FRACTIONS = (0.001, 0.15)
 
 
+#: The narrowest stiction band searched, in standard deviations of the reference force's noise: a play narrower
+#: than a few of them acts on that noise (it smooths the force the model reads), not on the sensor.
+FRICTION_NOISE_SIGMAS = 4.0
+
+
+def force_noise_n(sig: Signals) -> float:
+    """Standard deviation of the reference force's noise at the fit rate [N], from its second differences (a
+    smooth load cancels in them; white noise gives sqrt(6) sigma), by the median absolute deviation."""
+    key = "force noise"
+    if key not in sig.record_cache:
+        d2 = np.diff(sig.f, 2)
+        sig.record_cache[key] = float(np.median(np.abs(d2 - np.median(d2))) / 0.6745 / math.sqrt(6.0)) if d2.size else 0.0
+    return float(sig.record_cache[key])
+
+
 def _friction_grid(variant: str, sig: Signals) -> list[Optional[float]]:
-    """Half-widths (N) of the stiction band searched, 0.1-15 % of the force span."""
+    """Half-widths (N) of the stiction band searched: 0.1-15 % of the force span, and never narrower than
+    :data:`FRICTION_NOISE_SIGMAS` standard deviations of the reference force's noise."""
     lo, hi = FRICTION_FRACTIONS
-    return _log_grid(lo * sig.span_f, hi * sig.span_f, 12)
+    low = max(lo * sig.span_f, FRICTION_NOISE_SIGMAS * force_noise_n(sig))
+    return _log_grid(low, max(hi * sig.span_f, 2.0 * low), 12)
 
 
 def _friction_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:

@@ -477,3 +477,48 @@ def test_a_friction_outside_its_ranges_is_a_model_error(bad):
         FrictionElement.from_dict({"type": "friction", **bad})
     good = FrictionElement.from_dict({"type": "friction", "radius_n": 0.1, "coupling": 0.9, "deadband_n": 0.01})
     assert FrictionElement.from_dict(good.to_dict()).to_dict() == good.to_dict()
+
+
+# -- thermo_rheological: a core whose viscosities follow temperature ---------------------------------------------
+
+@settings(max_examples=30, deadline=None)
+@given(shift=st.floats(0.0, 0.3), swing=st.floats(0.0, 8.0), seed=st.integers(0, 2**31 - 1))
+def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_streaming_and_in_blocks(shift, swing, seed):
+    from polyforce_ros.physics.chain import ThermoRheologicalElement, ViscoelasticElement, reduced_time_s
+
+    rng = np.random.default_rng(seed)
+    core = ViscoelasticElement(PAPER_BURGERS)
+    e = ThermoRheologicalElement(core, shift, 24.0)
+    t = np.cumsum(rng.uniform(0.5, 1.5, 3000)) * 0.02
+    force = np.abs(np.cumsum(rng.normal(0.0, 0.1, t.size)))
+    temp = 24.0 + swing * np.sin(t / rng.uniform(5.0, 30.0))
+    aux = {"temperature_c": temp}
+    volts = e.forward(t, force, aux)
+    # the same core on the reduced time, which scipy's trapezoid gives independently
+    from scipy.integrate import cumulative_trapezoid
+
+    xi = t[0] + cumulative_trapezoid(np.exp(shift * (temp - 24.0)), t, initial=0.0)
+    np.testing.assert_allclose(reduced_time_s(t, temp, shift, 24.0), xi, rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(volts, core.forward(xi, force), atol=1e-12)
+    back = e.backward(t, volts, aux)
+    np.testing.assert_allclose(back, force, rtol=1e-6, atol=1e-5)  # the core's own round trip on a fast reduced time
+    stream = e.streaming()
+    np.testing.assert_allclose([stream.step(ti, vi, {"temperature_c": ci}) for ti, vi, ci in zip(t, volts, temp)], back,
+                               atol=1e-9)
+    state = e.forward_state()
+    blocks = [e.forward(t[i:i + 701], force[i:i + 701], {"temperature_c": temp[i:i + 701]}, state)
+              for i in range(0, t.size, 701)]
+    np.testing.assert_allclose(np.concatenate(blocks), volts, atol=1e-9)
+    # at the reference temperature, or without one, it is the core itself
+    np.testing.assert_allclose(e.forward(t, force), core.forward(t, force), atol=1e-12)
+
+
+@pytest.mark.parametrize("bad", [{"shift_per_c": -0.1}, {"shift_per_c": 5.0}, {"shift_per_c": float("nan")},
+                                 {"reference_c": 1e4}, {"core": [1.0]}, {"core": {"type": "gain", "gain": 1.0}}])
+def test_a_thermo_rheological_element_outside_its_ranges_is_a_model_error(bad):
+    from polyforce_ros.physics.chain import ModelError, ThermoRheologicalElement, ViscoelasticElement
+
+    good = ThermoRheologicalElement(ViscoelasticElement(PAPER_BURGERS), 0.05, 22.0).to_dict()
+    assert ThermoRheologicalElement.from_dict(good).to_dict() == good
+    with pytest.raises(ModelError):
+        ThermoRheologicalElement.from_dict({**good, **bad})

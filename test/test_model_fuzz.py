@@ -293,6 +293,9 @@ def _example_chains():
             chains[kind] = SensorChain.from_model(MODEL_TYPES[kind].from_vector(1.0 + 3.0 * np.arange(n)), offset_v=0.02)
         elif kind == "preisach":
             chains[kind] = SensorChain([effects[kind], ViscoelasticElement(PAPER_BURGERS), OffsetElement(0.0)])
+        elif kind == "thermo_rheological":  # the core on the reduced time
+            chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(PAPER_BURGERS), 0.05, 22.0),
+                                        OffsetElement(0.02)])
         elif kind == "bridge_hysteresis":  # the core and its plays in one element
             chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(PAPER_BURGERS), [0.1, 0.5], [0.01, 0.005],
                                                             history_max_n=2.0), OffsetElement(0.02)])

@@ -17,7 +17,8 @@ import numpy as np
 import numpy.typing as npt
 from scipy import linalg, optimize
 
-from ..physics.chain import BridgeHysteresisElement, Element, OffsetElement, SensorChain, ViscoelasticElement
+from ..physics.chain import (BridgeHysteresisElement, Element, OffsetElement, SensorChain, ThermoRheologicalElement,
+                             ViscoelasticElement, reduced_time_s)
 from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
 from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, Col, lag_columns, lag_stages, parameter
@@ -66,15 +67,18 @@ class Structure:
         return next((t for t in self.terms if t.effect == effect), None)
 
 
-def _core_columns(sig: Signals, kind: str, taus: Sequence[float]) -> list[Col]:
+def _core_columns(sig: Signals, kind: str, taus: Sequence[float], shift_per_c: Optional[float] = None) -> list[Col]:
+    """The core's compliance columns; with ``shift_per_c`` (a thermo-rheological core) on the reduced time, the
+    clock of viscosities that follow temperature (:func:`~polyforce_ros.physics.chain.reduced_time_s`)."""
     n_tau, inst, flow = CORE_SHAPE[kind]
+    clock = sig.t if shift_per_c is None else reduced_time_s(sig.t, sig.temperature, shift_per_c, sig.temp_ref)
     cols: list[Col] = []
     if inst:
         cols.append(("j0", sig.f, 0.0, np.inf, "sensor", None))
     if flow:
-        cols.append(("phi", _integral(sig.t, sig.f), 0.0, np.inf, "sensor", None))
+        cols.append(("phi", _integral(clock, sig.f), 0.0, np.inf, "sensor", None))
     for i, tau in enumerate(taus[:n_tau]):
-        cols.append((f"c{i}", lag_columns(sig.t, sig.f, tau), 0.0, np.inf, "sensor", None))
+        cols.append((f"c{i}", lag_columns(clock, sig.f, tau), 0.0, np.inf, "sensor", None))
     return cols
 
 
@@ -119,7 +123,9 @@ def stack(columns: Sequence[FloatArray], rows: slice = _ALL_ROWS) -> FloatArray:
 
 def design_columns(sig: Signals, st: Structure) -> Design:
     """:func:`design` with the columns of A as a list of arrays (not stacked: the polish needs a few rows)."""
-    cols = list(_cached(sig, ("core", st.core, st.taus), lambda: _core_columns(sig, st.core, st.taus)))
+    shift = st.term("thermo_rheological")
+    b = None if shift is None else parameter(shift.param)
+    cols = list(_cached(sig, ("core", st.core, st.taus, b), lambda: _core_columns(sig, st.core, st.taus, b)))
     lag: Optional[list[float]] = None
     delay_s = 0.0
     for term in st.terms:
@@ -328,7 +334,7 @@ def core_model(st: Structure, coef: Mapping[str, float]) -> ViscoelasticModel:
 
 def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> SensorChain:
     """Model-file chain: [force-path hysteresis] core [gain, voltage-path hysteresis] [lag] [thermal, drift] offset."""
-    slots: dict[str, list[Element]] = {"before": [], "bridge": [], "after": [], "lag": [], "late": []}
+    slots: dict[str, list[Element]] = {"before": [], "core": [], "bridge": [], "after": [], "lag": [], "late": []}
     for term in st.terms:
         eff = REGISTRY[term.effect]
         if eff.core_change:
@@ -337,6 +343,9 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
             slots[slot].append(element)
     slots["after"].sort(key=lambda e: 0 if e.kind == "nonlinear_gain" else 1)
     fitted = ViscoelasticElement(core_model(st, coef))
+    shifted = [e for e in slots["core"] if isinstance(e, ThermoRheologicalElement)]
+    if shifted:  # viscosities that follow temperature: the fitted core on the reduced time
+        fitted = ThermoRheologicalElement(fitted, shifted[0].shift_per_c, shifted[0].reference_c)
     core: Element = fitted
     bridges = [e for e in slots["bridge"] if isinstance(e, BridgeHysteresisElement)]
     if bridges:  # hysteresis at the bridge (one term per effect, so one element): the fitted core, plays beside it

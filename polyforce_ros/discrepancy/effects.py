@@ -20,7 +20,8 @@ parameters (retardation times, lag and thermal time constants) are fixed::
 
     V = Lag_tau( sum_j c_j s_j ) + sum_k d_k a_k + offset
 
-with *sensor* columns ``s_j`` (the core's compliance terms F, int F, K_tau F;
+with *sensor* columns ``s_j`` (the core's compliance terms F, int F, K_tau F, on the reduced time when the
+viscosities follow temperature;
 hysteresis play operators; a friction's stop; the squared core output) and *additive* columns
 ``a_k`` (temperature, drift polynomials). Cores are written in compliance
 form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
@@ -38,6 +39,7 @@ from ..physics.chain import (
     BridgeHysteresisElement, Element, ExponentialDriftElement, FrictionElement, PlayHysteresisElement, PolynomialDriftElement,
     PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
+    ThermoRheologicalElement,
     TransportDelayElement, play_operator,
 )
 from ..physics.expconv import exp_convolve, exp_convolve_columns
@@ -50,7 +52,8 @@ __all__ = ["Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECT
 
 #: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
 Col = tuple[str, FloatArray, float, float, str, Optional[str]]
-#: Where an element goes in the chain: "before" the core (force path), "after" it (voltage path), "lag", "late".
+#: Where an element goes in the chain: "before" the core (force path), "core" (wraps it), "after" it (voltage path), "lag",
+#: "late".
 Slot = tuple[str, Element]
 #: (variant, signals) -> values of the nonlinear parameter searched ([None]: the variant has none).
 GridFn = Callable[[str, Signals], Sequence[Optional[float]]]
@@ -127,6 +130,8 @@ class Effect:
         Testable only on a record with a temperature topic.
     rivals : tuple of str
         Effects it cannot be told apart from in one record: one is named, never both (the swap check chooses).
+    record_rate : bool
+        Fitted at the record's rate after the selection (:mod:`.resonance`), not by the design at the fit rate.
     """
 
     name: str
@@ -141,6 +146,7 @@ class Effect:
     core_change: Optional[Mapping[str, str]] = None
     needs_temperature: bool = False
     rivals: tuple[str, ...] = ()
+    record_rate: bool = False
 
 
 # --------------------------------------------------------------------------- columns and elements
@@ -259,6 +265,23 @@ def _friction_columns(sig: Signals, variant: str, param: Optional[float]) -> lis
 def _friction_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     coupling = float(np.clip(coef.get("friction", 0.0), 0.0, 1.0))
     return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling))] if coupling > 0 else []
+
+
+def _shift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
+    """ln of the viscosities' shift factor per degree searched [1/degC]: 0.005-0.4 (polymers near their use
+    temperature: 0.02-0.3)."""
+    return _log_grid(0.005, 0.4, 10)
+
+
+def _core_clock(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
+    """No columns of its own: the core's columns run on the reduced time (:func:`.design.design_columns`)."""
+    return []
+
+
+def _shift_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
+    # the core here is a stand-in: build_chain puts the fitted core on the reduced time
+    return [("core", ThermoRheologicalElement(ViscoelasticElement(sig.reference_core), float(parameter(param)),
+                                              float(np.clip(sig.temp_ref, -100.0, 300.0))))]
 
 
 def _lag_apply(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
@@ -410,6 +433,9 @@ EFFECTS: dict[str, Effect] = {
         "sensor_lag", "dynamics faster than the model (sensor_lag)", ("fast_transient",), ("force_rate",), ("sensor_lag",),
         # one pole, two equal poles (a critically damped pair) of the same total delay param, or a pure delay
         variants=("", "pole_pair", "delay"), grid=_lag_grid, columns=_lag_apply, to_elements=_lag_elements),
+    "resonance": Effect(
+        "resonance", "ringing after fast load changes (resonance)", ("fast_transient",), ("force_rate",), ("resonance",),
+        record_rate=True),
     "nonlinear_gain": Effect(
         "nonlinear_gain", "gain changing with load (nonlinear_gain)", ("high_load",), ("force_squared",), ("polynomial_gain",),
         columns=_gain_columns, to_elements=_gain_elements),
@@ -422,6 +448,10 @@ EFFECTS: dict[str, Effect] = {
         "thermal_sensitivity", "a span that follows temperature (thermal_sensitivity)", ("temperature_change", "high_load"),
         ("temperature",), ("thermal_sensitivity",),
         columns=_span_thermal_columns, to_elements=_span_thermal_elements, needs_temperature=True),
+    "thermo_rheological": Effect(
+        "thermo_rheological", "creep that speeds up when warm (thermo_rheological)", ("temperature_change", "hold_under_load"),
+        ("temperature", "load_history"), ("thermo_rheological",), grid=_shift_grid, columns=_core_clock,
+        to_elements=_shift_elements, needs_temperature=True),
     "offset_drift": Effect(
         "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",),
         ("polynomial_drift", "exponential_drift", "spline_drift"),

@@ -50,7 +50,9 @@ Procedure (:func:`diagnose`):
    named effects worsen the out-of-sample error at the record's rate, or
    leave structure while explaining less than ``min_explained`` of the
    base's error above the floor (partial fits of something outside the
-   catalogue, listed under ``unexplained.partial_fits``).
+   catalogue, listed under ``unexplained.partial_fits``). Before that judgement, structure in the residual is
+   offered to a mechanical mode fitted at the record's rate (:mod:`.resonance`), named ``resonance`` when it
+   passes the forward step's test; a sensor lag it makes redundant is dropped.
 6. **Judged in newtons** (:mod:`.newtons`). Each left-out block is
    compensated by the model fitted without it and compared with the
    reference force; a sensor lag's inverse gets an explicit bandwidth, a
@@ -65,12 +67,13 @@ the reported RMSEs are out-of-sample at the record's own rate.
 Modules: :mod:`.signals` (the record at a rate), :mod:`.effects` (the
 catalogue), :mod:`.design` (structures, design matrices, cross-validated fits,
 chains), :mod:`.refit` (time constants, the structures a step tries),
-:mod:`.residual` (stages 1 and 5), :mod:`.selection` (stage 4),
+:mod:`.residual` (stages 1 and 5), :mod:`.resonance` (stage 5's mode), :mod:`.selection` (stage 4),
 :mod:`.newtons` (stage 6), :mod:`.result` (the answer and its JSON); this
 module runs them in order.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Callable, Collection, Optional, Sequence
 
@@ -86,6 +89,7 @@ from .effects import EFFECTS as REGISTRY, NAMES
 from .localise import describe, localise
 from .newtons import fold_chains, force_quality, with_filter, with_friction_deadband, with_safe_bandwidth
 from .refit import base_structure
+from .resonance import fit_mode, fold_gain, with_mode
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
 from .residual import excess, noise_floor, out_of_sample, unexplained_test, where
 from .result import Diagnosis
@@ -181,10 +185,12 @@ class _Judgement:
 
 def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec: IntArray, chain: SensorChain,
                       base_chain: SensorChain, base_fit: Fit, fit: Fit, sig: Signals, named: Sequence[str], noise_v: float,
-                      say: Callable[[str], None]) -> _Judgement:
+                      say: Callable[[str], None],
+                      finish: Callable[[SensorChain], SensorChain] = lambda c: c) -> _Judgement:
     """Stage 6: the saved model compensates the left-out blocks at least as well as the base, with a bounded inverse;
     otherwise its effects are partial fits (they predict the voltage but not the force) and the base is saved.
-    ``noise_v``: the record's noise floor, which sets the friction inverse's dead band."""
+    ``noise_v``: the record's noise floor, which sets the friction inverse's dead band; ``finish``: what each fold's
+    chain adds beyond the fitted structure (a mode fitted at the record's rate)."""
     say("judge in newtons")
     t, rec_temp = data.t, data.temperature_c
     chain = with_friction_deadband(chain, noise_v)
@@ -198,7 +204,8 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     if named:
         saved_q = force_quality(fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names,
                                             fit.coef_folds,
-                                            lambda c: with_filter(with_friction_deadband(c, noise_v), factor, order)),
+                                            lambda c: with_filter(with_friction_deadband(finish(c), noise_v), factor,
+                                                                  order)),
                                 fold_rec, t, rec.voltage_v, force_n, rec_temp, noise_chain=chain)
     judged = _Judgement(chain, {"base": base_q.to_dict(), "saved": saved_q.to_dict(), "lag_bandwidth": bandwidth,
                                 "latency_s": chain.latency_s,
@@ -252,6 +259,33 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     sig_full = refresh_ref(data.full_rate, sig.reference_core, sig.span_x)  # the core the columns of the fit were made with
     rmse_after, resid_after, sim_after = out_of_sample(sig_full, current, fitter, bin_of_sample)
     test = unexplained_test(t, resid_after, floor, unexplained_ratio)
+    # 5b. a mechanical mode, at the record's rate, on what the selection predicts
+    mode = None
+    if test.present and "resonance" in catalogue:
+        say("resonance at the record's rate")
+        strongest = max(test.bands, key=lambda b: b["rms_v"]) if test.bands else None
+        mode = fit_mode(t, rec.voltage_v, sim_after, fitter.fold[bin_of_sample], floor,
+                        (strongest["low_hz"], strongest["high_hz"]) if strongest else None, min_confidence,
+                        min_excess_share)
+        if mode is not None and "sensor_lag" in selection.accepted:  # a lag the mode may stand in for
+            reduced = _without(current.structure, "sensor_lag")
+            if reduced is not None:
+                reduced_fit = fitter.evaluate(reduced)
+                sim_reduced = out_of_sample(sig_full, reduced_fit, fitter, bin_of_sample)[2]
+                alone = fit_mode(t, rec.voltage_v, sim_reduced, fitter.fold[bin_of_sample], floor,
+                                 (strongest["low_hz"], strongest["high_hz"]) if strongest else None, 0.0, -math.inf)
+                if alone is not None:
+                    gain = fold_gain(rec.voltage_v, mode.predicted_v, alone.predicted_v, fitter.fold[bin_of_sample], floor)
+                    if gain[0] < min_confidence or gain[1] < min_excess_share:
+                        say("drop sensor_lag: the mode holds it")
+                        selection.drop("sensor_lag")
+                        current, mode = reduced_fit, alone
+        if mode is not None:
+            sim_after = mode.predicted_v
+            resid_after = rec.voltage_v - sim_after
+            rmse_after = float(np.sqrt(np.mean(resid_after ** 2)))
+            test = unexplained_test(t, resid_after, floor, unexplained_ratio)
+            selection.name_at_record_rate("resonance", mode.confidence, mode.excess_share)
     # the named effects must explain most of the base's error above the floor at the record's rate, out of
     # sample; when structure remains and they explain little of it, they are partial fits of something the
     # catalogue does not hold (a time drift following the mean of a sensitivity that drifts explains about
@@ -267,11 +301,14 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
         sig = fitter.sig = refresh_ref(fitter.sig, base_core)
         rmse_after, resid_after, sim_after = rmse_before, rec.voltage_v - sim_before, sim_before
         test = unexplained_test(t, resid_after, floor, unexplained_ratio)
-    chain = build_chain(current.structure, current.coef_map, sig)
+    def finish(c: SensorChain) -> SensorChain:  # what the selection's structure does not hold: the mode
+        return with_mode(c, mode) if mode is not None and "resonance" in selection.accepted else c
+
+    chain = finish(build_chain(current.structure, current.coef_map, sig))
     base_chain = build_chain(base_fit.structure, base_fit.coef_map, sig)
     # 6. judged in newtons
     judged = _judge_in_newtons(rec, force_n, data, fitter.fold[bin_of_sample], chain, base_chain, base_fit, current, sig,
-                               selection.accepted, floor, say)
+                               selection.accepted, floor, say, finish)
     present = test.present
     if judged.rejected:
         partial = partial + [e for e in selection.accepted if e not in partial]

@@ -229,8 +229,8 @@ class Selection:
 
     def forward_step(self, catalogue: Sequence[str], skipped: Sequence[str]) -> Optional[Candidate]:
         """One step of the forward selection: every effect of ``catalogue`` not named yet nor ``skipped`` nor a
-        rival of a named one (:attr:`.effects.Effect.rivals`) added to the current model and scored; returns the
-        candidate to judge (:func:`parsimonious`), None when none applies.
+        rival of a named one (:attr:`.effects.Effect.rivals`) nor fitted at the record's rate added to the current
+        model and scored; returns the candidate to judge (:func:`parsimonious`), None when none applies.
 
         A candidate that removes ``min_excess_share`` of the current error above the floor but not in enough folds
         is tried again with the shapes named before it re-chosen beside it (they were chosen without it, e.g. a fine
@@ -242,7 +242,8 @@ class Selection:
         step_candidates = []
         reshaped: Optional[Fit] = None  # the current model with its named shapes re-chosen (made when a retry needs it)
         for name in catalogue:
-            if name in self.accepted or name in skipped or set(REGISTRY[name].rivals) & set(self.accepted):
+            if (name in self.accepted or name in skipped or set(REGISTRY[name].rivals) & set(self.accepted)
+                    or REGISTRY[name].record_rate):
                 continue
             self.say(f"step {self.step}: {name}")
             fit = self.addition(current, name)
@@ -371,6 +372,19 @@ class Selection:
         for c in self.candidates:
             if c.accepted and c.effect in self.variants:
                 c.variant = self.variants[c.effect]
+
+    def drop(self, name: str) -> None:
+        """``name`` no longer names an effect (a stage after the selection found it stands in for another)."""
+        self.accepted.remove(name)
+        self._unname(name)
+
+    def name_at_record_rate(self, name: str, confidence: float, excess_share: float) -> None:
+        """Name ``name``, fitted after the selection at the record's rate (:mod:`.resonance`): it has no candidate
+        of the fit-rate steps."""
+        self.accepted.append(name)
+        self.confidences[name] = float(confidence)
+        self.variants[name] = ""
+        self.say(f"{name}: {100.0 * excess_share:.0f} % of the excess removed at the record's rate")
 
     def clear(self) -> None:
         """Name nothing: the effects become partial fits (the caller keeps their names)."""

@@ -209,8 +209,8 @@ OUT_OF_CATALOGUE: dict[str, MakeFn] = {"sensitivity_drift": _sens_drift, "load_s
                                         "periodic_interference": _periodic}
 EFFECTS = ("none",) + NAMES
 #: Order of effects along the chain (core first, drift last).
-_ORDER = ("viscous_flow", "delayed_elasticity", "friction", "hysteresis", "nonlinear_gain", "thermal_sensitivity", "sensor_lag",
-          "thermal_drift", "offset_drift")
+_ORDER = ("viscous_flow", "delayed_elasticity", "thermo_rheological", "friction", "hysteresis", "resonance",
+          "nonlinear_gain", "thermal_sensitivity", "sensor_lag", "thermal_drift", "offset_drift")
 
 
 def default_base(effects: Sequence[str]) -> str:

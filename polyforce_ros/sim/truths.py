@@ -22,7 +22,7 @@ from ..physics.preisach import hysteretic_identity
 from ..physics.viscoelastic import (Burgers, Burgers2, Elastic, ForwardState, Maxwell, ViscoelasticModel, Zener, Zener2,
                                    simulate_deformation)
 
-__all__ = ["FloatArray", "TruthContext", "BoucWen", "PlaysAtBridge",
+__all__ = ["FloatArray", "TruthContext", "BoucWen", "PlaysAtBridge", "ShiftedClockCore",
            "SecondOrderLag", "StaticMap", "AdditiveFn", "Additive", "Truth",
            "MakeFn", "Family", "FAMILIES", "HIDDEN_AGAINST", "SPLITS", "families"]
 
@@ -156,6 +156,25 @@ class PlaysAtBridge(_SimElement):
         return np.asarray(simulate_deformation(self.core, t_s, f, state=st["core"]) + term, dtype=float)
 
 
+class ShiftedClockCore(_SimElement):
+    """A core whose viscosities follow temperature by the shift factor ``a(T) = exp(log_shift(T))``: it runs on
+    ``xi = int dt / a(T)`` (rectangle rule at each sample's own temperature; the forward model's own rule is the
+    trapezoid). The whole record in one block."""
+
+    def __init__(self, core: ViscoelasticModel, log_shift: Callable[[FloatArray], FloatArray]) -> None:
+        self.core, self.log_shift = core, log_shift
+
+    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Any = None) -> FloatArray:
+        """Deformation [V] for the force ``x`` [N] at temperatures ``aux['temperature_c']`` [degC]."""
+        t = np.asarray(t_s, dtype=float)
+        if not aux or aux.get("temperature_c") is None:
+            raise ValueError("a thermo-rheological truth needs the temperature")
+        temp = np.broadcast_to(np.asarray(aux["temperature_c"], dtype=float), t.shape)
+        xi = t[0] + np.concatenate([[0.0], np.cumsum(np.diff(t) * np.exp(-self.log_shift(temp[1:])))])
+        return np.asarray(simulate_deformation(self.core, xi, np.asarray(x, dtype=float)), dtype=float)
+
+
 @dataclass
 class Truth:
     """What a family does to the sensor truth: core replaced, elements before/after the core, at the end.
@@ -284,6 +303,17 @@ def _lag_two_stage(rng: np.random.Generator, m: float, ctx: TruthContext) -> Tru
     return Truth(after=[SensorLagElement(tau_s=share * tau), SensorLagElement(tau_s=(1 - share) * tau)])
 
 
+def _mode_family(light: bool) -> MakeFn:
+    """Family maker: a mechanical mode on the voltage path, 12-35 Hz, lightly damped (zeta 0.25 at magnitude 0 down
+    to 0.02 at 1) or moderately (0.4 down to 0.1)."""
+
+    def make(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
+        zeta = float(np.exp(np.interp(m, [0, 1], np.log([0.25, 0.02] if light else [0.4, 0.1]))) * rng.uniform(0.8, 1.2))
+        return Truth(after=[SecondOrderLag(2 * np.pi * float(rng.uniform(12.0, 35.0)), zeta)])
+
+    return make
+
+
 def _gain_poly(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
     span = _span_v(ctx)
     rel = np.interp(m, [0, 1], [0.015, 0.12]) * rng.choice([-1, 1])  # deviation at full scale
@@ -407,6 +437,33 @@ def _span_thermal(rng: np.random.Generator, m: float, ctx: TruthContext) -> Trut
     return Truth(after=[ThermalSensitivityElement(span_coefficient_per_c=c, reference_c=24.0)])
 
 
+def _shift_family(law: str) -> MakeFn:
+    """Family maker: the truth core's viscosities follow temperature, by an Arrhenius law in absolute temperature
+    (``ln a = E/R (1/T - 1/T_ref)``) or the WLF law (``log10 a = -C1 dT / (C2 + dT)``), 0.02-0.12 per degree about
+    24 degC."""
+
+    def make(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
+        b = float(np.interp(m, [0, 1], [0.02, 0.12]) * rng.uniform(0.8, 1.2))  # -d ln a / dT at the reference
+        if law == "arrhenius":
+            t_ref_k = 24.0 + 273.15
+            e_over_r = b * t_ref_k ** 2
+
+            def log_shift(temp: FloatArray) -> FloatArray:
+                out: FloatArray = e_over_r * (1.0 / (temp + 273.15) - 1.0 / t_ref_k)
+                return out
+        else:
+            c2 = float(rng.uniform(50.0, 120.0))
+            c1 = b * c2 / np.log(10.0)
+
+            def log_shift(temp: FloatArray) -> FloatArray:
+                out: FloatArray = -np.log(10.0) * c1 * (temp - 24.0) / (c2 + temp - 24.0)
+                return out
+
+        return Truth(core=ShiftedClockCore(ctx["core"], log_shift))
+
+    return make
+
+
 def _viscous(rng: np.random.Generator, m: float, ctx: TruthContext) -> Truth:
     core = ctx["core"]
     eta1 = float(np.exp(np.interp(m, [0, 1], np.log([40000.0, 1500.0]))) * rng.uniform(0.7, 1.3))
@@ -451,10 +508,14 @@ FAMILIES: dict[str, dict[str, Family]] = {
                  "partial_contact": _FAM(_friction_family(rigid=False), held_out=True)},
     "sensor_lag": {"first_order": _FAM(_lag_first), "two_stage": _FAM(_lag_two_stage), "transport_delay": _FAM(_lag_delay),
                    "pole_pair": _FAM(_lag_second, held_out=True)},
+    "resonance": {"light_mode": _FAM(_mode_family(light=True)), "moderate_mode": _FAM(_mode_family(light=False),
+                                                                                      held_out=True)},
     "nonlinear_gain": {"polynomial": _FAM(_gain_poly), "exp_approach": _FAM(_gain_exp),
                        "tanh": _FAM(_gain_tanh, held_out=True)},
     "thermal_drift": {"linear": _FAM(_thermal_linear), "thermal_lag": _FAM(_thermal_lag, held_out=True)},
     "thermal_sensitivity": {"linear_span": _FAM(_span_thermal)},
+    "thermo_rheological": {"arrhenius": _FAM(_shift_family("arrhenius")),
+                           "wlf": _FAM(_shift_family("wlf"), held_out=True)},
     "offset_drift": {"linear": _FAM(_drift_linear), "exp_approach": _FAM(_drift_exp), "events": _FAM(_drift_events),
                      "power_law": _FAM(_drift_power, held_out=True), "random_walk": _FAM(_drift_walk, held_out=True)},
 }

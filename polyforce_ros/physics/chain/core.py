@@ -4,7 +4,7 @@ a core's parameters must pass before it is used.
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping, Optional, Self
+from typing import Any, Mapping, Optional, Self, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -21,7 +21,7 @@ from ..viscoelastic import (
 )
 from .base import DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, ModelError, check_keys, check_number, short_repr, smoke_records
 
-__all__ = ["ViscoelasticElement"]
+__all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "reduced_time_s", "MAX_LOG_SHIFT"]
 
 
 def _laplace_mismatch(rel: RelaxationModulus, comp: CreepCompliance, s: npt.ArrayLike) -> FloatArray:
@@ -139,3 +139,136 @@ class ViscoelasticElement(Frozen):
             raise ModelError(f"{kind}: {exc}") from None
         _check_core_numerics(kind, model)
         return cls(model)
+
+
+#: Largest |shift_per_c * (T - reference_c)| applied: the core's clock runs at most e^10 faster or slower than real
+#: time (a 2e4-fold change of every viscosity), so a wild temperature reading cannot overflow the reduced time.
+MAX_LOG_SHIFT = 10.0
+
+
+def reduced_time_s(t_s: npt.ArrayLike, temperature_c: Optional[npt.ArrayLike], shift_per_c: float,
+                   reference_c: float) -> FloatArray:
+    """The reduced time of a thermo-rheologically simple material [s]: the clock of its viscosities.
+
+    ``xi_0 = t_0``, ``xi_k = xi_{k-1} + (t_k - t_{k-1}) (e_k + e_{k-1}) / 2`` with ``e = exp(b (T - T_ref))``: a
+    viscosity ``eta(T) = eta(T_ref) exp(-b (T - T_ref))`` acts over ``dt`` as ``eta(T_ref)`` over ``e dt``.
+    Without temperature the reduced time is the time itself.
+    """
+    t = np.asarray(t_s, dtype=float)
+    if temperature_c is None or t.size == 0:
+        return t.copy()
+    temp = np.broadcast_to(np.asarray(temperature_c, dtype=float), t.shape)
+    rate = np.exp(np.clip(shift_per_c * (temp - reference_c), -MAX_LOG_SHIFT, MAX_LOG_SHIFT))
+    rate = np.where(np.isfinite(rate), rate, 1.0)
+    steps = np.diff(t) * 0.5 * (rate[1:] + rate[:-1])
+    out: FloatArray = t[0] + np.concatenate([[0.0], np.cumsum(steps)])
+    return out
+
+
+class _ClockState(TypedDict):
+    core: ForwardState
+    t: Optional[float]  # the last stamp of the previous block [s]
+    xi: float  # its reduced time [s]
+    temperature_c: Optional[float]  # its temperature [degC]
+
+
+class _ReducedTimeStream:
+    """The core's per-sample inverse run on the reduced time (:func:`reduced_time_s`, sample by sample)."""
+
+    def __init__(self, inner: StreamingCompensator, shift_per_c: float, reference_c: float) -> None:
+        self.inner, self.b, self.ref = inner, shift_per_c, reference_c
+        self.reset()
+
+    def reset(self) -> None:
+        self.inner.reset()
+        self.t_prev: Optional[float] = None
+        self.xi, self.rate_prev = 0.0, 1.0
+
+    def step(self, t_s: float, value: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+        temp = None if not aux else aux.get("temperature_c")
+        rate = 1.0
+        if temp is not None:
+            e = math.exp(min(max(self.b * (float(temp) - self.ref), -MAX_LOG_SHIFT), MAX_LOG_SHIFT))
+            rate = e if math.isfinite(e) else 1.0
+        xi = t_s if self.t_prev is None else self.xi + (t_s - self.t_prev) * 0.5 * (rate + self.rate_prev)
+        force = self.inner.step(xi, value)
+        if force is not None:  # a refused sample (a stamp going back) leaves the clock as it was
+            self.t_prev, self.xi, self.rate_prev = t_s, xi, rate
+        return force
+
+
+class ThermoRheologicalElement(ViscoelasticElement):
+    """A viscoelastic core whose viscosities all follow temperature (time-temperature superposition):
+    ``eta(T) = eta(T_ref) exp(-shift_per_c (T - reference_c))``, so creep runs faster when warm. The core runs on
+    the reduced time of :func:`reduced_time_s`; its elastic parts do not change. It reads ``temperature_c``.
+
+    Parameters (model file keys)
+    ----------------------------
+    core : mapping
+        The core at ``reference_c`` (any viscoelastic model type).
+    shift_per_c : float >= 0
+        b [1/degC]: ln of the shift factor per degree (an Arrhenius law linearised near the reference).
+    reference_c : float
+        T_ref [degC].
+    """
+
+    KEYS = ("core", "shift_per_c", "reference_c")
+    shift_per_c: float
+    reference_c: float
+
+    def __init__(self, core: ViscoelasticElement, shift_per_c: float, reference_c: float) -> None:
+        if not isinstance(core, ViscoelasticElement) or isinstance(core, ThermoRheologicalElement):
+            raise ModelError("thermo_rheological: core must be a viscoelastic core")
+        shift_per_c = check_number("thermo_rheological", "shift_per_c", shift_per_c, positive=False)
+        reference_c = check_number("thermo_rheological", "reference_c", reference_c, positive=False)
+        self._freeze(model=core.model, kind="thermo_rheological", shift_per_c=shift_per_c, reference_c=reference_c)
+
+    def _xi(self, t_s: npt.ArrayLike, aux: Optional[Mapping[str, Any]]) -> FloatArray:
+        temp = None if not aux else aux.get("temperature_c")
+        return reduced_time_s(t_s, temp, self.shift_per_c, self.reference_c)
+
+    def forward_state(self) -> _ClockState:  # type: ignore[override]
+        """A fresh state for block-wise :meth:`forward` runs: the core's, and the reduced time's last stamp."""
+        return {"core": ForwardState(self.model), "t": None, "xi": 0.0, "temperature_c": None}
+
+    def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_ClockState] = None) -> FloatArray:  # type: ignore[override]
+        """Deformation for a force history, the core run on the reduced time; ``state`` carries the clock across
+        blocks."""
+        st = state if state is not None else self.forward_state()
+        t = np.asarray(t_s, dtype=float)
+        temp = None if not aux else aux.get("temperature_c")
+        if st["t"] is not None and t.size:  # continue the clock from the previous block's last sample
+            temps = None if temp is None else np.concatenate([[st["temperature_c"] if st["temperature_c"] is not None
+                                                               else self.reference_c],
+                                                              np.broadcast_to(np.asarray(temp, dtype=float), t.shape)])
+            xi = reduced_time_s(np.concatenate([[st["t"]], t]), temps, self.shift_per_c, self.reference_c)[1:]
+            xi = xi - st["t"] + st["xi"]
+        else:
+            xi = reduced_time_s(t, temp, self.shift_per_c, self.reference_c)
+        if t.size:
+            st["t"], st["xi"] = float(t[-1]), float(xi[-1])
+            st["temperature_c"] = None if temp is None else float(np.broadcast_to(np.asarray(temp, dtype=float), t.shape)[-1])
+        return simulate_deformation(self.model, xi, force_n, state=st["core"])
+
+    def backward(self, t_s: npt.ArrayLike, deformation_v: npt.ArrayLike,
+                 aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """Force for a deformation record from a relaxed sensor, the core's inverse on the reduced time."""
+        return compensate(self.model, self._xi(t_s, aux), deformation_v)
+
+    def streaming(self) -> _ReducedTimeStream:  # type: ignore[override]
+        """The per-sample inverse on the reduced time, equal to :meth:`backward` sample by sample."""
+        return _ReducedTimeStream(StreamingCompensator(self.model), self.shift_per_c, self.reference_c)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping."""
+        return {"type": self.kind, "core": {"type": self.model.kind, **self.model.as_dict()},
+                "shift_per_c": float(self.shift_per_c), "reference_c": float(self.reference_c)}
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping."""
+        check_keys("thermo_rheological", d, cls.KEYS)
+        if not isinstance(d["core"], dict):
+            raise ModelError(f"thermo_rheological: core must be a mapping (a viscoelastic core), got {short_repr(d['core'])}")
+        return cls(ViscoelasticElement.from_dict(d["core"]), d["shift_per_c"], d["reference_c"])

@@ -15,7 +15,7 @@ import numpy.typing as npt
 
 from ..viscoelastic import MODEL_TYPES, ViscoelasticModel
 from .base import Element, ElementStream, FloatArray, ForwardElement, ModelError
-from .core import ViscoelasticElement
+from .core import ThermoRheologicalElement, ViscoelasticElement
 from .drift import (
     ExponentialDriftElement,
     OffsetDriftElement,
@@ -46,6 +46,7 @@ class _ElementType(Protocol):
 
 ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TYPES}
 ELEMENT_TYPES["offset"] = OffsetElement
+ELEMENT_TYPES["thermo_rheological"] = ThermoRheologicalElement
 for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportDelayElement, ResonanceElement,
                  ThermalDriftElement,
                  ThermalSensitivityElement, OffsetDriftElement, PreisachElement, PlayHysteresisElement, BridgeHysteresisElement,
@@ -133,7 +134,7 @@ class SensorChain:
     @property
     def needs_temperature(self) -> bool:
         """Whether an element follows temperature (``aux['temperature_c']``, degC): without it, it is not corrected."""
-        thermal = (ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement)
+        thermal = (ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement, ThermoRheologicalElement)
         return any(isinstance(e, thermal) for e in self.elements)
 
     @property

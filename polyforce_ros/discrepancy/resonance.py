@@ -1,0 +1,151 @@
+"""Stage 5b of :func:`.engine.diagnose`: a lightly damped mechanical mode, fitted at the record's rate.
+
+The design of the other effects runs on block means at the fit rate (100 Hz), where a 15-60 Hz mode is averaged
+away. A mode acts on the voltage the rest of the model predicts: ``V = H(p) + noise`` with
+``H(s) = w^2 / (s^2 + 2 zeta w s + w^2)`` (unit gain at rest), ``p`` the out-of-sample prediction at the record's
+rate. So when the unexplained test sees structure, (f0, zeta) are fitted by least squares to the transfer from
+``p`` to the measured voltage, started from the residual's strongest band, and the mode is named when it passes
+the forward step's own test: it lowers the out-of-sample error in ``min_confidence`` of the folds and removes
+``min_excess_share`` of the error above the noise floor. A damping at the bound (0.5) is a lag, not a mode. A
+sensor lag named at the fit rate may have stood in for the mode's slow part (a moderately damped mode delays the
+signal by 2 zeta / w): it is kept only when, beside the mode, it passes the same test (:func:`.engine.diagnose`).
+
+The fit runs on a uniform grid at the median step (a first-order-hold discretisation, exact for piecewise-linear
+input, as the ``resonance`` element's forward run); the fold errors are taken on the record's own stamps, through
+the element itself.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import numpy as np
+import numpy.typing as npt
+from scipy import optimize, signal
+
+from ..physics.chain import (ExponentialDriftElement, OffsetDriftElement, OffsetElement, PolynomialDriftElement,
+                             ResonanceElement, SensorChain, SensorLagElement, SplineDriftElement, ThermalDriftElement,
+                             ThermalLagElement, TransportDelayElement)
+from .residual import excess
+from .signals import FloatArray, IntArray
+
+__all__ = ["ModeFit", "fit_mode", "fold_gain", "with_mode", "ZETA_BOUNDS", "LOWEST_MODE_HZ"]
+
+#: Damping ratios searched: a mode rings below 0.5; at the bound the transfer is a (pole-pair) lag.
+ZETA_BOUNDS = (0.005, 0.5)
+#: The slowest mode searched [Hz]; the fastest is 0.45 x the record's rate.
+LOWEST_MODE_HZ = 2.0
+
+#: Elements that follow a mechanical mode in the chain (the signal conditioning, the slow terms, the offset).
+_AFTER_MODE = (SensorLagElement, TransportDelayElement, ThermalDriftElement, ThermalLagElement, PolynomialDriftElement,
+               ExponentialDriftElement, SplineDriftElement, OffsetDriftElement, OffsetElement)
+
+
+@dataclass(frozen=True)
+class ModeFit:
+    """A fitted mode and its test.
+
+    Attributes
+    ----------
+    frequency_hz, damping_ratio : float
+        The mode [Hz] and its damping ratio [-].
+    confidence : float
+        Share of the folds whose out-of-sample error it lowers.
+    excess_share : float
+        Share of the error above the noise floor it removes.
+    predicted_v : ndarray
+        The prediction through the mode at the record's stamps [V].
+    """
+
+    frequency_hz: float
+    damping_ratio: float
+    confidence: float
+    excess_share: float
+    predicted_v: FloatArray
+
+    def element(self) -> ResonanceElement:
+        """The mode as a model-file element."""
+        return ResonanceElement(frequency_hz=self.frequency_hz, damping_ratio=self.damping_ratio)
+
+
+def _through_mode(x: FloatArray, step_s: float, frequency_hz: float, zeta: float) -> FloatArray:
+    """``x`` on a uniform grid through the mode, settled at its first value before the record."""
+    w = 2.0 * math.pi * frequency_hz
+    num, den, _ = signal.cont2discrete(([w * w], [1.0, 2.0 * zeta * w, w * w]), step_s, method="foh")
+    out: FloatArray = signal.lfilter(np.ravel(num), den, x - x[0]) + x[0]
+    return out
+
+
+def fit_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.ArrayLike, fold: IntArray,
+             floor_v: float, band_hz: Optional[Sequence[float]], min_confidence: float,
+             min_excess_share: float) -> Optional[ModeFit]:
+    """The mode that takes ``predicted_v`` to ``measured_v``, when it passes the test (module docstring); else None.
+
+    Parameters
+    ----------
+    t_s, measured_v, predicted_v : (n,) array_like of float
+        Stamps [s], the bridge voltage and the model's out-of-sample prediction of it [V].
+    fold : (n,) ndarray of int
+        The cross-validation fold of each sample.
+    floor_v : float
+        The noise floor [V].
+    band_hz : (low, high) or None
+        The residual's strongest band [Hz]: where the search starts.
+    min_confidence, min_excess_share : float
+        The forward step's acceptance thresholds.
+    """
+    t = np.asarray(t_s, dtype=float)
+    v, p = np.asarray(measured_v, dtype=float), np.asarray(predicted_v, dtype=float)
+    if t.size < 100:
+        return None
+    step = float(np.median(np.diff(t)))
+    highest = 0.45 / step
+    if not (step > 0 and highest > 2.0 * LOWEST_MODE_HZ):
+        return None
+    tu = t[0] + step * np.arange(int((t[-1] - t[0]) / step) + 1)
+    pu, vu = np.interp(tu, t, p), np.interp(tu, t, v)
+
+    def residual(theta: FloatArray) -> FloatArray:
+        out: FloatArray = _through_mode(pu, step, math.exp(theta[0]), math.exp(theta[1])) - vu
+        return out
+
+    lower = np.log([LOWEST_MODE_HZ, ZETA_BOUNDS[0]])
+    upper = np.log([highest, ZETA_BOUNDS[1]])
+    centres = [math.sqrt(band_hz[0] * band_hz[1]), band_hz[0], band_hz[1]] if band_hz else [0.1 * highest]
+    best = None
+    for f0 in centres:
+        for zeta in (0.03, 0.15):
+            x0 = np.clip(np.log([f0, zeta]), lower + 1e-9, upper - 1e-9)
+            sol = optimize.least_squares(residual, x0, bounds=(lower, upper), x_scale=1.0, max_nfev=40)
+            if best is None or sol.cost < best.cost:
+                best = sol
+    assert best is not None
+    frequency_hz, zeta = (float(math.exp(x)) for x in best.x)
+    if zeta >= 0.98 * ZETA_BOUNDS[1] or frequency_hz >= 0.98 * highest or frequency_hz <= 1.02 * LOWEST_MODE_HZ:
+        return None  # at a bound: a lag or something the mode does not describe
+    mode = ResonanceElement(frequency_hz=frequency_hz, damping_ratio=zeta)
+    through = np.asarray(mode.forward(t, p - p[0]), dtype=float) + p[0]  # exact on the record's own stamps
+    confidence, share = fold_gain(v, through, p, fold, floor_v)
+    if confidence < min_confidence or share < min_excess_share:
+        return None
+    return ModeFit(frequency_hz, zeta, confidence, share, through)
+
+
+def fold_gain(measured_v: FloatArray, better_v: FloatArray, than_v: FloatArray, fold: IntArray,
+              floor_v: float) -> tuple[float, float]:
+    """How much the prediction ``better_v`` improves on ``than_v``: the share of folds whose squared error it lowers,
+    and the share of ``than_v``'s error above the noise floor it removes."""
+    folds = np.unique(fold)
+    before = np.array([np.sum((measured_v - than_v)[fold == k] ** 2) for k in folds])
+    after = np.array([np.sum((measured_v - better_v)[fold == k] ** 2) for k in folds])
+    share = float((before.sum() - after.sum()) / excess(float(before.sum()), measured_v.size * floor_v ** 2))
+    return float(np.mean(after < before)), share
+
+
+def with_mode(chain: SensorChain, mode: ModeFit) -> SensorChain:
+    """``chain`` with the mode on the voltage path, after the core and before the signal conditioning and the
+    slow terms."""
+    elements = list(chain.elements)
+    at = next((i for i, e in enumerate(elements) if isinstance(e, _AFTER_MODE)), len(elements))
+    return SensorChain([*elements[:at], mode.element(), *elements[at:]])

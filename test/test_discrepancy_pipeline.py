@@ -103,3 +103,43 @@ def test_the_pipeline_holds_at_1khz_where_bridge_noise_reaches_the_small_plays(f
     h, r2 = _compensated_readings(case, seed, model, tmp_path, 1000.0, 1000.0, 2e-3)
     assert h <= 1.0, h
     assert r2 >= 0.99, r2
+
+
+#: The catalogue's newer effects through the whole user pipeline: (effect, its tune family, magnitude, rate Hz, seed).
+NEW_EFFECTS = [("thermal_sensitivity", "linear_span", 0.7, 200.0, 3701), ("friction", "rigid_contact", 0.2, 200.0, 3702),
+               ("resonance", "light_mode", 0.7, 1000.0, 3703), ("thermo_rheological", "arrhenius", 0.7, 200.0, 3704)]
+
+
+@pytest.mark.parametrize("effect, family, magnitude, rate_hz, seed", NEW_EFFECTS, ids=[e[0] for e in NEW_EFFECTS])
+def test_diagnose_save_model_then_compensate_for_each_newer_effect(effect, family, magnitude, rate_hz, seed, tmp_path):
+    """``polyforce diagnose --save-model`` names the effect, and ``polyforce compensate`` with that model file takes a
+    new record of the same sensor (a needle profile under a temperature swing, in a bag with its temperature topic)
+    to within 1 % of full scale RMSE, against the reference as late as the model states (its latency); a friction
+    within the band it fitted."""
+    from polyforce_ros.model_file import load_model
+    from polyforce_ros.sim.bench import random_temperature
+
+    t, f, v, temp, case = simulate_bench([effect], magnitude, "burgers", duration_s=420.0, rate_hz=rate_hz, seed=seed,
+                                         families={effect: family})
+    write_bench_bag(tmp_path / "bench.mcap", t, f, v, temperature_c=temp, temperature_every=10)
+    model = tmp_path / "M.yaml"
+    proc = _polyforce("diagnose", str(tmp_path / "bench.mcap"), "--base", "burgers", "--save-model", str(model), "--json",
+                      str(tmp_path / "d.json"))
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads((tmp_path / "d.json").read_text())
+    assert data["missing_effects"] == [effect], (data["missing_effects"], data["unexplained"])
+    chain = load_model(model).chain
+    tn, fn = profiles.make_profile("needle_insertion", rate_hz=rate_hz, seed=seed)
+    tempn = random_temperature(tn + 200.0, seed + 1)
+    sim = BridgeSimulator(noise_std_v=2e-3, seed=seed + 1)
+    sim.chain, sim._states = case.truth, case.truth.forward_states()
+    write_bench_bag(tmp_path / "needle.mcap", tn, fn, sim.simulate(tn, fn, temperature_c=tempn), temperature_c=tempn,
+                    temperature_every=1)
+    tc, comp = _compensated(tmp_path / "needle.mcap", tmp_path / "needle_out.mcap", model)
+    late = np.interp(tc - chain.latency_s, tn, fn, left=fn[0])
+    rmse_n = float(np.sqrt(np.mean((comp - late) ** 2)))
+    if effect == "friction":
+        band_n = next(e.radius_n for e in chain.elements if e.kind == "friction")
+        assert rmse_n <= band_n
+    else:
+        assert rmse_n <= 0.01 * np.ptp(fn), (rmse_n, np.ptp(fn))

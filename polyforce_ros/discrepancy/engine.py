@@ -73,7 +73,6 @@ module runs them in order.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Any, Callable, Collection, Optional, Sequence
 
@@ -89,7 +88,7 @@ from .effects import EFFECTS as REGISTRY, NAMES
 from .localise import describe, localise
 from .newtons import fold_chains, force_quality, with_filter, with_friction_deadband, with_safe_bandwidth
 from .refit import base_structure
-from .resonance import fit_mode, fold_gain, with_mode
+from .resonance import choose_mode, with_mode
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
 from .residual import excess, noise_floor, out_of_sample, unexplained_test, where
 from .result import Diagnosis
@@ -264,22 +263,17 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     if test.present and "resonance" in catalogue:
         say("resonance at the record's rate")
         strongest = max(test.bands, key=lambda b: b["rms_v"]) if test.bands else None
-        mode = fit_mode(t, rec.voltage_v, sim_after, fitter.fold[bin_of_sample], floor,
-                        (strongest["low_hz"], strongest["high_hz"]) if strongest else None, min_confidence,
-                        min_excess_share)
-        if mode is not None and "sensor_lag" in selection.accepted:  # a lag the mode may stand in for
-            reduced = _without(current.structure, "sensor_lag")
-            if reduced is not None:
-                reduced_fit = fitter.evaluate(reduced)
-                sim_reduced = out_of_sample(sig_full, reduced_fit, fitter, bin_of_sample)[2]
-                alone = fit_mode(t, rec.voltage_v, sim_reduced, fitter.fold[bin_of_sample], floor,
-                                 (strongest["low_hz"], strongest["high_hz"]) if strongest else None, 0.0, -math.inf)
-                if alone is not None:
-                    gain = fold_gain(rec.voltage_v, mode.predicted_v, alone.predicted_v, fitter.fold[bin_of_sample], floor)
-                    if gain[0] < min_confidence or gain[1] < min_excess_share:
-                        say("drop sensor_lag: the mode holds it")
-                        selection.drop("sensor_lag")
-                        current, mode = reduced_fit, alone
+        reduced = _without(current.structure, "sensor_lag") if "sensor_lag" in selection.accepted else None
+        reduced_fit = fitter.evaluate(reduced) if reduced is not None else None
+        mode, drop_lag = choose_mode(t, rec.voltage_v, sim_after, fitter.fold[bin_of_sample], floor,
+                                     (strongest["low_hz"], strongest["high_hz"]) if strongest else None, min_confidence,
+                                     min_excess_share,
+                                     None if reduced_fit is None
+                                     else out_of_sample(sig_full, reduced_fit, fitter, bin_of_sample)[2])
+        if drop_lag and reduced_fit is not None:
+            say("drop sensor_lag: the mode holds it")
+            selection.drop("sensor_lag")
+            current = reduced_fit
         if mode is not None:
             sim_after = mode.predicted_v
             resid_after = rec.voltage_v - sim_after

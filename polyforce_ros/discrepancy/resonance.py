@@ -30,7 +30,7 @@ from ..physics.chain import (ExponentialDriftElement, OffsetDriftElement, Offset
 from .residual import excess
 from .signals import FloatArray, IntArray
 
-__all__ = ["ModeFit", "fit_mode", "fold_gain", "with_mode", "ZETA_BOUNDS", "LOWEST_MODE_HZ"]
+__all__ = ["ModeFit", "fit_mode", "choose_mode", "fold_gain", "with_mode", "ZETA_BOUNDS", "LOWEST_MODE_HZ"]
 
 #: Damping ratios searched: a mode rings below 0.5; at the bound the transfer is a (pole-pair) lag.
 ZETA_BOUNDS = (0.005, 0.5)
@@ -141,6 +141,40 @@ def fold_gain(measured_v: FloatArray, better_v: FloatArray, than_v: FloatArray, 
     after = np.array([np.sum((measured_v - better_v)[fold == k] ** 2) for k in folds])
     share = float((before.sum() - after.sum()) / excess(float(before.sum()), measured_v.size * floor_v ** 2))
     return float(np.mean(after < before)), share
+
+
+def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.ArrayLike, fold: IntArray,
+                floor_v: float, band_hz: Optional[Sequence[float]], min_confidence: float, min_excess_share: float,
+                predicted_without_lag_v: Optional[FloatArray] = None) -> tuple[Optional[ModeFit], bool]:
+    """The mode to name, if any, and whether the sensor lag named at the fit rate goes (module docstring).
+
+    With a lag named (``predicted_without_lag_v``: the prediction of the model without it), three models compete:
+    the lag (``predicted_v``), the lag and a mode, the mode alone. A mode on top of the lag is named when it passes
+    the test against the lag; the lag then stays only when it passes the test against the mode alone. A mode that
+    does not pass on top of the lag may still replace it: when the mode alone passes the test against the lag.
+
+    Returns
+    -------
+    mode : ModeFit or None
+        The mode named (its ``predicted_v`` is the final prediction).
+    drop_lag : bool
+        Whether the lag is dropped (the mode holds it).
+    """
+    v = np.asarray(measured_v, dtype=float)
+    on_top = fit_mode(t_s, v, predicted_v, fold, floor_v, band_hz, min_confidence, min_excess_share)
+    if predicted_without_lag_v is None:
+        return on_top, False
+    alone = fit_mode(t_s, v, predicted_without_lag_v, fold, floor_v, band_hz, 0.0, -math.inf)
+    if alone is None:
+        return on_top, False
+    if on_top is not None:
+        confidence, share = fold_gain(v, on_top.predicted_v, alone.predicted_v, fold, floor_v)
+        lag_needed = confidence >= min_confidence and share >= min_excess_share
+        return (on_top, False) if lag_needed else (alone, True)
+    confidence, share = fold_gain(v, alone.predicted_v, np.asarray(predicted_v, dtype=float), fold, floor_v)
+    if confidence >= min_confidence and share >= min_excess_share:
+        return ModeFit(alone.frequency_hz, alone.damping_ratio, confidence, share, alone.predicted_v), True
+    return None, False
 
 
 def with_mode(chain: SensorChain, mode: ModeFit) -> SensorChain:

@@ -243,18 +243,26 @@ def simulate(hidden, m, i, duration_s=500.0):
 
 
 def verdict(hidden, d):
+    return verdict_with(OUTSIDE, hidden, d)
+
+
+def verdict_with(outside, hidden, d):
+    """Fully correct ("ok"), "missed" (a strict subset named) or "wrong", with ``outside`` the effects no catalogue
+    name may answer."""
     names = {e for e, _ in hidden}
-    if names & set(OUTSIDE):
+    if names & set(outside):
         return "ok" if d.missing_effect == "unexplained" else "wrong"
     if not names:
         return "ok" if d.missing_effect == "none" else "wrong"
     return "ok" if set(d.missing_effects) == names else ("missed" if set(d.missing_effects) < names else "wrong")
 
 
-def compensates(d, truth, rate, i):
-    rng = np.random.default_rng(SEED0 + 50_000 + i)
+def compensates(d, truth, rate, i, seed0=None, temperature_fn=None):
+    """RMSE of the saved model compensating a new record of the sensor (a train of needle punctures), as a fraction
+    of full scale, against the reference as late as the model states; inf when the runtime refuses the model."""
+    rng = np.random.default_rng((SEED0 if seed0 is None else seed0) + 50_000 + i)
     t, f = puncture_train(120.0, rate, rng)
-    temp = temperature(t, rng)
+    temp = (temperature if temperature_fn is None else temperature_fn)(t, rng)
     v = truth.voltage(t, f, temp) + rng.normal(0.0, 2e-3, t.size)
     try:  # the runtime's own guard: a model it refuses compensates nothing
         comp = Compensator(d.chain, CompensatorConfig(auto_tare=False, noise_gain_rate_hz=rate))
@@ -280,21 +288,25 @@ def main():
         if row["verdict"] == "ok" and hidden and not ({e for e, _ in hidden} & (DRIFTS | set(OUTSIDE))):
             row["compensated_rmse_fraction_of_full_scale"] = compensates(d, truth, rate, i)
         results.append(row)
-    elapsed = time.perf_counter() - t0
+    summarise(results, time.perf_counter() - t0, "independent split", args.json)
+
+
+def summarise(results, elapsed, label, json_path=None):
+    """Print every case and the split's figures; write them as JSON to ``json_path`` when given."""
     ok = sum(r["verdict"] == "ok" for r in results)
     comp = [r["compensated_rmse_fraction_of_full_scale"] for r in results if "compensated_rmse_fraction_of_full_scale" in r]
     clean_named = sum(1 for r in results if not r["hidden"] and r["named"])
-    print(f"\nindependent split: {len(results)} diagnoses in {elapsed:.0f} s")
+    print(f"\n{label}: {len(results)} diagnoses in {elapsed:.0f} s")
     for r in results:
         extra = (f"  compensated RMSE {100 * r['compensated_rmse_fraction_of_full_scale']:.2f} % FS"
                  if "compensated_rmse_fraction_of_full_scale" in r else "")
-        print(f"{'+'.join(r['hidden']) or 'clean':<45} m={r['magnitude']:.1f} {r['rate_hz']:>6.0f} Hz  "
+        print(f"{'+'.join(r['hidden']) or 'clean':<50} m={r['magnitude']:.2f} {r['rate_hz']:>6.0f} Hz  "
               f"{r['verdict']:<7} {'+'.join(r['named']) or r['answer']}{extra}")
     print(f"fully correct: {ok}/{len(results)} ({100 * ok / len(results):.1f} %); catalogue names on clean data: {clean_named}")
     print(f"saved models within 1 % FS RMSE on a new record: {sum(c <= 0.01 for c in comp)}/{len(comp)}")
     print("verdicts:", dict(Counter(r["verdict"] for r in results)))
-    if args.json:
-        with open(args.json, "w") as fh:
+    if json_path:
+        with open(json_path, "w") as fh:
             json.dump({"results": results, "elapsed_s": elapsed, "catalogue": list(EFFECTS)}, fh, indent=1, default=float)
 
 

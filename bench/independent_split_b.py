@@ -24,24 +24,20 @@ from its output.
 from __future__ import annotations
 
 import argparse
-import json
 import time
-from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 from tqdm import tqdm
 
-from independent_split import Truth, puncture_train
-from polyforce_ros.discrepancy.effects import EFFECTS
+from independent_split import Truth, compensates as compensates_with, puncture_train, summarise, verdict_with
 from polyforce_ros.discrepancy.engine import diagnose
-from polyforce_ros.physics.chain import (ModelError, OffsetElement, PlayHysteresisElement, SensorChain, SensorLagElement,
+from polyforce_ros.physics.chain import (OffsetElement, PlayHysteresisElement, SensorChain, SensorLagElement,
                                          ThermalDriftElement, ThermalLagElement, TransportDelayElement,
                                          ViscoelasticElement, play_operator)
 from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers, Burgers2, Zener, simulate_deformation
 from polyforce_ros.record import Record
-from polyforce_ros.runtime import Compensator, CompensatorConfig
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import BoucWen, SecondOrderLag, StaticMap
 
@@ -342,27 +338,12 @@ def simulate(hidden, m, i, duration_s=400.0):
 
 
 def verdict(hidden, d):
-    names = {e for e, _ in hidden}
-    if names & set(OUTSIDE):
-        return "ok" if d.missing_effect == "unexplained" else "wrong"
-    if not names:
-        return "ok" if d.missing_effect == "none" else "wrong"
-    return "ok" if set(d.missing_effects) == names else ("missed" if set(d.missing_effects) < names else "wrong")
+    return verdict_with(OUTSIDE, hidden, d)
 
 
 def compensates(d, truth, rate, i):
-    """RMSE of the saved model's compensation of a new record of the sensor, as a fraction of full scale."""
-    rng = np.random.default_rng(SEED0 + 50_000 + i)
-    t, f = puncture_train(120.0, rate, rng)
-    temp = temperature(t, rng)
-    v = truth.voltage(t, f, temp) + rng.normal(0.0, 2e-3, t.size)
-    try:  # the runtime's own guard: a model it refuses compensates nothing
-        comp = Compensator(d.chain, CompensatorConfig(auto_tare=False, noise_gain_rate_hz=rate))
-    except ModelError:
-        return float("inf")
-    used, out = comp.run(np.round(t * 1e9).astype(np.int64), v, temperature_c=temp)
-    ref = np.interp(t - d.chain.latency_s, t, f, left=f[0])
-    return float(np.sqrt(np.mean((out[used] - ref[used]) ** 2)) / np.ptp(f))
+    """RMSE of the saved model on a new record of the sensor, as a fraction of full scale (split A's measure)."""
+    return compensates_with(d, truth, rate, i, seed0=SEED0, temperature_fn=temperature)
 
 
 def run_case(item):
@@ -386,22 +367,7 @@ def main():
     t0 = time.perf_counter()
     with ProcessPoolExecutor(args.workers) as pool:
         results = list(tqdm(pool.map(run_case, todo), total=len(todo), desc="independent split B"))
-    elapsed = time.perf_counter() - t0
-    ok = sum(r["verdict"] == "ok" for r in results)
-    comp = [r["compensated_rmse_fraction_of_full_scale"] for r in results if "compensated_rmse_fraction_of_full_scale" in r]
-    clean_named = sum(1 for r in results if not r["hidden"] and r["named"])
-    print(f"\nindependent split B: {len(results)} diagnoses in {elapsed:.0f} s")
-    for r in results:
-        extra = (f"  compensated RMSE {100 * r['compensated_rmse_fraction_of_full_scale']:.2f} % FS"
-                 if "compensated_rmse_fraction_of_full_scale" in r else "")
-        print(f"{'+'.join(r['hidden']) or 'clean':<50} m={r['magnitude']:.2f} {r['rate_hz']:>6.0f} Hz  "
-              f"{r['verdict']:<7} {'+'.join(r['named']) or r['answer']}{extra}")
-    print(f"fully correct: {ok}/{len(results)} ({100 * ok / len(results):.1f} %); catalogue names on clean data: {clean_named}")
-    print(f"saved models within 1 % FS RMSE on a new record: {sum(c <= 0.01 for c in comp)}/{len(comp)}")
-    print("verdicts:", dict(Counter(r["verdict"] for r in results)))
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump({"results": results, "elapsed_s": elapsed, "catalogue": list(EFFECTS)}, fh, indent=1, default=float)
+    summarise(results, time.perf_counter() - t0, "independent split B", args.json)
 
 
 if __name__ == "__main__":

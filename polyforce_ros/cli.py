@@ -175,7 +175,9 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     bar.close()
     print(f"missing effect: {diag.missing_effect}  (base {diag.base})")
     for name in diag.missing_effects:
-        print(f"  named {name} ({diag.variants.get(name) or 'as in the catalogue'}), confidence {diag.confidences[name]:.0%}")
+        saved = ", ".join(f"{k} {v:.4g}" for k, v in diag.saved_parameters(name).items())
+        print(f"  named {name} ({diag.variants.get(name) or 'as in the catalogue'}), confidence {diag.confidences[name]:.0%}"
+              + (f"; saved as {saved}" if saved else ""))
     print(f"validation RMSE (out of sample): {diag.rmse_before:.3e} V -> {diag.rmse_after:.3e} V; "
           f"noise floor {diag.noise_floor_v:.3e} V")
     if diag.unexplained["present"]:
@@ -314,7 +316,9 @@ def build_parser() -> argparse.ArgumentParser:
                     "kept only when it lowers the out-of-sample error of a time-blocked cross-validation.\n\n"
                     "JSON: missing_effects (ordered list, empty for none), missing_effect (the first, 'none', or "
                     "'unexplained' when no effect is justified but a structured residual remains), effects (each with "
-                    "its variant and confidence = share of cross-validation folds it improves), rmse_before/rmse_after (out of "
+                    "its variant, confidence = share of cross-validation folds it improves, and saved = the scalar parameters of "
+                    "the element that holds it: a resonance's frequency_hz and damping_ratio, a friction's radius_n...), "
+                    "rmse_before/rmse_after (out of "
                     "sample, V), noise_floor_v (estimated from the data), unexplained {present, rms_v, noise_floor_v, "
                     "where}, skipped (e.g. thermal_drift without a temperature topic), candidates, evidence, coefficients "
                     "(each with a block-jackknife standard_error over the folds), model, newtons {base, saved: the "

@@ -116,6 +116,7 @@ def test_diagnose_save_model_then_compensate_for_each_newer_effect(effect, famil
     new record of the same sensor (a needle profile under a temperature swing, in a bag with its temperature topic)
     to within 1 % of full scale RMSE, against the reference as late as the model states (its latency); a friction
     within the band it fitted."""
+    from polyforce_ros.discrepancy.effects import EFFECTS
     from polyforce_ros.model_file import load_model
     from polyforce_ros.sim.bench import random_temperature
 
@@ -129,6 +130,10 @@ def test_diagnose_save_model_then_compensate_for_each_newer_effect(effect, famil
     data = json.loads((tmp_path / "d.json").read_text())
     assert data["missing_effects"] == [effect], (data["missing_effects"], data["unexplained"])
     chain = load_model(model).chain
+    # the JSON reports the saved element's own figures (a mode's frequency and damping, a friction's band...)
+    held = next(e for e in chain.elements if e.kind in EFFECTS[effect].elements)
+    assert data["effects"][0]["saved"] == pytest.approx({k: v for k, v in held.to_dict().items()
+                                                         if isinstance(v, float)})
     tn, fn = profiles.make_profile("needle_insertion", rate_hz=rate_hz, seed=seed)
     tempn = random_temperature(tn + 200.0, seed + 1)
     sim = BridgeSimulator(noise_std_v=2e-3, seed=seed + 1)

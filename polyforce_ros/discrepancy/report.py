@@ -103,7 +103,11 @@ def write_report(diag: Diagnosis, rec: Record, out_dir: PathLike, bag_name: str 
 
     data = diag.to_json()
     u = diag.unexplained
-    named = ", ".join(f"`{e}` (confidence {diag.confidences[e]:.0%})" for e in diag.missing_effects)
+    def saved(effect: str) -> str:
+        values = diag.saved_parameters(effect)
+        return "; " + ", ".join(f"{k} {v:.4g}" for k, v in values.items()) if values else ""
+
+    named = ", ".join(f"`{e}` (confidence {diag.confidences[e]:.0%}{saved(e)})" for e in diag.missing_effects)
     lines = [f"# Discrepancy diagnosis {bag_name}", "",
              f"**Missing effects: {named or '`' + diag.missing_effect + '`'}** "
              f"(base `{diag.base}`). Out-of-sample RMSE {diag.rmse_before:.3e} V -> {diag.rmse_after:.3e} V "

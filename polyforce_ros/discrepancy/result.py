@@ -8,6 +8,7 @@ import numpy as np
 
 from ..physics.chain import SensorChain
 from .design import BLOCKS_PER_FOLD
+from .effects import EFFECTS as REGISTRY
 from .selection import Candidate
 from .signals import FloatArray
 
@@ -91,6 +92,16 @@ class Diagnosis:
             return self.missing_effects[0]
         return "unexplained" if self.unexplained.get("present") else "none"
 
+    def saved_parameters(self, effect: str) -> dict[str, float]:
+        """The scalar parameters of the saved element that holds ``effect`` (a mode's frequency and damping, a
+        friction's band, a shift per degree...), by their model-file keys; empty when no element holds it alone."""
+        kinds = REGISTRY[effect].elements
+        for element in self.chain.invertible_elements:
+            if element.kind in kinds:
+                return {k: float(v) for k, v in element.to_dict().items()
+                        if k != "type" and isinstance(v, (int, float)) and not isinstance(v, bool)}
+        return {}
+
     def to_json(self) -> dict[str, Any]:
         """Plain data: the JSON of ``polyforce diagnose`` (see its ``--help``)."""
         from ..model_file import SensorModel, model_to_mapping
@@ -99,8 +110,8 @@ class Diagnosis:
             "base": self.base,
             "missing_effect": self.missing_effect,
             "missing_effects": list(self.missing_effects),
-            "effects": [{"effect": e, "variant": self.variants.get(e, ""), "confidence": self.confidences[e]}
-                        for e in self.missing_effects],
+            "effects": [{"effect": e, "variant": self.variants.get(e, ""), "confidence": self.confidences[e],
+                         "saved": self.saved_parameters(e)} for e in self.missing_effects],
             "rmse_before": self.rmse_before,
             "rmse_after": self.rmse_after,
             "noise_floor_v": self.noise_floor_v,

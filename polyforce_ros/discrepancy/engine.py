@@ -88,9 +88,9 @@ from .effects import EFFECTS as REGISTRY, NAMES
 from .localise import describe, localise
 from .newtons import fold_chains, force_quality, with_filter, with_friction_deadband, with_safe_bandwidth
 from .refit import base_structure
-from .resonance import choose_mode, with_mode
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
 from .residual import excess, noise_floor, out_of_sample, unexplained_test, where
+from .resonance import ModeFit, choose_mode, with_mode
 from .result import Diagnosis
 from .selection import Candidate, Selection
 from .selection import parsimonious as _parsimonious  # noqa: F401 - likewise
@@ -221,6 +221,28 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     return judged
 
 
+def _mode_stage(rec: Record, fitter: Fitter, sig_full: Signals, bin_of_sample: IntArray, current: Fit,
+                selection: Selection, predicted_v: FloatArray, test: Any, floor_v: float, min_confidence: float,
+                min_excess_share: float, say: Callable[[str], None]) -> tuple[Optional[ModeFit], Fit]:
+    """Stage 5b: a mechanical mode fitted at the record's rate (:func:`.resonance.choose_mode`), named in
+    ``selection`` when it passes; returns it (None when not) and the fit kept (without a sensor lag it replaces)."""
+    strongest = max(test.bands, key=lambda b: b["rms_v"]) if test.bands else None
+    band = (strongest["low_hz"], strongest["high_hz"]) if strongest else None
+    reduced = _without(current.structure, "sensor_lag") if "sensor_lag" in selection.accepted else None
+    reduced_fit = fitter.evaluate(reduced) if reduced is not None else None
+    fold = fitter.fold[bin_of_sample]
+    without_lag = None if reduced_fit is None else out_of_sample(sig_full, reduced_fit, fitter, bin_of_sample)[2]
+    mode, drop_lag = choose_mode(rec.t_s, rec.voltage_v, predicted_v, fold, floor_v, band, min_confidence,
+                                 min_excess_share, without_lag)
+    if drop_lag and reduced_fit is not None:
+        say("drop sensor_lag: the mode holds it")
+        selection.drop("sensor_lag")
+        current = reduced_fit
+    if mode is not None:
+        selection.name_at_record_rate("resonance", mode.confidence, mode.excess_share)
+    return mode, current
+
+
 def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_folds: int = 5,
              min_confidence: float = 0.8, min_excess_share: float = 0.3, unexplained_ratio: float = 0.5,
              min_explained: float = 0.8, max_effects: int = 4, effects: Optional[Collection[str]] = None,
@@ -262,24 +284,13 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     mode = None
     if test.present and "resonance" in catalogue:
         say("resonance at the record's rate")
-        strongest = max(test.bands, key=lambda b: b["rms_v"]) if test.bands else None
-        reduced = _without(current.structure, "sensor_lag") if "sensor_lag" in selection.accepted else None
-        reduced_fit = fitter.evaluate(reduced) if reduced is not None else None
-        mode, drop_lag = choose_mode(t, rec.voltage_v, sim_after, fitter.fold[bin_of_sample], floor,
-                                     (strongest["low_hz"], strongest["high_hz"]) if strongest else None, min_confidence,
-                                     min_excess_share,
-                                     None if reduced_fit is None
-                                     else out_of_sample(sig_full, reduced_fit, fitter, bin_of_sample)[2])
-        if drop_lag and reduced_fit is not None:
-            say("drop sensor_lag: the mode holds it")
-            selection.drop("sensor_lag")
-            current = reduced_fit
+        mode, current = _mode_stage(rec, fitter, sig_full, bin_of_sample, current, selection, sim_after, test, floor,
+                                    min_confidence, min_excess_share, say)
         if mode is not None:
             sim_after = mode.predicted_v
             resid_after = rec.voltage_v - sim_after
             rmse_after = float(np.sqrt(np.mean(resid_after ** 2)))
             test = unexplained_test(t, resid_after, floor, unexplained_ratio)
-            selection.name_at_record_rate("resonance", mode.confidence, mode.excess_share)
     # the named effects must explain most of the base's error above the floor at the record's rate, out of
     # sample; when structure remains and they explain little of it, they are partial fits of something the
     # catalogue does not hold (a time drift following the mean of a sensitivity that drifts explains about

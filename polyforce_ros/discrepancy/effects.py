@@ -28,7 +28,6 @@ form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Callable, Mapping, Optional, Sequence
 
@@ -44,7 +43,7 @@ from ..physics.chain import (
 )
 from ..physics.expconv import exp_convolve, exp_convolve_columns
 from ..physics.viscoelastic import simulate_deformation_columns
-from .signals import FloatArray, Signals
+from .signals import FloatArray, Signals, noise_std
 
 __all__ = ["Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
            "SPLINE_INTERVALS", "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n", "lag_columns", "lag_stages",
@@ -233,12 +232,11 @@ FRICTION_NOISE_SIGMAS = 4.0
 
 
 def force_noise_n(sig: Signals) -> float:
-    """Standard deviation of the reference force's noise at the fit rate [N], from its second differences (a
-    smooth load cancels in them; white noise gives sqrt(6) sigma), by the median absolute deviation."""
+    """Standard deviation of the reference force's noise at the fit rate [N] (:func:`.signals.noise_std`: a smooth
+    load cancels in second differences), once per record."""
     key = "force noise"
     if key not in sig.record_cache:
-        d2 = np.diff(sig.f, 2)
-        sig.record_cache[key] = float(np.median(np.abs(d2 - np.median(d2))) / 0.6745 / math.sqrt(6.0)) if d2.size else 0.0
+        sig.record_cache[key] = noise_std(sig.f)
     return float(sig.record_cache[key])
 
 

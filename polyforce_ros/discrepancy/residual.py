@@ -18,21 +18,13 @@ from scipy import stats
 
 from ..physics.identification import block_average
 from .design import Fit, Fitter, design
-from .signals import FloatArray, IntArray, Signals
+from .signals import FloatArray, IntArray, Signals, noise_std
 
 __all__ = ["noise_std", "NoiseFloor", "noise_floor", "excess", "ljung_box", "band_structure", "Unexplained",
            "unexplained_test", "out_of_sample", "where"]
 
 
 # ----------------------------------------------------------------------------- the noise floor
-
-def noise_std(x: npt.ArrayLike) -> float:
-    """White-noise standard deviation of a sampled signal from its second differences (robust MAD)."""
-    d2 = np.diff(np.asarray(x, dtype=float), 2)
-    if d2.size < 10:
-        return 0.0
-    return float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / math.sqrt(6.0))
-
 
 @dataclass(frozen=True)
 class NoiseFloor:

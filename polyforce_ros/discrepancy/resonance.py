@@ -100,9 +100,9 @@ def fit_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.Arr
     if t.size < 100:
         return None
     step = float(np.median(np.diff(t)))
-    highest = 0.45 / step
-    if not (step > 0 and highest > 2.0 * LOWEST_MODE_HZ):
+    if not (step > 0 and 0.45 / step > 2.0 * LOWEST_MODE_HZ):
         return None
+    highest = 0.45 / step
     tu = t[0] + step * np.arange(int((t[-1] - t[0]) / step) + 1)
     pu, vu = np.interp(tu, t, p), np.interp(tu, t, v)
 

@@ -297,8 +297,7 @@ class Selection:
                 if not self.justified(self.current, fit):
                     self.say(f"drop {name}")
                     dropped = True
-                    self.accepted.remove(name)
-                    self._unname(name)
+                    self.drop(name)
                     # the model kept is the one the drop was judged on, unless its refit predicts the left-out
                     # blocks better: a refit that moves the reference core can lose what the others explained,
                     # and every later check is judged against this model
@@ -374,7 +373,7 @@ class Selection:
                 c.variant = self.variants[c.effect]
 
     def drop(self, name: str) -> None:
-        """``name`` no longer names an effect (a stage after the selection found it stands in for another)."""
+        """``name`` no longer names an effect (another stands in for it)."""
         self.accepted.remove(name)
         self._unname(name)
 

@@ -5,6 +5,7 @@ grid or the record at its own rate, with the caches of the columns made from it.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
@@ -13,7 +14,7 @@ import numpy.typing as npt
 
 from ..physics.viscoelastic import ViscoelasticModel
 
-__all__ = ["FloatArray", "BoolArray", "IntArray", "Signals", "uniform_blocks"]
+__all__ = ["FloatArray", "BoolArray", "IntArray", "Signals", "uniform_blocks", "noise_std"]
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
@@ -118,3 +119,11 @@ def uniform_blocks(t_s: npt.ArrayLike, force_n: npt.ArrayLike, voltage_v: npt.Ar
         return out
 
     return grid, mean(force_n), mean(voltage_v), mean(temperature_c), valid, k
+
+
+def noise_std(x: npt.ArrayLike) -> float:
+    """White-noise standard deviation of a sampled signal from its second differences (robust MAD)."""
+    d2 = np.diff(np.asarray(x, dtype=float), 2)
+    if d2.size < 10:
+        return 0.0
+    return float(1.4826 * np.median(np.abs(d2 - np.median(d2))) / math.sqrt(6.0))

@@ -19,7 +19,8 @@ from ..viscoelastic import (
     compensate,
     simulate_deformation,
 )
-from .base import DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, ModelError, check_keys, check_number, short_repr, smoke_records
+from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, ModelError, check_keys, check_number, short_repr,
+                   smoke_records, temperature_c_of)
 
 __all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "reduced_time_s", "MAX_LOG_SHIFT"]
 
@@ -224,8 +225,7 @@ class ThermoRheologicalElement(ViscoelasticElement):
         self._freeze(model=core.model, kind="thermo_rheological", shift_per_c=shift_per_c, reference_c=reference_c)
 
     def _xi(self, t_s: npt.ArrayLike, aux: Optional[Mapping[str, Any]]) -> FloatArray:
-        temp = None if not aux else aux.get("temperature_c")
-        return reduced_time_s(t_s, temp, self.shift_per_c, self.reference_c)
+        return reduced_time_s(t_s, temperature_c_of(aux, np.size(t_s)), self.shift_per_c, self.reference_c)
 
     def forward_state(self) -> _ClockState:  # type: ignore[override]
         """A fresh state for block-wise :meth:`forward` runs: the core's, and the reduced time's last stamp."""
@@ -237,18 +237,17 @@ class ThermoRheologicalElement(ViscoelasticElement):
         blocks."""
         st = state if state is not None else self.forward_state()
         t = np.asarray(t_s, dtype=float)
-        temp = None if not aux else aux.get("temperature_c")
+        temp = temperature_c_of(aux, t.size)
         if st["t"] is not None and t.size:  # continue the clock from the previous block's last sample
-            temps = None if temp is None else np.concatenate([[st["temperature_c"] if st["temperature_c"] is not None
-                                                               else self.reference_c],
-                                                              np.broadcast_to(np.asarray(temp, dtype=float), t.shape)])
+            before = st["temperature_c"] if st["temperature_c"] is not None else self.reference_c
+            temps = None if temp is None else np.concatenate([[before], temp])
             xi = reduced_time_s(np.concatenate([[st["t"]], t]), temps, self.shift_per_c, self.reference_c)[1:]
             xi = xi - st["t"] + st["xi"]
         else:
             xi = reduced_time_s(t, temp, self.shift_per_c, self.reference_c)
         if t.size:
             st["t"], st["xi"] = float(t[-1]), float(xi[-1])
-            st["temperature_c"] = None if temp is None else float(np.broadcast_to(np.asarray(temp, dtype=float), t.shape)[-1])
+            st["temperature_c"] = None if temp is None else float(temp[-1])
         return simulate_deformation(self.model, xi, force_n, state=st["core"])
 
     def backward(self, t_s: npt.ArrayLike, deformation_v: npt.ArrayLike,
@@ -262,7 +261,7 @@ class ThermoRheologicalElement(ViscoelasticElement):
 
     def to_dict(self) -> dict[str, Any]:
         """The element as a model-file mapping."""
-        return {"type": self.kind, "core": {"type": self.model.kind, **self.model.as_dict()},
+        return {"type": self.kind, "core": ViscoelasticElement(self.model).to_dict(),
                 "shift_per_c": float(self.shift_per_c), "reference_c": float(self.reference_c)}
 
     @classmethod

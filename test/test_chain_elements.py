@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 from polyforce_ros.model_file import SensorModel, load_model, save_model
 from polyforce_ros.physics.chain import (
     GainElement, ModelError, NonlinearGainElement, OffsetDriftElement, OffsetElement, SensorChain, SensorLagElement,
-    ThermalDriftElement, ThermalLagElement, ViscoelasticElement,
+    ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement, ViscoelasticElement,
 )
 from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
 from polyforce_ros.sim.sensor import BridgeSimulator
@@ -27,10 +27,17 @@ ELEMENTS = [
     ThermalDriftElement(coefficient_v_per_c=2e-3, reference_c=22.0),
     OffsetDriftElement(rate_v_per_s=1e-4),
     ThermalLagElement(coefficient_v_per_c=-1.5e-3, reference_c=23.0, tau_s=2.0),
+    ThermalDriftElement(coefficient_v_per_c=2e-3, reference_c=22.0, curvature_v_per_c2=-4e-4),
+    ThermalLagElement(coefficient_v_per_c=-1.5e-3, reference_c=23.0, tau_s=2.0, curvature_v_per_c2=3e-4),
+    ThermalSensitivityElement(span_coefficient_per_c=0.004, reference_c=23.0, thermal_tau_s=1.5),
 ]
 
 
-@pytest.mark.parametrize("element", ELEMENTS, ids=lambda e: e.kind)
+def _element_id(e):
+    return e.kind + "".join(f"-{k}" for k in ("curvature_v_per_c2", "thermal_tau_s") if getattr(e, k, 0.0))
+
+
+@pytest.mark.parametrize("element", ELEMENTS, ids=_element_id)
 def test_backward_undoes_forward(element):
     t, x, aux = signals()
     y = element.forward(t, x, aux)
@@ -47,7 +54,7 @@ def test_backward_undoes_forward(element):
         assert np.abs(back - x).max() < 1e-12
 
 
-@pytest.mark.parametrize("element", ELEMENTS, ids=lambda e: e.kind)
+@pytest.mark.parametrize("element", ELEMENTS, ids=_element_id)
 def test_streaming_equals_batch(element):
     t, x, aux = signals(3000)
     y = element.forward(t, x, aux) + np.random.default_rng(0).normal(0, 1e-3, t.size)
@@ -522,3 +529,49 @@ def test_a_thermo_rheological_element_outside_its_ranges_is_a_model_error(bad):
     assert ThermoRheologicalElement.from_dict(good).to_dict() == good
     with pytest.raises(ModelError):
         ThermoRheologicalElement.from_dict({**good, **bad})
+
+
+# -- temperature: a curved zero, a lagged span --------------------------------------------------------------
+
+@settings(max_examples=40, deadline=None)
+@given(c=st.floats(-0.05, 0.05), q=st.floats(-0.01, 0.01), tau=st.one_of(st.just(0.0), st.floats(0.5, 200.0)),
+       ref=st.floats(15.0, 35.0), seed=st.integers(0, 2 ** 16))
+def test_a_curved_zero_and_a_lagged_span_follow_their_formulas_in_blocks_and_round_trip(c, q, tau, ref, seed):
+    from scipy.signal import lfilter
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(4000) * 0.05
+    temp = ref + rng.uniform(-8, 8) * np.tanh((t - rng.uniform(20, 180)) / rng.uniform(5, 40))
+    x = rng.uniform(0, 2, t.size)
+    aux = {"temperature_c": temp}
+    zero = (ThermalLagElement(coefficient_v_per_c=c, reference_c=ref, tau_s=tau, curvature_v_per_c2=q) if tau
+            else ThermalDriftElement(coefficient_v_per_c=c, reference_c=ref, curvature_v_per_c2=q))
+    span = ThermalSensitivityElement(span_coefficient_per_c=c / 10, reference_c=ref, thermal_tau_s=tau)
+    # the lag by its own recursion: exact for a temperature linear between samples (a first-order hold)
+    if tau:
+        a = np.exp(-0.05 / tau)
+        b1 = 1 - tau / 0.05 * (1 - a)
+        lagged = lfilter([b1, (1 - a) - b1], [1, -a], temp - temp[0]) + temp[0]
+    else:
+        lagged = temp
+    d = lagged - ref
+    np.testing.assert_allclose(zero.forward(t, x, aux), x + c * d + q * d ** 2, atol=1e-9)
+    np.testing.assert_allclose(span.forward(t, x, aux), x * np.maximum(1 + c / 10 * d, 0.2), atol=1e-9)
+    for e in (zero, span):
+        state = e.forward_state()
+        blocks = np.concatenate([e.forward(t[i:j], x[i:j], {"temperature_c": temp[i:j]}, state)
+                                 for i, j in ((0, 1), (1, 1700), (1700, 4000))])
+        np.testing.assert_allclose(blocks, e.forward(t, x, aux), atol=1e-12)
+        assert type(e).from_dict(e.to_dict()).to_dict() == e.to_dict()
+
+
+def test_a_zero_curvature_and_no_span_lag_stay_out_of_the_model_file_and_bad_values_are_refused():
+    assert "curvature_v_per_c2" not in ThermalDriftElement(coefficient_v_per_c=1e-3, reference_c=20.0).to_dict()
+    assert "thermal_tau_s" not in ThermalSensitivityElement(span_coefficient_per_c=1e-3, reference_c=20.0).to_dict()
+    for bad in ({"curvature_v_per_c2": 5.0}, {"curvature_v_per_c2": float("nan")}, {"curvature_v_per_c2": "x"}):
+        with pytest.raises(ModelError, match="curvature_v_per_c2"):
+            ThermalDriftElement.from_dict({"type": "thermal_drift", "coefficient_v_per_c": 1e-3, "reference_c": 20.0, **bad})
+    for bad in (-1.0, 1e9, float("inf")):
+        with pytest.raises(ModelError, match="thermal_tau_s"):
+            ThermalSensitivityElement.from_dict({"type": "thermal_sensitivity", "span_coefficient_per_c": 1e-3,
+                                                 "reference_c": 20.0, "thermal_tau_s": bad})

@@ -28,6 +28,7 @@ from .drift import (
                    SplineDriftElement,
                    ThermalDriftElement,
                    ThermalLagElement,
+                   lagged_temperature_c,
 )
 from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
 from .hysteresis import BridgeHysteresisElement, FrictionElement, PlayHysteresisElement, PreisachElement, play_operator
@@ -42,4 +43,4 @@ __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "Forwar
            "FrictionElement",
            "ThermalLagElement",
            "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement",
-           "ELEMENT_TYPES", "SensorChain", "ChainStream"]
+           "lagged_temperature_c", "ELEMENT_TYPES", "SensorChain", "ChainStream"]

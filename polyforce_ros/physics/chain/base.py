@@ -202,8 +202,12 @@ PARAMETER_BOUNDS = {
     "inverse_damping_ratio": (1e-3, 0.95, "", "the inverse's damping, above the mode's"),
     # V per degC: 10 V/degC swings a 10 V range in 1 degC (diagnosis fits +-1 V/degC)
     "coefficient_v_per_c": (-10.0, 10.0, "V/degC", "full scale within 1 degC already"),
+    # the zero's curvature: 1 V/degC^2 swings a 10 V range within about 3 degC (diagnosis fits +-0.1 V/degC^2)
+    "curvature_v_per_c2": (-1.0, 1.0, "V/degC^2", "full scale within 3 degC already"),
     # span change per degC: 5 %/degC halves or doubles the span within 20 degC (diagnosis fits +-2 %/degC)
     "span_coefficient_per_c": (-0.05, 0.05, "1/degC", "the span halves or doubles within 20 degC already"),
+    # the span's thermal lag behind the thermometer (0 = none): up to a day
+    "thermal_tau_s": (1e-3, 1e5, "s", "a span a day behind its temperature follows the weather, not the sensor"),
     # a polymer sensor below -100 degC is glass, above 300 degC it decomposes
     "reference_c": (-100.0, 300.0, "degC", "the range a polymer sensor survives"),
     # Preisach input/output range and weights, in N or V (either side of the core)
@@ -240,7 +244,7 @@ PARAMETER_BOUNDS = {
     "cubic_v_per_s3": (-1e3, 1e3, "V/s^3", "over 24 h at most 6.5e17 V: finite"),
 }
 # Parameters where 0 means "off" and is allowed besides the range.
-_ZERO_MEANS_OFF = {"noise_filter_tau_s"}
+_ZERO_MEANS_OFF = {"noise_filter_tau_s", "thermal_tau_s"}
 #: Preisach levels: 5x seed 001's 40; n (n + 1) / 2 relays cost O(n**2) per sample.
 MAX_PREISACH_LEVELS = 200
 # The record a model must carry: 24 h (exp(-r * 86400 s) decays, never grows) and
@@ -321,18 +325,20 @@ def smoke_records() -> list[tuple[npt.NDArray[np.floating[Any]], FloatArray, dic
 
 class SimpleElement(Frozen):
     """Base of the effect elements: parameters declared in PARAMS as (name, must_be_positive),
-    optional ones in OPTIONAL as name -> default (numbers >= 0; the default leaves them out of files)."""
+    optional ones in OPTIONAL as name -> default (numbers >= 0 unless named in SIGNED; the default leaves them
+    out of files)."""
 
     kind = ""
     PARAMS: tuple[tuple[str, bool], ...] = ()
     OPTIONAL: dict[str, float] = {}
+    SIGNED: frozenset[str] = frozenset()
 
     def __init__(self, **values: float) -> None:
         for name, positive in self.PARAMS:
             self._freeze(**{name: check_number(self.kind, name, values[name], positive)})
         for name, default in self.OPTIONAL.items():
             raw = values.get(name, default)
-            if isinstance(raw, (int, float)) and not isinstance(raw, bool) and raw < 0:
+            if isinstance(raw, (int, float)) and not isinstance(raw, bool) and raw < 0 and name not in self.SIGNED:
                 raise ModelError(f"{self.kind}: {name} must be >= 0, got {short_repr(raw)}")
             self._freeze(**{name: check_number(self.kind, name, raw, False)})
 

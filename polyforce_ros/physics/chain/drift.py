@@ -25,18 +25,70 @@ if TYPE_CHECKING:  # for annotations only: at run time scipy.interpolate loads w
     from scipy.interpolate import CubicSpline
 
 __all__ = ["ThermalDriftElement", "OffsetDriftElement", "ThermalLagElement", "ExponentialDriftElement",
-           "PolynomialDriftElement", "SplineDriftElement"]
+           "PolynomialDriftElement", "SplineDriftElement", "ThermalForwardState", "thermal_forward_state",
+           "lagged_temperature_c", "LaggedTemperatureStream", "thermal_zero"]
 
 
-class _ThermalForwardState(TypedDict):
+class ThermalForwardState(TypedDict):
+    """Block-wise state of a temperature lag."""
+
     y: FloatArray  # the lag's integral state, degC * s
     t_prev: Optional[float]  # s; None before the first sample
     temp_prev: float  # degC
 
 
+def thermal_forward_state() -> ThermalForwardState:
+    """A fresh temperature-lag state (it settles at the first temperature it sees)."""
+    return {"y": np.zeros(1), "t_prev": None, "temp_prev": 0.0}
+
+
+def lagged_temperature_c(t_s: npt.ArrayLike, temp_c: Optional[FloatArray], tau_s: float,
+                         state: Optional[ThermalForwardState] = None) -> Optional[FloatArray]:
+    """The temperature through a first-order lag, tau_s T_lag' + T_lag = T [degC], settled at the first temperature
+    (or continued from ``state``, which it updates); None without a temperature."""
+    t = np.asarray(t_s, dtype=float)
+    if temp_c is None or t.size == 0:
+        return None
+    rate = 1.0 / tau_s
+    if state is None or state["t_prev"] is None:  # settled at the first temperature
+        y = exp_convolve(t, temp_c, [rate], y0=[temp_c[0] * tau_s])[:, 0]
+    else:
+        y = exp_convolve(t, temp_c, [rate], y0=state["y"], u_prev=state["temp_prev"], t_prev_s=state["t_prev"])[:, 0]
+    if state is not None:
+        state["y"], state["t_prev"], state["temp_prev"] = np.array([y[-1]]), float(t[-1]), float(temp_c[-1])
+    out: FloatArray = y * rate
+    return out
+
+
+class LaggedTemperatureStream:
+    """The per-sample form of :func:`lagged_temperature_c`: ``update(t_s, temp_c)`` returns T_lag [degC], settled at
+    the first temperature after a :meth:`reset`."""
+
+    def __init__(self, tau_s: float) -> None:
+        self.tau_s = tau_s
+        self.lag = ExpConvState([1.0 / tau_s])
+
+    def reset(self) -> None:
+        """Forget the history: the next temperature settles the lag."""
+        self.lag.reset()
+
+    def update(self, t_s: float, temp_c: float) -> float:
+        """T_lag after the sample at ``t_s``."""
+        if self.lag.t_prev_s is None:
+            self.lag.reset([temp_c * self.tau_s])
+        state = self.lag.update(t_s, float(temp_c))
+        return float((self.lag.y if state is None else state)[0] / self.tau_s)
+
+
+
+def thermal_zero(coefficient_v_per_c: float, curvature_v_per_c2: float, departure_c: FloatOrArray) -> FloatOrArray:
+    """The zero's shift [V] at a departure from the reference temperature [degC]: linear plus curvature."""
+    return (coefficient_v_per_c + curvature_v_per_c2 * departure_c) * departure_c
+
 
 class ThermalDriftElement(SimpleElement):
-    """Output that follows temperature: y = x + coefficient_v_per_c * (T - reference_c).
+    """Output that follows temperature: y = x + c (T - T_ref) + q (T - T_ref)^2, with c = ``coefficient_v_per_c``,
+    q = ``curvature_v_per_c2`` (optional, 0) and T_ref = ``reference_c``.
 
     T comes from ``aux['temperature_c']``; without it T is taken as the
     reference (no correction), which the node reports.
@@ -44,31 +96,35 @@ class ThermalDriftElement(SimpleElement):
 
     kind = "thermal_drift"
     PARAMS = (("coefficient_v_per_c", False), ("reference_c", False))
+    OPTIONAL = {"curvature_v_per_c2": 0.0}
+    SIGNED = frozenset({"curvature_v_per_c2"})
     coefficient_v_per_c: float
     reference_c: float
+    curvature_v_per_c2: float
 
     def _term(self, y: FloatArray, aux: Optional[Mapping[str, Any]]) -> FloatOrArray:
         temp = temperature_c_of(aux, np.size(y))
-        return 0.0 if temp is None else self.coefficient_v_per_c * (temp - self.reference_c)
+        return 0.0 if temp is None else thermal_zero(self.coefficient_v_per_c, self.curvature_v_per_c2,
+                                                     temp - self.reference_c)
 
     def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
                 state: object = None) -> FloatArray:
-        """The input plus the thermal term, ``x + coefficient_v_per_c * (T - reference_c)``."""
+        """The input plus the thermal term."""
         x = np.asarray(x, dtype=float)
         return x + self._term(x, aux)
 
     def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
-        """The output less the thermal term, ``y - coefficient_v_per_c * (T - reference_c)``."""
+        """The output less the thermal term."""
         y = np.asarray(y, dtype=float)
         return y - self._term(y, aux)
 
     def streaming(self) -> ElementStream:
         """The per-sample form of :meth:`backward`; a sample without ``aux['temperature_c']`` passes unchanged."""
-        c, ref = self.coefficient_v_per_c, self.reference_c
+        c, q, ref = self.coefficient_v_per_c, self.curvature_v_per_c2, self.reference_c
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
             temp = None if not aux else aux.get("temperature_c")
-            return y if temp is None else y - c * (temp - ref)
+            return y if temp is None else y - float(thermal_zero(c, q, temp - ref))
 
         return FunctionStream(step)
 
@@ -136,7 +192,8 @@ class OffsetDriftElement(_TimeDriftElement):
 
 class ThermalLagElement(SimpleElement):
     """Output that follows temperature through a first-order thermal lag:
-    y = x + coefficient_v_per_c * (T_lag - reference_c), tau_s T_lag' + T_lag = T.
+    y = x + c (T_lag - T_ref) + q (T_lag - T_ref)^2, tau_s T_lag' + T_lag = T (c, q, T_ref as
+    :class:`ThermalDriftElement`).
 
     T comes from ``aux['temperature_c']``; the lag starts settled at the first
     temperature sample (batch, or the first after a reset when streaming).
@@ -145,56 +202,44 @@ class ThermalLagElement(SimpleElement):
 
     kind = "thermal_lag"
     PARAMS = (("coefficient_v_per_c", False), ("reference_c", False), ("tau_s", True))
+    OPTIONAL = {"curvature_v_per_c2": 0.0}
+    SIGNED = frozenset({"curvature_v_per_c2"})
     coefficient_v_per_c: float
     reference_c: float
     tau_s: float
+    curvature_v_per_c2: float
 
     def _lagged(self, t_s: npt.ArrayLike, temp: Optional[FloatArray],
-                state: Optional[_ThermalForwardState] = None) -> Optional[FloatArray]:
-        t = np.asarray(t_s, dtype=float)
-        if temp is None or t.size == 0:
-            return None
-        rate = 1.0 / self.tau_s
-        if state is None or state["t_prev"] is None:  # settled at the first temperature
-            y = exp_convolve(t, temp, [rate], y0=[temp[0] * self.tau_s])[:, 0]
-        else:
-            y = exp_convolve(t, temp, [rate], y0=state["y"], u_prev=state["temp_prev"], t_prev_s=state["t_prev"])[:, 0]
-        if state is not None:
-            state["y"], state["t_prev"], state["temp_prev"] = np.array([y[-1]]), float(t[-1]), float(temp[-1])
-        return y * rate
+                state: Optional[ThermalForwardState] = None) -> Optional[FloatArray]:
+        return lagged_temperature_c(t_s, temp, self.tau_s, state)
 
-    def forward_state(self) -> _ThermalForwardState:
+    def forward_state(self) -> ThermalForwardState:
         """A fresh lag state for block-wise :meth:`forward` runs (settles at the first temperature it sees)."""
-        return {"y": np.zeros(1), "t_prev": None, "temp_prev": 0.0}
+        return thermal_forward_state()
 
     def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
-                state: Optional[_ThermalForwardState] = None) -> FloatArray:
-        """The input plus the lagged thermal term, ``x + coefficient_v_per_c * (T_lag - reference_c)``."""
+                state: Optional[ThermalForwardState] = None) -> FloatArray:
+        """The input plus the lagged thermal term."""
         x = np.asarray(x, dtype=float)
         lagged = self._lagged(t_s, temperature_c_of(aux, x.size), state)
-        return x if lagged is None else x + self.coefficient_v_per_c * (lagged - self.reference_c)
+        return x if lagged is None else x + thermal_zero(self.coefficient_v_per_c, self.curvature_v_per_c2,
+                                                         lagged - self.reference_c)
 
     def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
-        """The output less the lagged thermal term, ``y - coefficient_v_per_c * (T_lag - reference_c)``."""
+        """The output less the lagged thermal term."""
         y = np.asarray(y, dtype=float)
         lagged = self._lagged(t_s, temperature_c_of(aux, y.size))
-        return y if lagged is None else y - self.coefficient_v_per_c * (lagged - self.reference_c)
+        return y if lagged is None else y - thermal_zero(self.coefficient_v_per_c, self.curvature_v_per_c2,
+                                                         lagged - self.reference_c)
 
     def streaming(self) -> ElementStream:
         """The per-sample form of :meth:`backward`; the lag starts settled at the first temperature after a reset."""
-        c, ref, tau = self.coefficient_v_per_c, self.reference_c, self.tau_s
-        lag = ExpConvState([1.0 / tau])
+        c, q, ref = self.coefficient_v_per_c, self.curvature_v_per_c2, self.reference_c
+        lag = LaggedTemperatureStream(self.tau_s)
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
             temp = None if not aux else aux.get("temperature_c")
-            if temp is None:
-                return y
-            if lag.t_prev_s is None:
-                lag.reset([temp * tau])
-            state = lag.update(t_s, float(temp))
-            if state is None:
-                state = lag.y
-            return y - c * (state[0] / tau - ref)
+            return y if temp is None else y - float(thermal_zero(c, q, lag.update(t_s, temp) - ref))
 
         return FunctionStream(step, lag.reset)
 

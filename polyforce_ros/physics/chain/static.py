@@ -20,6 +20,7 @@ from .base import (
     check_number,
     temperature_c_of,
 )
+from .drift import LaggedTemperatureStream, ThermalForwardState, lagged_temperature_c, thermal_forward_state
 
 __all__ = ["OffsetElement", "GainElement", "NonlinearGainElement", "ThermalSensitivityElement", "PolynomialGainElement"]
 
@@ -140,43 +141,58 @@ class ThermalSensitivityElement(SimpleElement):
 
     The load cell datasheets' "temperature effect on sensitivity", beside the zero's
     (:class:`ThermalDriftElement`). T comes from ``aux['temperature_c']``; without it T is
-    taken as the reference (no correction). The inverse divides by the span factor, held at
+    taken as the reference (no correction). With ``thermal_tau_s`` > 0 the span follows the
+    temperature through a first-order lag of that time constant (the gauges warm after the
+    thermometer), settled at the first temperature. The inverse divides by the span factor, held at
     least ``_MIN_SPAN_FACTOR`` (0.2) so a temperature far outside the calibration never
     multiplies the force by more than 5.
     """
 
     kind = "thermal_sensitivity"
     PARAMS = (("span_coefficient_per_c", False), ("reference_c", False))
+    OPTIONAL = {"thermal_tau_s": 0.0}
     span_coefficient_per_c: float
     reference_c: float
+    thermal_tau_s: float
 
-    def _factor(self, n: int, aux: Optional[Mapping[str, Any]]) -> FloatOrArray:
+    def _factor(self, t_s: npt.ArrayLike, n: int, aux: Optional[Mapping[str, Any]],
+                state: Optional[ThermalForwardState] = None) -> FloatOrArray:
         temp = temperature_c_of(aux, n)
+        if temp is not None and self.thermal_tau_s > 0.0:
+            temp = lagged_temperature_c(t_s, temp, self.thermal_tau_s, state)
         if temp is None:
             return 1.0
         return np.maximum(1.0 + self.span_coefficient_per_c * (temp - self.reference_c), _MIN_SPAN_FACTOR)
 
+    def forward_state(self) -> Optional[ThermalForwardState]:
+        """A fresh lag state for block-wise :meth:`forward` runs (None without a lag)."""
+        return thermal_forward_state() if self.thermal_tau_s > 0.0 else None
+
     def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
-                state: object = None) -> FloatArray:
-        """The input scaled by the span factor at each sample's temperature (unchanged without one)."""
+                state: Optional[ThermalForwardState] = None) -> FloatArray:
+        """The input scaled by the span factor at each sample's (lagged) temperature (unchanged without one)."""
         x = np.asarray(x, dtype=float)
-        return x * self._factor(x.size, aux)
+        return x * self._factor(t_s, x.size, aux, state)
 
     def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
         """The output divided by the span factor (unchanged without a temperature)."""
         y = np.asarray(y, dtype=float)
-        return y / self._factor(y.size, aux)
+        return y / self._factor(t_s, y.size, aux)
 
     def streaming(self) -> ElementStream:
         """The per-sample form of :meth:`backward`; a sample without ``aux['temperature_c']`` passes unchanged."""
         c, ref = self.span_coefficient_per_c, self.reference_c
+        lag = LaggedTemperatureStream(self.thermal_tau_s) if self.thermal_tau_s > 0.0 else None
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
             temp = None if not aux else aux.get("temperature_c")
-            return y if temp is None else y / max(1.0 + c * (temp - ref), _MIN_SPAN_FACTOR)
+            if temp is None:
+                return y
+            if lag is not None:
+                temp = lag.update(t_s, temp)
+            return float(y / max(1.0 + c * (temp - ref), _MIN_SPAN_FACTOR))
 
-        return FunctionStream(step)
-
+        return FunctionStream(step, lag.reset if lag is not None else lambda: None)
 
 
 class PolynomialGainElement(SimpleElement):

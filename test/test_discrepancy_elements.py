@@ -173,3 +173,22 @@ def test_the_reference_force_noise_is_measured_under_a_moving_load_and_bounds_th
                   span_f=float(np.ptp(force)))
     assert force_noise_n(sig) == pytest.approx(sigma_n, rel=0.1)
     assert min(EFFECTS["friction"].grid("", sig)) >= FRICTION_NOISE_SIGMAS * 0.9 * sigma_n
+
+
+@pytest.mark.parametrize("sigma_n", [0.003, 0.03])
+def test_a_stiction_band_at_the_narrowest_the_force_noise_allows_is_at_its_noise_limit(sigma_n):
+    """A friction fitted at the grid's noise-set bound wanted a narrower band, where a play acts on the reference
+    force's noise: the selection does not judge it. A band above that bound, or another effect, is not limited."""
+    from polyforce_ros.discrepancy.effects import EFFECTS, at_noise_limit
+    from polyforce_ros.discrepancy.signals import Signals
+
+    rng = np.random.default_rng(int(sigma_n * 1e4))
+    t = np.arange(60000) * 0.01
+    force = 5.0 + 4.0 * np.sin(2 * np.pi * t / 37.0) + rng.normal(0.0, sigma_n, t.size)
+    sig = Signals(t=t, f=force, v=np.zeros_like(t), temp=None, t0=0.0, duration_s=float(t[-1]), temp_ref=0.0,
+                  span_f=float(np.ptp(force)))
+    low = min(EFFECTS["friction"].grid("", sig))
+    assert low > 0.001 * sig.span_f  # the noise sets this bound, not the span
+    assert at_noise_limit("friction", low, sig) and at_noise_limit("friction", 0.5 * low, sig)
+    assert not at_noise_limit("friction", 1.5 * low, sig)
+    assert not at_noise_limit("hysteresis", low, sig) and not at_noise_limit("friction", None, sig)

@@ -39,14 +39,15 @@ from ..physics.chain import (
     PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
     ThermoRheologicalElement,
-    TransportDelayElement, play_operator,
+    TransportDelayElement, lagged_temperature_c, play_operator,
 )
 from ..physics.expconv import exp_convolve, exp_convolve_columns
 from ..physics.viscoelastic import simulate_deformation_columns
 from .signals import FloatArray, Signals, noise_std
 
 __all__ = ["Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
-           "SPLINE_INTERVALS", "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n", "lag_columns", "lag_stages",
+           "SPLINE_INTERVALS", "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n",
+           "at_noise_limit", "lag_columns", "lag_stages",
            "variant_group", "parameter", "hints"]
 
 #: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
@@ -248,6 +249,15 @@ def _friction_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     return _log_grid(low, max(hi * sig.span_f, 2.0 * low), 12)
 
 
+def at_noise_limit(effect: str, param: Optional[float], sig: Signals) -> bool:
+    """Whether ``effect``'s fitted parameter sits at the bound the record's noise sets: a stiction band as narrow as
+    the reference force's noise allows was wanted narrower still, where the play acts on that noise (it smooths
+    the force the model reads), not on a mechanism."""
+    if effect != "friction" or param is None:
+        return False
+    return param <= 1.05 * FRICTION_NOISE_SIGMAS * force_noise_n(sig)
+
+
 def _friction_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
     """One column: the reference core's output for the stop of half-width ``param`` on the force, taken away
     (F_core = F - w stop_r(F)); its weight w is the coupling, 1 for a rigid contact."""
@@ -302,30 +312,44 @@ def _gain_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
 
 
 def _thermal_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
-    temp = sig.temperature - sig.temp_ref
-    if variant == "lag":  # the lag starts settled at the first temperature, as ThermalLagElement
-        tau = parameter(param)
-        temp = exp_convolve(sig.t, sig.temperature, [1.0 / tau], y0=[sig.temperature[0] * tau])[:, 0] / tau - sig.temp_ref
-    return [("thermal", temp, -np.inf, np.inf, "additive", None)]
+    """The temperature's departure from the reference (lagged in the ``lag`` variants), and its square in the
+    ``curved`` ones: a zero whose temperature coefficient itself changes with temperature."""
+    temp = _departure_c(sig, variant, param)
+    cols: list[Col] = [("thermal", temp, -np.inf, np.inf, "additive", None)]
+    if variant.endswith("curved"):
+        cols.append(("thermal_curvature", temp ** 2, -np.inf, np.inf, "additive", None))
+    return cols
+
+
+def _departure_c(sig: Signals, variant: str, param: Optional[float]) -> FloatArray:
+    """The temperature's departure from the reference [degC]; through a first-order lag of time constant ``param``
+    in the ``lag`` variants, settled at the first temperature (:func:`~polyforce_ros.physics.chain.lagged_temperature_c`)."""
+    if not variant.startswith("lag"):
+        return sig.temperature - sig.temp_ref
+    lagged = lagged_temperature_c(sig.t, sig.temperature, parameter(param))
+    return (sig.temperature if lagged is None else lagged) - sig.temp_ref
 
 
 def _span_thermal_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
     # the core output scaled by the temperature's departure: x (1 + c dT) - x = c x dT
-    return [("span_thermal", sig.core_output * (sig.temperature - sig.temp_ref), -np.inf, np.inf, "sensor", None)]
+    return [("span_thermal", sig.core_output * _departure_c(sig, variant, param), -np.inf, np.inf, "sensor", None)]
 
 
 def _span_thermal_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     c = float(np.clip(coef.get("span_thermal", 0.0), -0.05, 0.05))
-    return [("after", ThermalSensitivityElement(span_coefficient_per_c=c,
+    tau = float(parameter(param)) if variant.startswith("lag") else 0.0
+    return [("after", ThermalSensitivityElement(span_coefficient_per_c=c, thermal_tau_s=tau,
                                                 reference_c=float(np.clip(sig.temp_ref, -100.0, 300.0))))]
 
 
 def _thermal_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     c = float(np.clip(coef.get("thermal", 0.0), -10.0, 10.0))
+    q = float(np.clip(coef.get("thermal_curvature", 0.0), -1.0, 1.0))
     ref = float(np.clip(sig.temp_ref, -100.0, 300.0))
-    if variant == "lag":
-        return [("late", ThermalLagElement(coefficient_v_per_c=c, reference_c=ref, tau_s=float(parameter(param))))]
-    return [("late", ThermalDriftElement(coefficient_v_per_c=c, reference_c=ref))]
+    if variant.startswith("lag"):
+        return [("late", ThermalLagElement(coefficient_v_per_c=c, reference_c=ref, tau_s=float(parameter(param)),
+                                           curvature_v_per_c2=q))]
+    return [("late", ThermalDriftElement(coefficient_v_per_c=c, reference_c=ref, curvature_v_per_c2=q))]
 
 
 #: Knot intervals over the record of the spline variants of offset_drift (a wandering drift). 12 and 16 follow drift
@@ -396,8 +420,8 @@ def _delayed_grid(variant: str, sig: Signals) -> list[Optional[float]]:
 
 
 def _thermal_grid(variant: str, sig: Signals) -> list[Optional[float]]:
-    """Time constants (s) of the thermal lag; none for the direct variant."""
-    return [None] if variant == "direct" else _log_grid(3.0, 120.0, 6)
+    """Time constants (s) of the thermal lag; none for the direct variants."""
+    return _log_grid(3.0, 120.0, 6) if variant.startswith("lag") else [None]
 
 
 def _drift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
@@ -440,11 +464,11 @@ EFFECTS: dict[str, Effect] = {
     "thermal_drift": Effect(
         "thermal_drift", "output following temperature (thermal_drift)", ("temperature_change",), ("temperature",),
         ("thermal_drift", "thermal_lag"),
-        variants=("direct", "lag"), grid=_thermal_grid,
+        variants=("direct", "lag", "direct_curved", "lag_curved"), grid=_thermal_grid,
         columns=_thermal_columns, to_elements=_thermal_elements, needs_temperature=True),
     "thermal_sensitivity": Effect(
         "thermal_sensitivity", "a span that follows temperature (thermal_sensitivity)", ("temperature_change", "high_load"),
-        ("temperature",), ("thermal_sensitivity",),
+        ("temperature",), ("thermal_sensitivity",), variants=("direct", "lag"), grid=_thermal_grid,
         columns=_span_thermal_columns, to_elements=_span_thermal_elements, needs_temperature=True),
     "thermo_rheological": Effect(
         "thermo_rheological", "creep that speeds up when warm (thermo_rheological)", ("temperature_change", "hold_under_load"),

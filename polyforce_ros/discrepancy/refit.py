@@ -170,4 +170,23 @@ def candidates_for(st: Structure, effect: str, has_temperature: bool, sig: Signa
     for variant in eff.variants:
         for param in eff.grid(variant, sig):
             out.append(Structure(st.core, st.taus, st.terms + (Term(effect, variant, param),)))
+    if effect == "sensor_lag":
+        out += _lag_from_core(st, sig)
+    return out
+
+
+def _lag_from_core(st: Structure, sig: Signals) -> list[Structure]:
+    """A sensor lag that a fast retardation time of the core stood in for (a unit-gain lag on an elastic core is a
+    Kelvin unit that carries all the compliance): the lag at that time, the core's time restarted from the grid
+    above it."""
+    longest_lag = max(g for g in REGISTRY["sensor_lag"].grid("", sig) if g is not None)
+    out = []
+    for i, fast in enumerate(st.taus):
+        if fast > longest_lag:
+            continue
+        for tau in TAU_GRID[::2]:
+            if 4.0 * fast < tau <= sig.duration_s / 4.0:
+                taus = tuple(sorted(st.taus[:i] + (float(tau),) + st.taus[i + 1:]))
+                out += [Structure(st.core, taus, st.terms + (Term("sensor_lag", variant, fast),))
+                        for variant in ("", "pole_pair")]
     return out

@@ -22,7 +22,7 @@ from typing import Any, Callable, Optional, Sequence, Union
 import numpy as np
 
 from .design import Fit, Fitter, Structure, n_params, size
-from .effects import EFFECTS as REGISTRY, variant_group
+from .effects import EFFECTS as REGISTRY, at_noise_limit, variant_group
 from .refit import candidates_for, polish, refine, without
 from .residual import excess
 
@@ -262,6 +262,10 @@ class Selection:
                              math.sqrt(fit.cv_mse), float(np.mean(fit.sse_folds < current.sse_folds)),
                              float((current.cv_mse - fit.cv_mse) / share), self.step)
             self.candidates.append(cand)
+            term = fit.structure.term(name)
+            if term is not None and at_noise_limit(name, term.param, self.fitter.sig):
+                self.say(f"step {self.step}: {name} at its noise limit, not judged")
+                continue
             step_candidates.append(cand)
         return parsimonious(step_candidates, self.acceptable, self.justified)
 
@@ -274,6 +278,8 @@ class Selection:
         self.variants[best.effect] = best.variant
         self.say(f"refit with {best.effect}")
         self.current = refine(self.fitter, best.fit.structure)
+        if len(self.accepted) > 1:  # the shapes named before it were chosen without it
+            self.current = self.rechosen(self.current, skip=best.effect)
 
     def _unname(self, name: str) -> None:
         """``name`` no longer names an effect of the answer."""

@@ -192,6 +192,10 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         bw = diag.newtons["lag_bandwidth"]
         print(f"sensor lag inverted with a bandwidth: filter {bw['filter_factor']:g} x tau, order {bw['filter_order']}, "
               f"added delay {1e3 * bw['added_delay_s']:.1f} ms")
+    if diag.newtons.get("friction_inverse_share"):
+        fr = diag.newtons["friction_inverse_share"]
+        print(f"friction inverted with share {fr['chosen']:g} of the band (compensated RMSE by share: "
+              + ", ".join(f"{k}: {v:.4f} N" for k, v in fr["force_rmse_n"].items()) + ")")
     if diag.newtons.get("rejected"):
         print(f"not saved: {', '.join(diag.newtons['rejected']['effects'])} compensate the force worse than the base")
     for line in diag.evidence:
@@ -324,7 +328,8 @@ def build_parser() -> argparse.ArgumentParser:
                     "(each with a block-jackknife standard_error over the folds), model, newtons {base, saved: the "
                     "compensated force of the left-out blocks against the reference (rmse_n, max_error_n, their % of "
                     "full scale, r2) and the inverse's white-noise gain (noise_gain_n_per_v, its frequency response); "
-                    "lag_bandwidth: the filter time and added delay of a sensor lag's inverse; rejected: effects not "
+                    "lag_bandwidth: the filter time and added delay of a sensor lag's inverse; friction_inverse_share: "
+                    "the share of a friction its inverse adds back, chosen by the compensated force; rejected: effects not "
                     "saved because they compensate the force worse than the base}. The saved model's provenance "
                     "carries the same figures.\n"
                     f"Effects of the catalogue: {', '.join(EFFECT_NAMES)}.")

@@ -473,10 +473,35 @@ def test_friction_inverse_passes_noise_inside_its_dead_band_with_gain_one():
     assert white_noise_gain(SensorChain([FrictionElement(0.2, 1.0, 0.0), core]), 1000.0) == pytest.approx(2 * alone, rel=0.05)
 
 
+@settings(max_examples=40, deadline=None)
+@given(share=st.floats(0.0, 1.0), coupling=st.floats(0.0, 1.0), seed=st.integers(0, 2**31 - 1))
+def test_a_friction_inverse_adds_back_its_share_and_the_core_force_is_never_further_than_the_band(share, coupling, seed):
+    """The inverse with ``inverse_share`` s is the core's force plus s times the full inverse's correction; with s 0
+    it is the core's force itself, never more than c r from the applied force."""
+    from polyforce_ros.physics.chain import FrictionElement
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(3000) * 1e-3
+    force = np.cumsum(rng.normal(0.0, 0.05, t.size)) + 3.0 * np.sin(t * rng.uniform(0.5, 5.0))
+    full = FrictionElement(0.3, coupling, 0.01)
+    part = full.with_inverse_share(share)
+    core_force = full.forward(t, force)
+    np.testing.assert_array_equal(part.forward(t, force), core_force)  # the share is the inverse's alone
+    np.testing.assert_allclose(part.backward(t, core_force),
+                               core_force + share * (full.backward(t, core_force) - core_force), atol=1e-12)
+    stream = part.streaming()
+    np.testing.assert_allclose([stream.step(0.0, float(y)) for y in core_force], part.backward(t, core_force), atol=1e-12)
+    assert np.all(np.abs(full.with_inverse_share(0.0).backward(t, core_force) - force) <= coupling * 0.3 + 1e-9)
+    assert FrictionElement.from_dict(part.to_dict()).to_dict() == part.to_dict()
+    assert ("inverse_share" in part.to_dict()) == (share != 1.0)
+
+
 @pytest.mark.parametrize("bad", [{"radius_n": 0.0, "coupling": 1.0}, {"radius_n": 0.1, "coupling": 1.5},
                                  {"radius_n": 0.1, "coupling": -0.1}, {"radius_n": 0.1, "coupling": 1.0, "deadband_n": -1},
                                  {"radius_n": float("nan"), "coupling": 1.0}, {"radius_n": 0.1},
-                                 {"radius_n": 0.1, "coupling": True}])
+                                 {"radius_n": 0.1, "coupling": True},
+                                 {"radius_n": 0.1, "coupling": 1.0, "inverse_share": 1.5},
+                                 {"radius_n": 0.1, "coupling": 1.0, "inverse_share": -0.5}])
 def test_a_friction_outside_its_ranges_is_a_model_error(bad):
     from polyforce_ros.physics.chain import FrictionElement, ModelError
 

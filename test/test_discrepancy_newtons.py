@@ -212,6 +212,10 @@ def test_coulomb_friction_is_named_saved_with_its_band_and_compensates_within_it
     assert friction.coupling * friction.radius_n == pytest.approx(truth_r, rel=0.2) and friction.coupling >= 0.8
     assert 0.0 < friction.deadband_n <= friction.radius_n  # set from the record's noise
     assert diag.newtons["saved"]["rmse_n"] < diag.newtons["base"]["rmse_n"]
+    shares = diag.newtons["friction_inverse_share"]  # the share of the friction the inverse adds back: the best
+    assert friction.inverse_share == shares["chosen"] and set(shares["force_rmse_n"]) == {"1", "0.5", "0"}
+    assert shares["force_rmse_n"][f"{shares['chosen']:g}"] == min(shares["force_rmse_n"].values())
+    assert diag.newtons["saved"]["rmse_n"] == pytest.approx(min(shares["force_rmse_n"].values()))
     save_model(tmp_path / "m.yaml", SensorModel(diag.chain, {"source": "test"}))
     saved = load_model(tmp_path / "m.yaml").chain
     rng = np.random.default_rng(seed)

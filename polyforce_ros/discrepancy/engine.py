@@ -74,19 +74,21 @@ module runs them in order.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import partial
 from typing import Any, Callable, Collection, Optional, Sequence
 
 import numpy as np
 from scipy import ndimage
 
-from ..physics.chain import SensorChain
+from ..physics.chain import FrictionElement, SensorChain
 from ..record import Record  # the record type diagnose takes (re-exported)
 from ..runtime import CompensatorConfig
 from .design import (BASES, BLOCKS_PER_FOLD, Fit, Fitter, Structure, Term, build_chain, core_model, fold_of,
                      refresh_ref)
 from .effects import EFFECTS as REGISTRY, NAMES
 from .localise import describe, localise
-from .newtons import fold_chains, force_quality, with_filter, with_friction_deadband, with_safe_bandwidth
+from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, with_filter, with_friction_deadband,
+                      with_friction_share, with_safe_bandwidth)
 from .refit import base_structure
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
 from .residual import excess, noise_floor, out_of_sample, unexplained_test, where
@@ -182,6 +184,12 @@ class _Judgement:
     rejected: bool
 
 
+def _as_saved(chain: SensorChain, finish: Callable[[SensorChain], SensorChain], noise_v: float, factor: float,
+              order: int, share: float) -> SensorChain:
+    """A fold's chain as the saved model runs it: the mode, the friction's dead band and share, the lag's bandwidth."""
+    return with_friction_share(with_filter(with_friction_deadband(finish(chain), noise_v), factor, order), share)
+
+
 def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec: IntArray, chain: SensorChain,
                       base_chain: SensorChain, base_fit: Fit, fit: Fit, sig: Signals, named: Sequence[str], noise_v: float,
                       say: Callable[[str], None],
@@ -200,16 +208,27 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
                                        base_fit.coef_folds), fold_rec, t, rec.voltage_v, force_n, rec_temp,
                            noise_chain=base_chain)
     saved_q = base_q
+    # a friction's inverse adds back the share of it that compensates the force best: the whole of it while the
+    # force slides, but the force inside the band never reaches the bridge
+    shares = FRICTION_INVERSE_SHARES if "friction" in named else (1.0,)
+    share_rmse_n: dict[str, float] = {}
     if named:
-        saved_q = force_quality(fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names,
-                                            fit.coef_folds,
-                                            lambda c: with_filter(with_friction_deadband(finish(c), noise_v), factor,
-                                                                  order)),
-                                fold_rec, t, rec.voltage_v, force_n, rec_temp, noise_chain=chain)
+        for share in shares:
+            q = force_quality(fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names, fit.coef_folds,
+                                          partial(_as_saved, finish=finish, noise_v=noise_v, factor=factor,
+                                                  order=order, share=share)),
+                              fold_rec, t, rec.voltage_v, force_n, rec_temp, noise_chain=chain)
+            share_rmse_n[f"{share:g}"] = q.rmse_n
+            if share == shares[0] or q.rmse_n < saved_q.rmse_n:
+                saved_q, chain = q, with_friction_share(chain, share)
     judged = _Judgement(chain, {"base": base_q.to_dict(), "saved": saved_q.to_dict(), "lag_bandwidth": bandwidth,
                                 "latency_s": chain.latency_s,
                                 "validation": "each left-out block compensated by the model fitted without it"},
                         base_q.force_n, saved_q.force_n, False)
+    if len(share_rmse_n) > 1:
+        judged.newtons["friction_inverse_share"] = {"chosen": next(e.inverse_share for e in chain.elements
+                                                                   if isinstance(e, FrictionElement)),
+                                                    "force_rmse_n": share_rmse_n}
     if named and not saved_q.rmse_n <= base_q.rmse_n:
         say("worse in newtons: effects not saved")
         judged.newtons["rejected"] = {"effects": list(named), "saved_rmse_n": saved_q.rmse_n,

@@ -27,7 +27,7 @@ from ..physics.noise_gain import NoiseGain, backward_noise_gain, white_noise_gai
 from ..runtime import CompensatorConfig
 
 __all__ = ["ForceQuality", "force_quality", "with_safe_bandwidth", "with_filter", "fold_chains", "rate_of", "FILTER_FACTORS",
-           "with_friction_deadband", "DEADBAND_SIGMAS"]
+           "with_friction_deadband", "DEADBAND_SIGMAS", "with_friction_share", "FRICTION_INVERSE_SHARES"]
 
 #: Filter times tried for a lag's inverse, as multiples of each stage's own time constant (0: the exact inverse).
 #: A saved model's noise gain stays this far inside ``max_noise_gain``: the probe's estimate scatters by a few
@@ -190,6 +190,18 @@ def with_safe_bandwidth(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarr
 #: The friction inverse's dead band, in standard deviations of the force noise that the bridge noise makes through
 #: the core's instantaneous stiffness: white noise leaves a 3-sigma band in 0.3 % of its samples.
 DEADBAND_SIGMAS = 3.0
+
+
+#: Shares of a friction the inverse adds back, tried by the compensated force (:func:`with_friction_share`).
+FRICTION_INVERSE_SHARES = (1.0, 0.5, 0.0)
+
+
+def with_friction_share(chain: SensorChain, share: float) -> SensorChain:
+    """``chain`` with every friction element's inverse adding back ``share`` of the friction; ``chain`` itself when
+    it holds none."""
+    if not any(isinstance(e, FrictionElement) for e in chain.elements):
+        return chain
+    return SensorChain([e.with_inverse_share(share) if isinstance(e, FrictionElement) else e for e in chain.elements])
 
 
 def with_friction_deadband(chain: SensorChain, noise_v: float) -> SensorChain:

@@ -228,6 +228,7 @@ PARAMETER_BOUNDS = {
     # Coulomb friction on the force path: the stiction band's half-width and the share of it the contact takes
     "radius_n": (1e-9, 1e6, "N", "a friction force of 1 MN is beyond any mechanism"),
     "coupling": (0.0, 1.0, "", "a share of the friction force"),
+    "inverse_share": (0.0, 1.0, "", "a share of the friction the inverse adds back"),
     # time-temperature superposition: ln of the viscosities' shift factor per degree (polymers: 0.02-0.3 /degC)
     "shift_per_c": (0.0, 2.0, "1/degC", "a viscosity 7x smaller per degree is beyond any polymer"),
     "deadband_n": (0.0, 1e6, "N", "the inverse's dead band on the core's force, a few times its noise"),

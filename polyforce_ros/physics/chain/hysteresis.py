@@ -535,22 +535,30 @@ class FrictionElement(Frozen):
         Share of the stop taken from the force; 1 is a rigid friction contact.
     deadband_n : float >= 0, optional
         Half-width d of the inverse's dead band on the core's force [N]: a few times its noise (0: none).
+    inverse_share : float in [0, 1], optional
+        Share of the friction the inverse adds back (1 by default). While the force slides the whole friction is
+        the best estimate; while the contact sticks the applied force lies anywhere in the band, and the core's
+        force itself (share 0) is never more than r away. Which is better depends on how the force is used (long
+        holds, or reversals and puncture drops): ``polyforce diagnose`` chooses it by the compensated force.
 
     Both runs start from rest (the play at 0: a virgin mechanism).
     """
 
     kind = "friction"
     KEYS = ("radius_n", "coupling")
-    OPTIONAL = {"deadband_n": 0.0}
+    OPTIONAL = {"deadband_n": 0.0, "inverse_share": 1.0}
     radius_n: float
     coupling: float
     deadband_n: float
+    inverse_share: float
 
-    def __init__(self, radius_n: float, coupling: float = 1.0, deadband_n: float = 0.0) -> None:
+    def __init__(self, radius_n: float, coupling: float = 1.0, deadband_n: float = 0.0,
+                 inverse_share: float = 1.0) -> None:
         radius_n = check_number(self.kind, "radius_n", radius_n, positive=True)
         coupling = check_number(self.kind, "coupling", coupling, positive=False)
         deadband_n = check_number(self.kind, "deadband_n", deadband_n, positive=False)
-        self._freeze(radius_n=radius_n, coupling=coupling, deadband_n=deadband_n)
+        inverse_share = check_number(self.kind, "inverse_share", inverse_share, positive=False)
+        self._freeze(radius_n=radius_n, coupling=coupling, deadband_n=deadband_n, inverse_share=inverse_share)
 
     def forward_state(self) -> _FrictionForwardState:
         """A fresh state for block-wise :meth:`forward` runs (the play at rest)."""
@@ -571,12 +579,12 @@ class FrictionElement(Frozen):
         """The applied force [N] for the core's force ``y`` [N] (see the class docstring for its error bound)."""
         y = np.asarray(y, dtype=float)
         q = play_operator(y, [self.deadband_n])[:, 0] if self.deadband_n > 0 else y
-        out: FloatArray = y + self.coupling * (q - play_operator(q, [self.radius_n])[:, 0])
+        out: FloatArray = y + self.coupling * self.inverse_share * (q - play_operator(q, [self.radius_n])[:, 0])
         return out
 
     def streaming(self) -> ElementStream:
         """The per-sample form of :meth:`backward`, O(1) per sample."""
-        r, c, d = self.radius_n, self.coupling, self.deadband_n
+        r, c, d = self.radius_n, self.coupling * self.inverse_share, self.deadband_n
         state = [0.0, 0.0]  # the dead band's play, the stiction band's play [N]
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
@@ -595,14 +603,20 @@ class FrictionElement(Frozen):
         out = {"type": self.kind, "radius_n": float(self.radius_n), "coupling": float(self.coupling)}
         if self.deadband_n:
             out["deadband_n"] = float(self.deadband_n)
+        if self.inverse_share != 1.0:
+            out["inverse_share"] = float(self.inverse_share)
         return out
 
     def with_deadband(self, deadband_n: float) -> FrictionElement:
         """The same friction with the inverse's dead band ``deadband_n`` [N]."""
-        return FrictionElement(self.radius_n, self.coupling, deadband_n)
+        return FrictionElement(self.radius_n, self.coupling, deadband_n, self.inverse_share)
+
+    def with_inverse_share(self, inverse_share: float) -> FrictionElement:
+        """The same friction whose inverse adds back ``inverse_share`` of it."""
+        return FrictionElement(self.radius_n, self.coupling, self.deadband_n, inverse_share)
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> Self:
         """The element from a model-file mapping."""
         check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
-        return cls(d["radius_n"], d["coupling"], d.get("deadband_n", 0.0))
+        return cls(d["radius_n"], d["coupling"], d.get("deadband_n", 0.0), d.get("inverse_share", 1.0))

@@ -196,6 +196,13 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         fr = diag.newtons["friction_inverse_share"]
         print(f"friction inverted with share {fr['chosen']:g} of the band (compensated RMSE by share: "
               + ", ".join(f"{k}: {v:.4f} N" for k, v in fr["force_rmse_n"].items()) + ")")
+    guard = diag.newtons.get("runtime_guard")
+    if guard and not guard["accepted"]:
+        gain = guard["noise_gain_n_per_v"][f"{guard['noise_gain_rate_hz']:g}"]
+        print(f"warning: the saved model's inverse turns white bridge noise into {gain:.3g} N/V at "
+              f"{guard['noise_gain_rate_hz']:g} Hz, above the default max_noise_gain {guard['max_noise_gain']:g} N/V: "
+              "compensate and compensation_node refuse it unless max_noise_gain is raised (a sensor this stiff "
+              "passes its own bridge noise on at that gain)")
     if diag.newtons.get("rejected"):
         print(f"not saved: {', '.join(diag.newtons['rejected']['effects'])} compensate the force worse than the base")
     for line in diag.evidence:
@@ -329,7 +336,9 @@ def build_parser() -> argparse.ArgumentParser:
                     "compensated force of the left-out blocks against the reference (rmse_n, max_error_n, their % of "
                     "full scale, r2) and the inverse's white-noise gain (noise_gain_n_per_v, its frequency response); "
                     "lag_bandwidth: the filter time and added delay of a sensor lag's inverse; friction_inverse_share: "
-                    "the share of a friction its inverse adds back, chosen by the compensated force; rejected: effects not "
+                    "the share of a friction its inverse adds back, chosen by the compensated force; runtime_guard: the "
+                    "saved model's noise gain against the runtime's default max_noise_gain (accepted or not); "
+                    "rejected: effects not "
                     "saved because they compensate the force worse than the base}. The saved model's provenance "
                     "carries the same figures.\n"
                     f"Effects of the catalogue: {', '.join(EFFECT_NAMES)}.")

@@ -363,3 +363,22 @@ def test_a_span_that_lags_the_thermometer_is_named_with_its_lag_and_compensates(
     assert saved.thermal_tau_s == pytest.approx(tau_s, rel=0.3)
     assert saved.span_coefficient_per_c == pytest.approx(0.008, rel=0.15)
     assert _warm_needle_rmse_fraction(diag.chain, truth, 500.0, seed) <= 0.01
+
+
+def test_diagnose_says_when_the_runtime_guard_would_refuse_a_stiff_sensor_and_not_otherwise():
+    """A sensor stiffer than ``max_noise_gain`` (15 N per V of bridge output against 10 N/V) passes its own bridge
+    noise on above the guard, core alone: the diagnosis says the runtime refuses it with the default, and the
+    runtime does. A sensor within the guard is reported as accepted."""
+    from polyforce_ros.physics.chain import ModelError, SensorChain
+    from polyforce_ros.physics.viscoelastic import Burgers
+
+    for k1, accepted in ((15.0, False), (3.0, True)):
+        rec, _ = _chain_record([], 95, rate_hz=200.0, duration_s=200.0, temperature=False,
+                               core=Burgers(k1, 10 * k1, 3e4, 200 * k1))
+        guard = diagnose(rec, base="burgers").newtons["runtime_guard"]
+        assert guard["accepted"] is accepted and guard["max_noise_gain"] == CompensatorConfig.max_noise_gain
+        assert set(guard["noise_gain_n_per_v"]) == {"200", "1000"}
+        assert guard["noise_gain_n_per_v"]["1000"] == pytest.approx(k1, rel=0.1)
+    with pytest.raises(ModelError, match="max_noise_gain"):  # what the runtime does with the stiff one
+        Compensator(SensorChain.from_model(Burgers(15.0, 150.0, 3e4, 3000.0), offset_v=0.0),
+                    CompensatorConfig(auto_tare=False))

@@ -87,8 +87,8 @@ from .design import (BASES, BLOCKS_PER_FOLD, Fit, Fitter, Structure, Term, build
                      refresh_ref)
 from .effects import EFFECTS as REGISTRY, NAMES
 from .localise import describe, localise
-from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, with_filter, with_friction_deadband,
-                      with_friction_share, with_safe_bandwidth)
+from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, rate_of, runtime_guard, with_filter,
+                      with_friction_deadband, with_friction_share, with_safe_bandwidth)
 from .refit import base_structure
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
 from .residual import excess, noise_floor, out_of_sample, unexplained_test, where
@@ -237,6 +237,7 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
         judged.force_after_n = base_q.force_n
         judged.chain, judged.rejected = base_chain, True
         judged.newtons["latency_s"] = judged.chain.latency_s
+    judged.newtons["runtime_guard"] = runtime_guard(judged.chain, rate_of(t))
     return judged
 
 

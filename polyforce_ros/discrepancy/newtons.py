@@ -27,7 +27,7 @@ from ..physics.noise_gain import NoiseGain, backward_noise_gain, white_noise_gai
 from ..runtime import CompensatorConfig
 
 __all__ = ["ForceQuality", "force_quality", "with_safe_bandwidth", "with_filter", "fold_chains", "rate_of", "FILTER_FACTORS",
-           "with_friction_deadband", "DEADBAND_SIGMAS", "with_friction_share", "FRICTION_INVERSE_SHARES"]
+           "with_friction_deadband", "DEADBAND_SIGMAS", "with_friction_share", "FRICTION_INVERSE_SHARES", "runtime_guard"]
 
 #: Filter times tried for a lag's inverse, as multiples of each stage's own time constant (0: the exact inverse).
 #: A saved model's noise gain stays this far inside ``max_noise_gain``: the probe's estimate scatters by a few
@@ -190,6 +190,18 @@ def with_safe_bandwidth(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarr
 #: The friction inverse's dead band, in standard deviations of the force noise that the bridge noise makes through
 #: the core's instantaneous stiffness: white noise leaves a 3-sigma band in 0.3 % of its samples.
 DEADBAND_SIGMAS = 3.0
+
+
+def runtime_guard(chain: SensorChain, record_rate_hz: float) -> dict[str, Any]:
+    """Whether the runtime with its default guard (``max_noise_gain`` judged at ``noise_gain_rate_hz``) accepts
+    ``chain``, and its noise gain at that rate and at the record's [N/V]. A stiff sensor (more than
+    ``max_noise_gain`` newtons per volt of bridge output) is refused for its core alone: the node then needs a
+    raised ``max_noise_gain``, which the diagnosis says rather than saving a model the node silently refuses."""
+    limit, runtime_hz = CompensatorConfig.max_noise_gain, CompensatorConfig.noise_gain_rate_hz
+    gains = {f"{rate:g}": backward_noise_gain(chain, rate).gain_n_per_v
+             for rate in sorted({float(runtime_hz), float(record_rate_hz)})}
+    return {"max_noise_gain": limit, "noise_gain_rate_hz": runtime_hz, "noise_gain_n_per_v": gains,
+            "accepted": gains[f"{runtime_hz:g}"] <= limit}
 
 
 #: Shares of a friction the inverse adds back, tried by the compensated force (:func:`with_friction_share`).

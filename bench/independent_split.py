@@ -199,19 +199,26 @@ OUTSIDE = ("resonance", "friction", "gain_drift")
 RATES = (200.0, 500.0, 1000.0)
 
 
-def cases():
+def case_list(shapes, pairs, outside, magnitudes, pair_shapes=(0, -1)):
+    """A split's cases: every shape at each of ``magnitudes``, each pair at 0.7 (the first effect in its shape
+    ``pair_shapes[0]``, the second in ``pair_shapes[1]``), each outside effect at 0.4 and 0.9, four clean records.
+    Each case is (hidden [(effect, shape)], magnitude)."""
     out = []
-    for effect, shapes in SHAPES.items():
-        for shape in shapes:
-            for m in (0.3, 0.9):
+    for effect, names in shapes.items():
+        for shape in names:
+            for m in magnitudes:
                 out.append(([(effect, shape)], m))
-    for a, b in PAIRS:
-        out.append(([(a, SHAPES[a][0]), (b, SHAPES[b][-1])], 0.7))
-    for name in OUTSIDE:
+    for a, b in pairs:
+        out.append(([(a, shapes[a][pair_shapes[0]]), (b, shapes[b][pair_shapes[1]])], 0.7))
+    for name in outside:
         for m in (0.4, 0.9):
             out.append(([(name, "")], m))
     out += [([], 0.0)] * 4
     return out
+
+
+def cases():
+    return case_list(SHAPES, PAIRS, OUTSIDE, (0.3, 0.9))
 
 
 def simulate(hidden, m, i, duration_s=500.0):
@@ -233,13 +240,19 @@ def simulate(hidden, m, i, duration_s=500.0):
         truth = Truth(SensorChain([*els, OffsetElement(0.04)], forward_only=True),
                       (lambda t, f, T: sum(x(t, f, T) for x in extras)) if extras else None)
     v = truth.voltage(t, f, temp) + rng.normal(0.0, 2e-3, t.size)
-    stamps = t + (0.3 if i % 2 else 0.0) * rng.uniform(-1, 1, t.size) / rate
+    rec = as_recorded(t, f, v, temp, i, rate, rng, duration_s, jitter=0.3, gap_s=(0.05, 0.5))
+    return rec, truth, base, rate
+
+
+def as_recorded(t, force, volts, temp, i, rate, rng, duration_s, jitter, gap_s):
+    """The simulated record as the bench records it: stamps jittered by ``jitter`` of a sample on odd cases, ``i % 3``
+    gaps of ``gap_s`` (min, max) seconds, 5 mN of noise on the reference force."""
+    stamps = t + (jitter if i % 2 else 0.0) * rng.uniform(-1, 1, t.size) / rate
     keep = np.ones(t.size, dtype=bool)
     for _ in range(i % 3):
         s0 = rng.uniform(0.1, 0.9) * duration_s
-        keep &= ~((t >= s0) & (t < s0 + rng.uniform(0.05, 0.5)))
-    rec = Record(stamps[keep] - stamps[keep][0], (f + rng.normal(0, 0.005, t.size))[keep], v[keep], temp[keep])
-    return rec, truth, base, rate
+        keep &= ~((t >= s0) & (t < s0 + rng.uniform(*gap_s)))
+    return Record(stamps[keep] - stamps[keep][0], (force + rng.normal(0, 0.005, t.size))[keep], volts[keep], temp[keep])
 
 
 def verdict(hidden, d):

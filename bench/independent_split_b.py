@@ -30,14 +30,14 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 from tqdm import tqdm
 
-from independent_split import Truth, compensates as compensates_with, puncture_train, summarise, verdict_with
+from independent_split import (Truth, as_recorded, case_list, compensates as compensates_with, puncture_train, summarise,
+                               verdict_with)
 from polyforce_ros.discrepancy.engine import diagnose
 from polyforce_ros.physics.chain import (OffsetElement, PlayHysteresisElement, SensorChain, SensorLagElement,
                                          ThermalDriftElement, ThermalLagElement, TransportDelayElement,
                                          ViscoelasticElement, play_operator)
 from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers, Burgers2, Zener, simulate_deformation
-from polyforce_ros.record import Record
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import BoucWen, SecondOrderLag, StaticMap
 
@@ -294,18 +294,7 @@ RATES = (250.0, 500.0, 1000.0)
 
 
 def cases():
-    out = []
-    for effect, shapes in SHAPES.items():
-        for shape in shapes:
-            for m in (0.35, 0.85):
-                out.append(([(effect, shape)], m))
-    for a, b in PAIRS:
-        out.append(([(a, SHAPES[a][-1]), (b, SHAPES[b][0])], 0.7))
-    for name in OUTSIDE:
-        for m in (0.4, 0.9):
-            out.append(([(name, "")], m))
-    out += [([], 0.0)] * 4
-    return out
+    return case_list(SHAPES, PAIRS, OUTSIDE, (0.35, 0.85), pair_shapes=(-1, 0))
 
 
 def simulate(hidden, m, i, duration_s=400.0):
@@ -328,12 +317,7 @@ def simulate(hidden, m, i, duration_s=400.0):
         truth = Truth(SensorChain([*els, OffsetElement(0.03)], forward_only=True),
                       (lambda t, f, T: sum(x(t, f, T) for x in extras)) if extras else None)
     v = truth.voltage(t, f, temp) + rng.normal(0.0, 2e-3, t.size)
-    stamps = t + (0.25 if i % 2 else 0.0) * rng.uniform(-1, 1, t.size) / rate
-    keep = np.ones(t.size, dtype=bool)
-    for _ in range(i % 3):
-        s0 = rng.uniform(0.1, 0.9) * duration_s
-        keep &= ~((t >= s0) & (t < s0 + rng.uniform(0.05, 0.5)))
-    rec = Record(stamps[keep] - stamps[keep][0], (f + rng.normal(0, 0.005, t.size))[keep], v[keep], temp[keep])
+    rec = as_recorded(t, f, v, temp, i, rate, rng, duration_s, jitter=0.25, gap_s=(0.05, 0.5))
     return rec, truth, base, rate
 
 

@@ -38,13 +38,13 @@ import numpy as np
 from scipy import signal
 from tqdm import tqdm
 
-from independent_split import Truth, compensates as compensates_with, puncture_train, summarise, verdict_with
+from independent_split import (Truth, as_recorded, case_list, compensates as compensates_with, puncture_train, summarise,
+                               verdict_with)
 from polyforce_ros.discrepancy.engine import diagnose
 from polyforce_ros.physics.chain import (OffsetElement, PlayHysteresisElement, SensorChain, SensorLagElement,
                                          ViscoelasticElement)
 from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers, Maxwell, simulate_deformation
-from polyforce_ros.record import Record
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import SecondOrderLag, StaticMap
 
@@ -421,18 +421,7 @@ RATES = (300.0, 600.0, 800.0)
 
 
 def cases():
-    out = []
-    for effect, shapes in SHAPES.items():
-        for shape in shapes:
-            for m in (0.3, 0.8):
-                out.append(([(effect, shape)], m))
-    for a, b in PAIRS:
-        out.append(([(a, SHAPES[a][0]), (b, SHAPES[b][-1])], 0.7))
-    for name in OUTSIDE:
-        for m in (0.4, 0.9):
-            out.append(([(name, "")], m))
-    out += [([], 0.0)] * 4
-    return out
+    return case_list(SHAPES, PAIRS, OUTSIDE, (0.3, 0.8))
 
 
 def sensor(hidden, m, rng):
@@ -456,12 +445,7 @@ def simulate(hidden, m, i):
     base, truth = sensor(hidden, m, rng)
     noise_v = rng.uniform(1.5e-3, 3e-3)
     v = truth.voltage(t, f, temp) + rng.normal(0.0, noise_v, t.size)
-    stamps = t + (0.2 if i % 2 else 0.0) * rng.uniform(-1, 1, t.size) / rate
-    keep = np.ones(t.size, dtype=bool)
-    for _ in range(i % 3):
-        s0 = rng.uniform(0.1, 0.9) * DURATION_S
-        keep &= ~((t >= s0) & (t < s0 + rng.uniform(0.1, 1.0)))
-    rec = Record(stamps[keep] - stamps[keep][0], (f + rng.normal(0, 0.005, t.size))[keep], v[keep], temp[keep])
+    rec = as_recorded(t, f, v, temp, i, rate, rng, DURATION_S, jitter=0.2, gap_s=(0.1, 1.0))
     return rec, truth, base, rate
 
 

@@ -216,6 +216,10 @@ def test_coulomb_friction_is_named_saved_with_its_band_and_compensates_within_it
     assert friction.inverse_share == shares["chosen"] and set(shares["force_rmse_n"]) == {"1", "0.5", "0"}
     assert shares["force_rmse_n"][f"{shares['chosen']:g}"] == min(shares["force_rmse_n"].values())
     assert diag.newtons["saved"]["rmse_n"] == pytest.approx(min(shares["force_rmse_n"].values()))
+    from polyforce_ros.physics.noise_gain import backward_noise_gain  # the gain reported is the saved chain's
+
+    assert diag.newtons["saved"]["noise_gain_n_per_v"] == pytest.approx(
+        backward_noise_gain(diag.chain, diag.newtons["saved"]["noise_gain"]["rate_hz"]).gain_n_per_v, rel=1e-9)
     save_model(tmp_path / "m.yaml", SensorModel(diag.chain, {"source": "test"}))
     saved = load_model(tmp_path / "m.yaml").chain
     rng = np.random.default_rng(seed)

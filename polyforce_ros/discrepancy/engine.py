@@ -212,23 +212,24 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     # force slides, but the force inside the band never reaches the bridge
     shares = FRICTION_INVERSE_SHARES if "friction" in named else (1.0,)
     share_rmse_n: dict[str, float] = {}
+    chosen_share = 1.0
     if named:
+        full = chain
         for share in shares:
+            shared = with_friction_share(full, share)  # the chain saved with this share, whose noise gain is reported
             q = force_quality(fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names, fit.coef_folds,
                                           partial(_as_saved, finish=finish, noise_v=noise_v, factor=factor,
                                                   order=order, share=share)),
-                              fold_rec, t, rec.voltage_v, force_n, rec_temp, noise_chain=chain)
+                              fold_rec, t, rec.voltage_v, force_n, rec_temp, noise_chain=shared)
             share_rmse_n[f"{share:g}"] = q.rmse_n
             if share == shares[0] or q.rmse_n < saved_q.rmse_n:
-                saved_q, chain = q, with_friction_share(chain, share)
+                saved_q, chain, chosen_share = q, shared, share
     judged = _Judgement(chain, {"base": base_q.to_dict(), "saved": saved_q.to_dict(), "lag_bandwidth": bandwidth,
                                 "latency_s": chain.latency_s,
                                 "validation": "each left-out block compensated by the model fitted without it"},
                         base_q.force_n, saved_q.force_n, False)
-    if len(share_rmse_n) > 1:
-        judged.newtons["friction_inverse_share"] = {"chosen": next(e.inverse_share for e in chain.elements
-                                                                   if isinstance(e, FrictionElement)),
-                                                    "force_rmse_n": share_rmse_n}
+    if len(share_rmse_n) > 1 and any(isinstance(e, FrictionElement) for e in chain.elements):
+        judged.newtons["friction_inverse_share"] = {"chosen": chosen_share, "force_rmse_n": share_rmse_n}
     if named and not saved_q.rmse_n <= base_q.rmse_n:
         say("worse in newtons: effects not saved")
         judged.newtons["rejected"] = {"effects": list(named), "saved_rmse_n": saved_q.rmse_n,
@@ -237,6 +238,7 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
         judged.force_after_n = base_q.force_n
         judged.chain, judged.rejected = base_chain, True
         judged.newtons["latency_s"] = judged.chain.latency_s
+        judged.newtons.pop("friction_inverse_share", None)  # nothing of it is saved
     judged.newtons["runtime_guard"] = runtime_guard(judged.chain, rate_of(t))
     return judged
 

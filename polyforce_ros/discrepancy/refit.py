@@ -184,8 +184,10 @@ def _lag_from_core(st: Structure, sig: Signals) -> list[Structure]:
     for i, fast in enumerate(st.taus):
         if fast > longest_lag:
             continue
+        others = st.taus[:i] + st.taus[i + 1:]
         for tau in TAU_GRID[::2]:
-            if 4.0 * fast < tau <= sig.duration_s / 4.0:
+            # above the lag, within the record, and apart from the core's other times (collinear columns otherwise)
+            if 4.0 * fast < tau <= sig.duration_s / 4.0 and all(abs(math.log(tau / o)) > 0.5 for o in others):
                 taus = tuple(sorted(st.taus[:i] + (float(tau),) + st.taus[i + 1:]))
                 out += [Structure(st.core, taus, st.terms + (Term("sensor_lag", variant, fast),))
                         for variant in ("", "pole_pair")]

@@ -144,6 +144,12 @@ class Selection:
         return (float(np.mean(fit.sse_folds < than.sse_folds)) >= self.min_confidence
                 and (than.cv_mse - fit.cv_mse) / share >= self.min_excess_share)
 
+    def noise_limited(self, fit: Fit, name: str) -> bool:
+        """Whether ``name``'s parameter in ``fit`` sits at the bound the record's noise sets
+        (:func:`.effects.at_noise_limit`): such a fit describes the noise, and names nothing."""
+        term = fit.structure.term(name)
+        return term is not None and at_noise_limit(name, term.param, self.fitter.sig)
+
     def acceptable(self, c: Candidate) -> bool:
         """Whether a candidate passed the acceptance test against the model of its step."""
         return c.confidence >= self.min_confidence and c.excess_share >= self.min_excess_share
@@ -214,7 +220,7 @@ class Selection:
                      if reduced is not None else None)
             if again is not None and again.structure.term(other) != fit.structure.term(other):
                 again = min(again, fitter.evaluate(polish(fitter, again.structure)), key=lambda f: f.cv_mse)
-            if again is not None and again.cv_mse < fit.cv_mse:
+            if again is not None and again.cv_mse < fit.cv_mse and not self.noise_limited(again, other):
                 fit = again
         return fit
 
@@ -262,8 +268,7 @@ class Selection:
                              math.sqrt(fit.cv_mse), float(np.mean(fit.sse_folds < current.sse_folds)),
                              float((current.cv_mse - fit.cv_mse) / share), self.step)
             self.candidates.append(cand)
-            term = fit.structure.term(name)
-            if term is not None and at_noise_limit(name, term.param, self.fitter.sig):
+            if self.noise_limited(fit, name):
                 self.say(f"step {self.step}: {name} at its noise limit, not judged")
                 continue
             step_candidates.append(cand)
@@ -321,8 +326,8 @@ class Selection:
         flow plus a drift): the rival takes its place when it is smaller or better by the acceptance test."""
         fitter = self.fitter
         for name in list(self.accepted[:-1]):
-            rivals = [c for c in self.candidates
-                      if c.step == self.accepted_at[name] and c.effect not in self.accepted and self.acceptable(c)]
+            rivals = [c for c in self.candidates if c.step == self.accepted_at[name] and c.effect not in self.accepted
+                      and self.acceptable(c) and not self.noise_limited(c.fit, c.effect)]
             reduced = without(self.current.structure, name) if rivals else None
             if reduced is None:
                 continue
@@ -334,7 +339,7 @@ class Selection:
                 again = self.rebuild(rival, name)
                 if again is not None and (fit is None or again.cv_mse < fit.cv_mse):
                     fit = again
-                if fit is None or not self.justified(fit, reduced_fit) or not (
+                if fit is None or self.noise_limited(fit, rival.effect) or not self.justified(fit, reduced_fit) or not (
                         (size(fit) < size(self.current) and not self.justified(self.current, fit))
                         or self.justified(fit, self.current)):
                     continue

@@ -202,7 +202,7 @@ PARAMETER_BOUNDS = {
     "inverse_damping_ratio": (1e-3, 0.95, "", "the inverse's damping, above the mode's"),
     # V per degC: 10 V/degC swings a 10 V range in 1 degC (diagnosis fits +-1 V/degC)
     "coefficient_v_per_c": (-10.0, 10.0, "V/degC", "full scale within 1 degC already"),
-    # the zero's curvature: 1 V/degC^2 swings a 10 V range within about 3 degC (diagnosis fits +-0.1 V/degC^2)
+    # the zero's curvature: 1 V/degC^2 swings a 10 V range within about 3 degC (diagnosis fits within it)
     "curvature_v_per_c2": (-1.0, 1.0, "V/degC^2", "full scale within 3 degC already"),
     # span change per degC: 5 %/degC halves or doubles the span within 20 degC (diagnosis fits +-2 %/degC)
     "span_coefficient_per_c": (-0.05, 0.05, "1/degC", "the span halves or doubles within 20 degC already"),

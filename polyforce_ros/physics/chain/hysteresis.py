@@ -520,12 +520,14 @@ class FrictionElement(Frozen):
     the force passes while it sticks.
 
     No exact inverse exists: every force inside the band gives the same core force. The inverse runs the same
-    friction on the core's force the other way, ``F = F_core + coupling * stop_r(q)``, where ``q = play_d(F_core)``
-    is the core's force with a dead band ``d`` that noise does not cross: exact while the force moves one way (once
-    the core's force has moved 2 (r + d) since a reversal); while the mechanism sticks and during a reversal the
-    error is at most ``2 coupling r``. The inverse never divides by the stuck slope (1 - coupling), which an exact
-    inverse of a partial coupling would; noise smaller than ``d`` passes with gain 1 (1 + coupling without the dead
-    band: a stop moves with its input inside its band).
+    friction on the core's force the other way, ``F = F_core + s * coupling * stop_r(q)`` with s =
+    ``inverse_share``, where ``q = play_d(F_core)`` is the core's force with a dead band ``d`` that noise does not
+    cross. With s = 1 it is exact while the force moves one way (once the core's force has moved 2 (r + d) since a
+    reversal), and while the mechanism sticks and during a reversal the error is at most ``2 coupling r``; with
+    s = 0 it is the core's force, never more than ``coupling r`` away; in between, a mix of the two. The inverse
+    never divides by the stuck slope (1 - coupling), which an exact inverse of a partial coupling would; noise
+    smaller than ``d`` passes with gain 1 (1 + s coupling without the dead band: a stop moves with its input
+    inside its band).
 
     Parameters (model file keys)
     ----------------------------

@@ -146,14 +146,14 @@ def _kelvin(t, f, compliance_v_per_n, tau_s):
 
 # ----------------------------------------------------------------------------- simulate-only truth elements
 
-class _Sim:
+class SimOnly:
     kind = "sim"
 
     def forward_state(self):
         return {}
 
 
-class DuhemLoop(_Sim):
+class DuhemLoop(SimOnly):
     """A smooth rate-independent loop at the bridge: z follows x at an x-distance w (dz = |dx| (x - z) / w), and
     y = x - c (x - z); the loop is 2 c w high."""
 
@@ -170,7 +170,7 @@ class DuhemLoop(_Sim):
         return out
 
 
-class AsymmetricPlays(_Sim):
+class AsymmetricPlays(SimOnly):
     """Plays with different rising and falling radii on the force path: the core sees F + sum w_i (p_i(F) - F)."""
 
     def __init__(self, up_n, down_n, weights):
@@ -185,7 +185,7 @@ class AsymmetricPlays(_Sim):
         return out
 
 
-class Stiction(_Sim):
+class Stiction(SimOnly):
     """Coulomb friction with a breakaway: the contact holds until the force moves ``breakaway_n`` from where it
     stuck, then slides ``sliding_n`` behind it; it sticks again when the force turns."""
 
@@ -207,7 +207,7 @@ class Stiction(_Sim):
         return out
 
 
-class SincCubed(_Sim):
+class SincCubed(SimOnly):
     """A sigma-delta ADC's sinc^3 decimation filter: three moving averages of one notch period each."""
 
     def __init__(self, notch_hz):
@@ -222,7 +222,7 @@ class SincCubed(_Sim):
         return y[3 * n:]
 
 
-class SplitClockBurgers(_Sim):
+class SplitClockBurgers(SimOnly):
     """A Burgers core whose Kelvin viscosity follows temperature (ln a(T) = log_shift(T)) while its flow does not."""
 
     def __init__(self, core, log_shift):
@@ -237,7 +237,7 @@ class SplitClockBurgers(_Sim):
         return maxwell + _kelvin(xi, f, 1.0 / c.k2_n_per_v, c.eta2_n_s_per_v / c.k2_n_per_v)
 
 
-class ShiftedBurgers(_Sim):
+class ShiftedBurgers(SimOnly):
     """A Burgers core on the reduced time of ln a(T) = log_shift(T)."""
 
     def __init__(self, core, log_shift):
@@ -266,7 +266,7 @@ class Parts:
     core_changed: bool = False
 
     def truth(self):
-        core = self.core if isinstance(self.core, _Sim) else ViscoelasticElement(self.core)
+        core = self.core if isinstance(self.core, SimOnly) else ViscoelasticElement(self.core)
         chain = SensorChain([*self.before, core, *self.after, OffsetElement(OFFSET_V), *self.outer],
                             forward_only=True)
         extras = list(self.extra)

@@ -29,30 +29,19 @@ from its output. ``--check`` prints each case's effect size against its noise wi
 """
 from __future__ import annotations
 
-import argparse
-import time
-from concurrent.futures import ProcessPoolExecutor
-from dataclasses import dataclass, field
-
 import numpy as np
 from scipy import signal
-from tqdm import tqdm
 
-from independent_split import (Truth, as_recorded, case_list, compensates as compensates_with, puncture_train, summarise,
-                               verdict_with)
-from polyforce_ros.discrepancy.engine import diagnose
-from polyforce_ros.physics.chain import (OffsetElement, PlayHysteresisElement, SensorChain, SensorLagElement,
-                                         ViscoelasticElement)
-from polyforce_ros.physics.expconv import exp_convolve
+from independent_split import puncture_train
+from polyforce_ros.physics.chain import PlayHysteresisElement, SensorLagElement
 from polyforce_ros.physics.viscoelastic import Burgers, Maxwell, simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import SecondOrderLag, StaticMap
+from split_kit import OFFSET_V, Parts, ShapeSplit, SimOnly, core_output, dead_time, kelvin
 
 SEED0 = 210_000  # never a seed of the registry's splits (0.., 5000..), of split A (90000..) nor of split B (140000..)
-DRIFTS = {"offset_drift", "thermal_drift"}
 FORCE_MAX_N = 9.0
 T_REF_C = 23.0
-OFFSET_V = 0.025
 DURATION_S = 450.0
 
 
@@ -114,18 +103,6 @@ def okamura_dwell(duration_s, rate_hz, rng):
 PROFILES = (chirp_blocks, smooth_random, okamura_dwell)
 
 
-def with_knocks(t, f, rng):
-    """20-40 knocks on the tool (raised-cosine pulses of 5-15 ms, 0.3-1.5 N): what excites a mechanical mode in
-    use. A mode that nothing excites cannot be seen, so every case that hides one has them."""
-    f = f.copy()
-    rate = 1.0 / float(np.median(np.diff(t)))
-    for at in rng.uniform(0.05, 0.95, int(rng.integers(20, 41))) * t[-1]:
-        width = rng.uniform(0.005, 0.015)
-        i0, n = int(at * rate), max(2, int(width * rate))
-        f[i0:i0 + n] += rng.uniform(0.3, 1.5) * 0.5 * (1 - np.cos(2 * np.pi * np.arange(n)[:n] / n))[:f[i0:i0 + n].size]
-    return t, f
-
-
 def temperature(t, rng):
     """A step of 2-6 degC (a door, a lamp) approached with a 20-120 s time constant, on a ramp of up to 3 degC."""
     s = t - t[0]
@@ -135,23 +112,7 @@ def temperature(t, rng):
     return T_REF_C + rng.uniform(-1.0, 1.0) + rng.uniform(-3.0, 3.0) * s / d + step
 
 
-def _dead_time(t, x, delay_s):
-    return np.interp(t - delay_s, t, x, left=x[0])
-
-
-def _kelvin(t, f, compliance_v_per_n, tau_s):
-    """A Kelvin unit's deformation, tau x' + x = c F, from rest."""
-    return compliance_v_per_n * exp_convolve(t, f, [1.0 / tau_s])[:, 0] / tau_s
-
-
 # ----------------------------------------------------------------------------- simulate-only truth elements
-
-class SimOnly:
-    kind = "sim"
-
-    def forward_state(self):
-        return {}
-
 
 class DuhemLoop(SimOnly):
     """A smooth rate-independent loop at the bridge: z follows x at an x-distance w (dz = |dx| (x - z) / w), and
@@ -234,7 +195,7 @@ class SplitClockBurgers(SimOnly):
         xi = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
         c = self.core
         maxwell = simulate_deformation(Maxwell(c.k1_n_per_v, c.eta1_n_s_per_v), t, f)
-        return maxwell + _kelvin(xi, f, 1.0 / c.k2_n_per_v, c.eta2_n_s_per_v / c.k2_n_per_v)
+        return maxwell + kelvin(xi, f, 1.0 / c.k2_n_per_v, c.eta2_n_s_per_v / c.k2_n_per_v)
 
 
 class ShiftedBurgers(SimOnly):
@@ -251,45 +212,6 @@ class ShiftedBurgers(SimOnly):
 
 
 # ----------------------------------------------------------------------------- truths
-
-@dataclass
-class Parts:
-    """A sensor in pieces, so that two effects can be put into one: elements before and after the core, the core
-    (a model or a simulate-only element), elements after the offset, and terms added at the bridge."""
-
-    base: str
-    core: object
-    before: list = field(default_factory=list)
-    after: list = field(default_factory=list)
-    outer: list = field(default_factory=list)
-    extra: list = field(default_factory=list)
-    core_changed: bool = False
-
-    def truth(self):
-        core = self.core if isinstance(self.core, SimOnly) else ViscoelasticElement(self.core)
-        chain = SensorChain([*self.before, core, *self.after, OffsetElement(OFFSET_V), *self.outer],
-                            forward_only=True)
-        extras = list(self.extra)
-        return Truth(chain, (lambda t, f, T: sum(x(t, f, T) for x in extras)) if extras else None)
-
-
-def merge(a, b):
-    """Both effects in one sensor: the base and core of whichever changed them, every other piece of both."""
-    core_of = b if b.core_changed else a
-    base = b.base if b.base != "burgers" else a.base
-    return Parts(base, core_of.core, a.before + b.before, a.after + b.after, a.outer + b.outer, a.extra + b.extra,
-                 a.core_changed or b.core_changed)
-
-
-def core(rng):
-    k1, k2 = rng.uniform(1.0, 12.0), rng.uniform(2.0, 60.0)
-    return Burgers(k1, k2, float(np.exp(rng.uniform(np.log(1e3), np.log(2e5)))), k2 * rng.uniform(0.5, 60.0))
-
-
-def core_output(c):
-    """The core's own output (without offset) as a function of the force history."""
-    return lambda t, f: simulate_deformation(c, t, f)
-
 
 def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape is the clearest catalogue of the split
     span = FORCE_MAX_N / c.relaxation().g0_n_per_v * 2.0  # ~ the core's output over the force range, V
@@ -310,7 +232,7 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
         total = float(np.interp(m, [0, 1], [0.015, 0.15])) / c.k1_n_per_v  # extra compliance, V/N
         taus = np.sort(np.exp(rng.uniform(np.log(0.5), np.log(200.0), 3)))
         share = rng.dirichlet(np.ones(3))
-        p.extra.append(lambda t, f, T, s=share * total, taus=taus: sum(_kelvin(t, f, sk, tk) for sk, tk in zip(s, taus)))
+        p.extra.append(lambda t, f, T, s=share * total, taus=taus: sum(kelvin(t, f, sk, tk) for sk, tk in zip(s, taus)))
         return p
     if effect == "hysteresis":
         frac = np.interp(m, [0, 1], [0.02, 0.08])
@@ -345,7 +267,7 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
         k = float(np.interp(m, [0, 1], [0.003, 0.01]) * rng.choice([-1, 1]))
         if shape == "dead_time":
             delay = rng.uniform(10.0, 60.0)
-            p.extra.append(lambda t, f, T, k=k, d=delay: k * (_dead_time(t, T, d) - T_REF_C))
+            p.extra.append(lambda t, f, T, k=k, d=delay: k * (dead_time(t, T, d) - T_REF_C))
             return p
         theta = rng.uniform(4.0, 12.0)
         p.extra.append(lambda t, f, T, k=k, th=theta: k * th * np.expm1((T - T_REF_C) / th))
@@ -357,7 +279,7 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
             p.extra.append(lambda t, f, T, a=a, out=out: a * (T - T_REF_C) * (out(t, f) + OFFSET_V))
             return p
         delay = rng.uniform(15.0, 60.0)
-        p.extra.append(lambda t, f, T, a=a, out=out, d=delay: a * (_dead_time(t, T, d) - T_REF_C) * out(t, f))
+        p.extra.append(lambda t, f, T, a=a, out=out, d=delay: a * (dead_time(t, T, d) - T_REF_C) * out(t, f))
         return p
     if effect == "offset_drift":
         size = float(np.interp(m, [0, 1], [0.015, 0.08]) * rng.choice([-1, 1]))
@@ -420,87 +342,11 @@ OUTSIDE = ("mains_hum", "span_step")
 RATES = (300.0, 600.0, 800.0)
 
 
-def cases():
-    return case_list(SHAPES, PAIRS, OUTSIDE, (0.3, 0.8))
-
-
-def sensor(hidden, m, rng):
-    c, parts = core(rng), None
-    for effect, shape in hidden or [("none", "")]:
-        one = make_parts(effect, shape, m, c, rng)
-        parts = one if parts is None else merge(parts, one)
-    return parts.base, parts.truth()
-
-
-def load(hidden, i, rate, rng):
-    t, f = PROFILES[i % len(PROFILES)](DURATION_S, rate, rng)
-    return with_knocks(t, f, rng) if any(e == "resonance" for e, _ in hidden) else (t, f)
-
-
-def simulate(hidden, m, i):
-    rng = np.random.default_rng(SEED0 + i)
-    rate = 1000.0 if any(e == "resonance" for e, _ in hidden) else RATES[i % len(RATES)]
-    t, f = load(hidden, i, rate, rng)
-    temp = temperature(t, rng)
-    base, truth = sensor(hidden, m, rng)
-    noise_v = rng.uniform(1.5e-3, 3e-3)
-    v = truth.voltage(t, f, temp) + rng.normal(0.0, noise_v, t.size)
-    rec = as_recorded(t, f, v, temp, i, rate, rng, DURATION_S, jitter=0.2, gap_s=(0.1, 1.0))
-    return rec, truth, base, rate
-
-
-def verdict(hidden, d):
-    return verdict_with(OUTSIDE, hidden, d)
-
-
-def run_case(item):
-    i, (hidden, m) = item
-    rec, truth, base, rate = simulate(hidden, m, i)
-    d = diagnose(rec, base=base)
-    row = {"index": i, "hidden": ["/".join(h) for h in hidden], "magnitude": m, "rate_hz": rate, "base": base,
-           "answer": d.missing_effect, "named": d.missing_effects, "verdict": verdict(hidden, d)}
-    if row["verdict"] == "ok" and hidden and not ({e for e, _ in hidden} & (DRIFTS | set(OUTSIDE))):
-        row["compensated_rmse_fraction_of_full_scale"] = compensates_with(d, truth, rate, i, seed0=SEED0,
-                                                                          temperature_fn=temperature)
-    return row
-
-
-def check_case(item):
-    """The hidden effects' size on the bridge: the RMS of the voltage they add, in units of the record's noise."""
-    i, (hidden, m) = item
-    rec, truth, base, rate = simulate(hidden, m, i)
-    rng = np.random.default_rng(SEED0 + i)
-    t, f = load(hidden, i, rate, rng)
-    temp = temperature(t, rng)
-    _, with_effect = sensor(hidden, m, rng)
-    rng = np.random.default_rng(SEED0 + i)
-    load(hidden, i, rate, rng)
-    temperature(t, rng)
-    _, clean = sensor([], m, rng)
-    if base != "burgers" and hidden:  # a changed base: compare with the base's own model of the same core
-        return i, hidden, float("nan"), rec.t_s.size
-    gap = with_effect.voltage(t, f, temp) - clean.voltage(t, f, temp)
-    return i, hidden, float(np.sqrt(np.mean((gap - gap.mean()) ** 2)) / 2e-3), rec.t_s.size
-
-
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--json", help="write every case as JSON")
-    ap.add_argument("--workers", type=int, default=1, help="processes")
-    ap.add_argument("--stride", type=int, default=1, help="run every n-th case only")
-    ap.add_argument("--check", action="store_true", help="print each case's effect size only (no diagnosis)")
-    args = ap.parse_args()
-    todo = list(enumerate(cases()))[::args.stride]
-    t0 = time.perf_counter()
-    with ProcessPoolExecutor(args.workers) as pool:
-        if args.check:
-            for i, hidden, size, n in pool.map(check_case, todo):
-                print(f"{i:3d} {'+'.join('/'.join(h) for h in hidden) or 'clean':<55} {n:7d} samples  "
-                      f"effect RMS {size:6.1f} x 2 mV")
-            return
-        results = list(tqdm(pool.map(run_case, todo), total=len(todo), desc="independent split C"))
-    summarise(results, time.perf_counter() - t0, "independent split C", args.json)
+SPLIT = ShapeSplit("independent split C", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.3, 0.8), pair_shapes=(0, -1),
+                   rates=RATES, profiles=PROFILES, temperature=temperature, make_parts=make_parts,
+                   duration_s=DURATION_S, noise_v=(1.5e-3, 3e-3), jitter=0.2, gap_s=(0.1, 1.0))
+cases, simulate = SPLIT.cases, SPLIT.simulate
 
 
 if __name__ == "__main__":
-    main()
+    SPLIT.main(__doc__)

@@ -30,26 +30,18 @@ anything. ``--check`` prints each case's effect size against its noise without d
 """
 from __future__ import annotations
 
-import argparse
-import time
-from concurrent.futures import ProcessPoolExecutor
-
 import numpy as np
 from scipy import signal
-from tqdm import tqdm
 
-from independent_split import (as_recorded, case_list, compensates as compensates_with, puncture_train, summarise,
-                               verdict_with)
-from independent_split_c import Parts, SimOnly, core, core_output, merge, with_knocks
-from polyforce_ros.discrepancy.engine import diagnose
+from independent_split import puncture_train
 from polyforce_ros.physics.chain import play_operator
 from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers, Burgers2, Zener2, simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import SecondOrderLag, StaticMap
+from split_kit import Parts, ShapeSplit, SimOnly, core_output
 
 SEED0 = 260_000  # never a seed of the registry's splits nor of splits A (90000..), B (140000..), C (210000..)
-DRIFTS = {"offset_drift", "thermal_drift"}
 FORCE_MAX_N = 9.0
 T_REF_C = 23.0
 DURATION_S = 500.0
@@ -367,81 +359,11 @@ OUTSIDE = ("span_ripple", "permanent_set")
 RATES = (250.0, 400.0, 1000.0)
 
 
-def cases():
-    return case_list(SHAPES, PAIRS, OUTSIDE, (0.25, 0.75), pair_shapes=(-1, 0))
-
-
-def sensor(hidden, m, rng):
-    c, parts = core(rng), None
-    for effect, shape in hidden or [("none", "")]:
-        one = make_parts(effect, shape, m, c, rng)
-        parts = one if parts is None else merge(parts, one)
-    return parts.base, parts.truth()
-
-
-def load(hidden, i, rate, rng):
-    t, f = PROFILES[i % len(PROFILES)](DURATION_S, rate, rng)
-    return with_knocks(t, f, rng) if any(e == "resonance" for e, _ in hidden) else (t, f)
-
-
-def simulate(hidden, m, i):
-    rng = np.random.default_rng(SEED0 + i)
-    rate = 1000.0 if any(e == "resonance" for e, _ in hidden) else RATES[i % len(RATES)]
-    t, f = load(hidden, i, rate, rng)
-    temp = temperature(t, rng)
-    base, truth = sensor(hidden, m, rng)
-    v = truth.voltage(t, f, temp) + rng.normal(0.0, rng.uniform(2e-3, 2.5e-3), t.size)
-    rec = as_recorded(t, f, v, temp, i, rate, rng, DURATION_S, jitter=0.35, gap_s=(0.2, 2.0))
-    return rec, truth, base, rate
-
-
-def run_case(item):
-    i, (hidden, m) = item
-    rec, truth, base, rate = simulate(hidden, m, i)
-    d = diagnose(rec, base=base)
-    row = {"index": i, "hidden": ["/".join(h) for h in hidden], "magnitude": m, "rate_hz": rate, "base": base,
-           "answer": d.missing_effect, "named": d.missing_effects, "verdict": verdict_with(OUTSIDE, hidden, d)}
-    if row["verdict"] == "ok" and hidden and not ({e for e, _ in hidden} & (DRIFTS | set(OUTSIDE))):
-        row["compensated_rmse_fraction_of_full_scale"] = compensates_with(d, truth, rate, i, seed0=SEED0,
-                                                                          temperature_fn=temperature)
-    return row
-
-
-def check_case(item):
-    """The hidden effects' size on the bridge: the RMS of the voltage they add, in units of 2 mV (nan when the
-    effect changes the base)."""
-    i, (hidden, m) = item
-    rate = 1000.0 if any(e == "resonance" for e, _ in hidden) else RATES[i % len(RATES)]
-    voltages = []
-    for what in (hidden, []):
-        rng = np.random.default_rng(SEED0 + i)
-        t, f = load(hidden, i, rate, rng)
-        temp = temperature(t, rng)
-        base, truth = sensor(what, m, rng)
-        voltages.append(truth.voltage(t, f, temp))
-        if what and base != "burgers":
-            return i, hidden, float("nan")
-    gap = voltages[0] - voltages[1]
-    return i, hidden, float(np.sqrt(np.mean((gap - gap.mean()) ** 2)) / 2e-3)
-
-
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--json", help="write every case as JSON")
-    ap.add_argument("--workers", type=int, default=1, help="processes")
-    ap.add_argument("--stride", type=int, default=1, help="run every n-th case only")
-    ap.add_argument("--check", action="store_true", help="print each case's effect size only (no diagnosis)")
-    args = ap.parse_args()
-    todo = list(enumerate(cases()))[::args.stride]
-    t0 = time.perf_counter()
-    with ProcessPoolExecutor(args.workers) as pool:
-        if args.check:
-            for i, hidden, size in pool.map(check_case, todo):
-                print(f"{i:3d} {'+'.join('/'.join(h) for h in hidden) or 'clean':<60} effect RMS {size:6.1f} x 2 mV")
-            return
-        results = list(tqdm(pool.map(run_case, todo), total=len(todo), desc="independent split D"))
-    summarise(results, time.perf_counter() - t0, "independent split D", args.json)
+SPLIT = ShapeSplit("independent split D", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.25, 0.75), pair_shapes=(-1, 0),
+                   rates=RATES, profiles=PROFILES, temperature=temperature, make_parts=make_parts,
+                   duration_s=DURATION_S, noise_v=(2e-3, 2.5e-3), jitter=0.35, gap_s=(0.2, 2.0))
+cases, simulate = SPLIT.cases, SPLIT.simulate
 
 
 if __name__ == "__main__":
-    main()
+    SPLIT.main(__doc__)

@@ -1,0 +1,196 @@
+"""What the independent splits built from sensor pieces (C, D) share: the pieces, the random core, the knocks that
+excite a mode, and :class:`ShapeSplit`, which simulates, diagnoses, scores and checks a split's cases.
+
+A split module declares its shapes, pairs, profiles, temperature and ``make_parts(effect, shape, m, core, rng) ->
+Parts``, and runs ``ShapeSplit(...).main(__doc__)``.
+"""
+from __future__ import annotations
+
+import argparse
+import time
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+from tqdm import tqdm
+
+from independent_split import Truth, as_recorded, case_list, compensates, summarise, verdict_with
+from polyforce_ros.discrepancy.engine import diagnose
+from polyforce_ros.physics.chain import OffsetElement, SensorChain, ViscoelasticElement
+from polyforce_ros.physics.expconv import exp_convolve
+from polyforce_ros.physics.viscoelastic import Burgers, simulate_deformation
+
+OFFSET_V = 0.025
+DRIFTS = frozenset({"offset_drift", "thermal_drift"})
+
+
+class SimOnly:
+    """A truth element that only simulates (stateless between blocks)."""
+
+    kind = "sim"
+
+    def forward_state(self):
+        return {}
+
+
+@dataclass
+class Parts:
+    """A sensor in pieces, so that two effects can be put into one: elements before and after the core, the core
+    (a model or a simulate-only element), elements after the offset, and terms added at the bridge."""
+
+    base: str
+    core: object
+    before: list = field(default_factory=list)
+    after: list = field(default_factory=list)
+    outer: list = field(default_factory=list)
+    extra: list = field(default_factory=list)
+    core_changed: bool = False
+
+    def truth(self):
+        core = self.core if isinstance(self.core, SimOnly) else ViscoelasticElement(self.core)
+        chain = SensorChain([*self.before, core, *self.after, OffsetElement(OFFSET_V), *self.outer],
+                            forward_only=True)
+        extras = list(self.extra)
+        return Truth(chain, (lambda t, f, T: sum(x(t, f, T) for x in extras)) if extras else None)
+
+
+def merge(a, b):
+    """Both effects in one sensor: the base and core of whichever changed them, every other piece of both."""
+    core_of = b if b.core_changed else a
+    base = b.base if b.base != "burgers" else a.base
+    return Parts(base, core_of.core, a.before + b.before, a.after + b.after, a.outer + b.outer, a.extra + b.extra,
+                 a.core_changed or b.core_changed)
+
+
+def core(rng):
+    """A random Burgers core: k1 1-12 N/V, k2 2-60 N/V, eta1 1e3-2e5 N s/V, a retardation of 0.5-60 s."""
+    k1, k2 = rng.uniform(1.0, 12.0), rng.uniform(2.0, 60.0)
+    return Burgers(k1, k2, float(np.exp(rng.uniform(np.log(1e3), np.log(2e5)))), k2 * rng.uniform(0.5, 60.0))
+
+
+def core_output(c):
+    """The core's own output (without offset) as a function of the force history."""
+    return lambda t, f: simulate_deformation(c, t, f)
+
+
+def dead_time(t, x, delay_s):
+    """``x`` as it was ``delay_s`` earlier, settled before the record."""
+    return np.interp(t - delay_s, t, x, left=x[0])
+
+
+def kelvin(t, f, compliance_v_per_n, tau_s):
+    """A Kelvin unit's deformation, tau x' + x = c F, from rest."""
+    return compliance_v_per_n * exp_convolve(t, f, [1.0 / tau_s])[:, 0] / tau_s
+
+
+def with_knocks(t, f, rng):
+    """20-40 knocks on the tool (raised-cosine pulses of 5-15 ms, 0.3-1.5 N): what excites a mechanical mode in
+    use. A mode that nothing excites cannot be seen, so every case that hides one has them."""
+    f = f.copy()
+    rate = 1.0 / float(np.median(np.diff(t)))
+    for at in rng.uniform(0.05, 0.95, int(rng.integers(20, 41))) * t[-1]:
+        width = rng.uniform(0.005, 0.015)
+        i0, n = int(at * rate), max(2, int(width * rate))
+        f[i0:i0 + n] += rng.uniform(0.3, 1.5) * 0.5 * (1 - np.cos(2 * np.pi * np.arange(n)[:n] / n))[:f[i0:i0 + n].size]
+    return t, f
+
+
+@dataclass(frozen=True)
+class ShapeSplit:
+    """A split of cases built from :class:`Parts`: which shapes, how they are recorded, and the runs over them.
+
+    ``profiles`` are ``(duration_s, rate_hz, rng) -> (t, force)``; ``temperature`` is ``(t, rng) -> degC``;
+    ``make_parts`` is ``(effect, shape, magnitude, core, rng) -> Parts``; ``noise_v`` the range the bridge noise's
+    RMS is drawn from; ``jitter`` and ``gap_s`` as :func:`independent_split.as_recorded`."""
+
+    label: str
+    seed0: int
+    shapes: dict
+    pairs: tuple
+    outside: tuple
+    magnitudes: tuple
+    pair_shapes: tuple
+    rates: tuple
+    profiles: tuple
+    temperature: Callable
+    make_parts: Callable
+    duration_s: float
+    noise_v: tuple
+    jitter: float
+    gap_s: tuple
+
+    def cases(self):
+        return case_list(self.shapes, self.pairs, self.outside, self.magnitudes, self.pair_shapes)
+
+    def sensor(self, hidden, m, rng):
+        c, parts = core(rng), None
+        for effect, shape in hidden or [("none", "")]:
+            one = self.make_parts(effect, shape, m, c, rng)
+            parts = one if parts is None else merge(parts, one)
+        return parts.base, parts.truth()
+
+    def rate(self, hidden, i):
+        return 1000.0 if any(e == "resonance" for e, _ in hidden) else self.rates[i % len(self.rates)]
+
+    def load(self, hidden, i, rate, rng):
+        t, f = self.profiles[i % len(self.profiles)](self.duration_s, rate, rng)
+        return with_knocks(t, f, rng) if any(e == "resonance" for e, _ in hidden) else (t, f)
+
+    def simulate(self, hidden, m, i):
+        rng = np.random.default_rng(self.seed0 + i)
+        rate = self.rate(hidden, i)
+        t, f = self.load(hidden, i, rate, rng)
+        temp = self.temperature(t, rng)
+        base, truth = self.sensor(hidden, m, rng)
+        v = truth.voltage(t, f, temp) + rng.normal(0.0, rng.uniform(*self.noise_v), t.size)
+        rec = as_recorded(t, f, v, temp, i, rate, rng, self.duration_s, jitter=self.jitter, gap_s=self.gap_s)
+        return rec, truth, base, rate
+
+    def run_case(self, item):
+        """Diagnose case ``item = (i, (hidden, m))`` and score it; a correctly named case without a drift also
+        compensates a new record of the sensor."""
+        i, (hidden, m) = item
+        rec, truth, base, rate = self.simulate(hidden, m, i)
+        d = diagnose(rec, base=base)
+        row = {"index": i, "hidden": ["/".join(h) for h in hidden], "magnitude": m, "rate_hz": rate, "base": base,
+               "answer": d.missing_effect, "named": d.missing_effects,
+               "verdict": verdict_with(self.outside, hidden, d)}
+        if row["verdict"] == "ok" and hidden and not ({e for e, _ in hidden} & (DRIFTS | set(self.outside))):
+            row["compensated_rmse_fraction_of_full_scale"] = compensates(d, truth, rate, i, seed0=self.seed0,
+                                                                         temperature_fn=self.temperature)
+        return row
+
+    def check_case(self, item):
+        """The hidden effects' size on the bridge: the RMS of the voltage they add, in units of 2 mV (nan when
+        an effect changes the base)."""
+        i, (hidden, m) = item
+        rate = self.rate(hidden, i)
+        voltages = []
+        for what in (hidden, []):
+            rng = np.random.default_rng(self.seed0 + i)
+            t, f = self.load(hidden, i, rate, rng)
+            temp = self.temperature(t, rng)
+            base, truth = self.sensor(what, m, rng)
+            if what and base != "burgers":
+                return i, hidden, float("nan")
+            voltages.append(truth.voltage(t, f, temp))
+        gap = voltages[0] - voltages[1]
+        return i, hidden, float(np.sqrt(np.mean((gap - gap.mean()) ** 2)) / 2e-3)
+
+    def main(self, doc):
+        ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+        ap.add_argument("--json", help="write every case as JSON")
+        ap.add_argument("--workers", type=int, default=1, help="processes")
+        ap.add_argument("--stride", type=int, default=1, help="run every n-th case only")
+        ap.add_argument("--check", action="store_true", help="print each case's effect size only (no diagnosis)")
+        args = ap.parse_args()
+        todo = list(enumerate(self.cases()))[::args.stride]
+        t0 = time.perf_counter()
+        with ProcessPoolExecutor(args.workers) as pool:
+            if args.check:
+                for i, hidden, size in pool.map(self.check_case, todo):
+                    print(f"{i:3d} {'+'.join('/'.join(h) for h in hidden) or 'clean':<60} effect RMS {size:6.1f} x 2 mV")
+                return
+            results = list(tqdm(pool.map(self.run_case, todo), total=len(todo), desc=self.label))
+        summarise(results, time.perf_counter() - t0, self.label, args.json)

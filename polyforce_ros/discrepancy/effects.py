@@ -28,7 +28,7 @@ form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable, Mapping, Optional, Sequence
 
 import numpy as np
@@ -132,6 +132,9 @@ class Effect:
         Effects it cannot be told apart from in one record: one is named, never both (the swap check chooses).
     record_rate : bool
         Fitted at the record's rate after the selection (:mod:`.resonance`), not by the design at the fit rate.
+    extends : dict
+        Variant -> the smaller variant it holds (its columns and more): chosen only when the columns it adds are
+        significant (:data:`.selection.SIGNIFICANT_SE`).
     """
 
     name: str
@@ -147,6 +150,7 @@ class Effect:
     needs_temperature: bool = False
     rivals: tuple[str, ...] = ()
     record_rate: bool = False
+    extends: Mapping[str, str] = field(default_factory=dict)
 
 
 # --------------------------------------------------------------------------- columns and elements
@@ -465,6 +469,7 @@ EFFECTS: dict[str, Effect] = {
         "thermal_drift", "output following temperature (thermal_drift)", ("temperature_change",), ("temperature",),
         ("thermal_drift", "thermal_lag"),
         variants=("direct", "lag", "direct_curved", "lag_curved"), grid=_thermal_grid,
+        extends={"direct_curved": "direct", "lag_curved": "lag"},
         columns=_thermal_columns, to_elements=_thermal_elements, needs_temperature=True),
     "thermal_sensitivity": Effect(
         "thermal_sensitivity", "a span that follows temperature (thermal_sensitivity)", ("temperature_change", "high_load"),

@@ -89,6 +89,10 @@ def _variant(fit: Fit, effect: str) -> str:
     return term.variant if term else ""
 
 
+#: How many block-jackknife standard errors a column that a larger variant adds must lie from zero.
+SIGNIFICANT_SE = 3.0
+
+
 class Selection:
     """The search for the effects that explain a record, from its base fit.
 
@@ -185,7 +189,25 @@ class Selection:
         polished = [fitter.evaluate(polish(fitter, f.structure)) for f in to_polish.values()
                     if polish_ and (polish_ != "parametric" or _has_param(f, name))
                     and (to.fit_mse - f.fit_mse) / share >= self.min_excess_share]
-        return min([*polished, *fits], key=lambda f: f.cv_mse)
+        return min(self._nested([*polished, *fits], name), key=lambda f: f.cv_mse)
+
+    def _nested(self, fits: list[Fit], name: str) -> list[Fit]:
+        """``fits`` without those of a variant that extends a smaller one (:attr:`.effects.Effect.extends`) whose
+        added columns are not each at least :data:`SIGNIFICANT_SE` block-jackknife standard errors from zero: a
+        column the folds cannot agree on describes nothing the smaller variant misses."""
+        extends = REGISTRY[name].extends
+        smaller = {v: {n for f in fits if _variant(f, name) == s for n in f.names} for v, s in extends.items()}
+
+        def significant(f: Fit) -> bool:
+            v = _variant(f, name)
+            if v not in extends:
+                return True
+            co = f.coefficients()
+            return all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"]
+                       for n in f.names if n not in smaller[v] and n in co)
+
+        kept = [f for f in fits if significant(f)]
+        return kept or fits
 
     def rebuild(self, rival: Candidate, name: str) -> Optional[Fit]:
         """The rival's own step with every effect named since (but ``name``) added back in order, each re-chosen."""

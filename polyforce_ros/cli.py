@@ -175,7 +175,7 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     bar.close()
     print(f"missing effect: {diag.missing_effect}  (base {diag.base})")
     for name in diag.missing_effects:
-        saved = ", ".join(f"{k} {v:.4g}" for k, v in diag.saved_parameters(name).items())
+        saved = diag.saved_text(name)
         print(f"  named {name} ({diag.variants.get(name) or 'as in the catalogue'}), confidence {diag.confidences[name]:.0%}"
               + (f"; saved as {saved}" if saved else ""))
     print(f"validation RMSE (out of sample): {diag.rmse_before:.3e} V -> {diag.rmse_after:.3e} V; "

@@ -188,7 +188,7 @@ def _lag_from_core(st: Structure, sig: Signals) -> list[Structure]:
         for tau in TAU_GRID[::2]:
             # above the lag, within the record, and apart from the core's other times (collinear columns otherwise)
             if 4.0 * fast < tau <= sig.duration_s / 4.0 and all(abs(math.log(tau / o)) > 0.5 for o in others):
-                taus = tuple(sorted(st.taus[:i] + (float(tau),) + st.taus[i + 1:]))
+                taus = tuple(sorted(others + (float(tau),)))
                 out += [Structure(st.core, taus, st.terms + (Term("sensor_lag", variant, fast),))
                         for variant in ("", "pole_pair")]
     return out

@@ -104,8 +104,8 @@ def write_report(diag: Diagnosis, rec: Record, out_dir: PathLike, bag_name: str 
     data = diag.to_json()
     u = diag.unexplained
     def saved(effect: str) -> str:
-        values = diag.saved_parameters(effect)
-        return "; " + ", ".join(f"{k} {v:.4g}" for k, v in values.items()) if values else ""
+        text = diag.saved_text(effect)
+        return "; " + text if text else ""
 
     named = ", ".join(f"`{e}` (confidence {diag.confidences[e]:.0%}{saved(e)})" for e in diag.missing_effects)
     lines = [f"# Discrepancy diagnosis {bag_name}", "",

@@ -102,6 +102,10 @@ class Diagnosis:
                         if k != "type" and isinstance(v, (int, float)) and not isinstance(v, bool)}
         return {}
 
+    def saved_text(self, effect: str) -> str:
+        """:meth:`saved_parameters` as the printout and the report write them (``key value, ...``; empty for none)."""
+        return ", ".join(f"{k} {v:.4g}" for k, v in self.saved_parameters(effect).items())
+
     def to_json(self) -> dict[str, Any]:
         """Plain data: the JSON of ``polyforce diagnose`` (see its ``--help``)."""
         from ..model_file import SensorModel, model_to_mapping

@@ -511,60 +511,6 @@ def test_a_friction_outside_its_ranges_is_a_model_error(bad):
     assert FrictionElement.from_dict(good.to_dict()).to_dict() == good.to_dict()
 
 
-# -- onset_shift: the constant an operator settles in from the first load -----------------------------------------
-
-def _asymmetric_play(x, up, down):
-    """A play that engages at +up going up and -down coming down, starting at 0 (written out, independently)."""
-    y, out = 0.0, []
-    for v in x:
-        y = min(max(y, v - up), v + down)
-        out.append(y)
-    return np.array(out)
-
-
-@settings(max_examples=50, deadline=None)
-@given(up=st.floats(0.01, 1.0), down=st.floats(0.01, 1.0), seed=st.integers(0, 2**31 - 1), cut=st.integers(1, 2999))
-def test_an_asymmetric_play_is_the_symmetric_play_followed_by_an_onset_shift(up, down, seed, cut):
-    from polyforce_ros.physics.chain import OnsetShiftElement, PlayHysteresisElement, play_operator
-
-    rng = np.random.default_rng(seed)
-    t = np.arange(3000) * 1e-3
-    x = np.abs(np.cumsum(rng.normal(0.0, 0.05, t.size)) + 3.0 * np.sin(t * rng.uniform(0.5, 5.0)))
-    radius = 0.5 * (up + down)
-    symmetric = play_operator(x, [radius])[:, 0]
-    # the symmetric play's output passes its onset level once both plays have engaged (the input above up and r)
-    shift = OnsetShiftElement(onset_level=max(0.0, up - radius), shift=radius - up)
-    shifted = shift.forward(t, symmetric)
-    engaged = np.flatnonzero(symmetric > shift.onset_level)
-    if engaged.size:  # from the sample after, exactly the asymmetric play
-        np.testing.assert_allclose(shifted[engaged[0] + 1:], _asymmetric_play(x, up, down)[engaged[0] + 1:], atol=1e-12)
-    else:
-        np.testing.assert_array_equal(shifted, symmetric)
-    # the inverse is exact; per sample as in batch; block-wise forward as whole
-    np.testing.assert_allclose(shift.backward(t, shifted), symmetric, atol=1e-12)
-    stream = shift.streaming()
-    np.testing.assert_allclose([stream.step(0.0, float(y)) for y in shifted], symmetric, atol=1e-12)
-    state = shift.forward_state()
-    blocks = np.concatenate([shift.forward(t[:cut], symmetric[:cut], state=state),
-                             shift.forward(t[cut:], symmetric[cut:], state=state)])
-    np.testing.assert_array_equal(blocks, shifted)
-    assert OnsetShiftElement.from_dict(shift.to_dict()).to_dict() == shift.to_dict()
-    # through a play hysteresis element too: the operator and its shift invert together
-    chain = SensorChain([PlayHysteresisElement(1.0, [radius], [0.3]), shift, ViscoelasticElement(PAPER_BURGERS)])
-    v = chain.forward(t, x)
-    np.testing.assert_allclose(chain.backward(t, v), x, atol=1e-6)
-
-
-@pytest.mark.parametrize("bad", [{"onset_level": 0.1}, {"shift": 0.1}, {"onset_level": float("nan"), "shift": 0.1},
-                                 {"onset_level": 0.1, "shift": 1e9}, {"onset_level": 0.1, "shift": True},
-                                 {"onset_level": 0.1, "shift": 0.1, "extra": 1.0}])
-def test_an_onset_shift_outside_its_ranges_is_a_model_error(bad):
-    from polyforce_ros.physics.chain import OnsetShiftElement
-
-    with pytest.raises(ModelError):
-        OnsetShiftElement.from_dict({"type": "onset_shift", **bad})
-
-
 # -- thermo_rheological: a core whose viscosities follow temperature ---------------------------------------------
 
 @settings(max_examples=30, deadline=None)

@@ -313,54 +313,6 @@ def _chain_record(elements, seed, rate_hz=500.0, duration_s=300.0, temperature=T
     return Record(t, f + rng.normal(0.0, 0.005, t.size), volts, temp), truth
 
 
-class _AsymmetricPlays:
-    """Plays on the force that engage at +up going up and at -down coming down, written out (a simulate-only truth)."""
-
-    kind = "asymmetric_plays"
-
-    def __init__(self, ups, downs, weights):
-        self.ups, self.downs, self.weights = (np.asarray(a, dtype=float) for a in (ups, downs, weights))
-
-    def forward_state(self):
-        return {"y": np.zeros(self.ups.size)}
-
-    def forward(self, t_s, x, aux=None, state=None):
-        st = state if state is not None else self.forward_state()
-        y, out = st["y"].copy(), np.empty(len(x))
-        for i, v in enumerate(np.asarray(x, dtype=float)):
-            y = np.minimum(np.maximum(y, v - self.ups), v + self.downs)
-            out[i] = v + y @ self.weights
-        st["y"] = y
-        return out
-
-
-def test_plays_whose_thresholds_are_not_symmetric_are_named_hysteresis_alone_with_their_onset_shift():
-    """Asymmetric plays are symmetric ones whose output sits higher or lower from the first load on; through the
-    core that constant creeps like a settling drift. The hysteresis's onset shift holds it, so the record is named
-    ``hysteresis`` alone (not ``+offset_drift``), and the saved model compensates a new needle record."""
-    from polyforce_ros.physics.chain import OffsetElement, OnsetShiftElement, SensorChain, ViscoelasticElement
-    from polyforce_ros.record import Record
-    from polyforce_ros.sim.bench import random_core, random_load
-
-    seed, rate_hz = 6, 500.0
-    rng = np.random.default_rng(seed)
-    core = random_core("burgers", rng)
-    radii = np.geomspace(0.1, 2.0, 4) * rng.uniform(0.7, 1.3)
-    asymmetry = rng.uniform(0.3, 0.8) * rng.choice([-1, 1])
-    plays = _AsymmetricPlays(radii * (1 + asymmetry), radii * (1 - asymmetry), rng.uniform(0.05, 0.15, 4))
-    truth = SensorChain([plays, ViscoelasticElement(core), OffsetElement(0.04)], forward_only=True)
-    t, f = random_load(300.0, rate_hz, seed)
-    volts = truth.forward(t, f) + rng.normal(0.0, 2e-3, t.size)
-    diag = diagnose(Record(t, f + rng.normal(0.0, 0.005, t.size), volts, None), base="burgers")
-    assert diag.missing_effects == ["hysteresis"], (diag.missing_effects, diag.variants)
-    assert any(isinstance(e, OnsetShiftElement) for e in diag.chain.elements)
-    assert diag.newtons["saved"]["rmse_n"] < 0.5 * diag.newtons["base"]["rmse_n"]
-    t2, force, volts2 = _needle_record(truth, rate_hz, seed + 100)
-    used, out = Compensator(diag.chain, CompensatorConfig(auto_tare=False)).run(np.round(t2 * 1e9).astype(np.int64), volts2)
-    assert used.all()
-    assert np.sqrt(np.mean((out - force) ** 2)) <= 0.01 * (force.max() - force.min())
-
-
 @pytest.mark.parametrize("tau_s, seed", [(0.04, 71), (0.25, 72)])
 def test_a_lag_that_a_fast_retardation_of_the_base_would_stand_in_for_is_named_sensor_lag(tau_s, seed):
     """A unit-gain lag on the core's output is, on the voltage alone, a Kelvin unit that carries all the compliance:

@@ -281,7 +281,6 @@ def _example_chains():
         "preisach": PreisachElement(hysteretic_identity(0.0, 10.0, 0.05, n_levels=4), continuous=True),
         "play_hysteresis": ELEMENT_TYPES["play_hysteresis"](1.0, [0.1, 0.5], [0.05, 0.02]),
         "friction": ELEMENT_TYPES["friction"](radius_n=0.1, coupling=0.9, deadband_n=0.01, inverse_share=0.5),
-        "onset_shift": ELEMENT_TYPES["onset_shift"](onset_level=0.5, shift=-0.05),
         "thermal_lag": ELEMENT_TYPES["thermal_lag"](coefficient_v_per_c=2e-3, reference_c=22.0, tau_s=60.0,
                                                     curvature_v_per_c2=2e-4),
         "exponential_drift": ELEMENT_TYPES["exponential_drift"](amplitude_v=0.02, tau_s=120.0),

@@ -28,7 +28,6 @@ form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Callable, Mapping, Optional, Sequence
 
@@ -36,8 +35,7 @@ import numpy as np
 import numpy.typing as npt
 
 from ..physics.chain import (
-    BridgeHysteresisElement, Element, ExponentialDriftElement, FrictionElement, OnsetShiftElement, PlayHysteresisElement,
-    PolynomialDriftElement,
+    BridgeHysteresisElement, Element, ExponentialDriftElement, FrictionElement, PlayHysteresisElement, PolynomialDriftElement,
     PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
     ThermoRheologicalElement,
@@ -199,71 +197,7 @@ def _hyst_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
             cols = u[:, None] - cols
         sig.cache[key] = simulate_deformation_columns(sig.reference_core, sig.t, cols) if path == "force" else cols
     cols = sig.cache[key]
-    return [*((f"play{i}", cols[:, i], 0.0, np.inf, "sensor", "play") for i in range(cols.shape[1])),
-            *_onset_columns(sig, path)]
-
-
-#: Where the first load starts, as a fraction of the input's span above its first value: the level whose first
-#: crossing turns an operator's onset shift on (:class:`~polyforce_ros.physics.chain.OnsetShiftElement`).
-ONSET_FRACTION = 0.1
-#: The share of the record that must lie before the first load for a shift added at the bridge or on the voltage
-#: path: a step there is the offset but for the samples before it, which the folds that leave the record's start out
-#: do not see.
-ONSET_MIN_BEFORE = 0.1
-
-
-def _onset_input(sig: Signals, on_force: bool) -> FloatArray:
-    """What a shift's onset is judged on: the force, or the core's output on the voltage path."""
-    return sig.f_nonlinear if on_force else sig.core_output
-
-
-def _onset_level(sig: Signals, on_force: bool) -> float:
-    """The onset level of a shift on the force path [N] or on the voltage path [V]."""
-    return float(_onset_input(sig, on_force)[0] + ONSET_FRACTION * (sig.span_f if on_force else sig.span_x))
-
-
-def _onset_early(sig: Signals, on_force: bool) -> bool:
-    """Whether less than :data:`ONSET_MIN_BEFORE` of the record precedes the first load (or it never comes)."""
-    above = np.flatnonzero(_onset_input(sig, on_force) > _onset_level(sig, on_force))
-    return not above.size or float(sig.t[above[0]] - sig.t0) < ONSET_MIN_BEFORE * sig.duration_s
-
-
-def _onset_columns(sig: Signals, path: str) -> list[Col]:
-    """The column of a hysteresis's or a friction's onset shift on ``path``: a unit step from the sample after the
-    first load (the input first above :func:`_onset_level`), through the core on the force path. At the bridge or
-    on the voltage path there is none when less than :data:`ONSET_MIN_BEFORE` of the record precedes the first load
-    (the step would be the offset); on the force path its creep tells it from the offset. The folds that leave the
-    record's start out see little of that creep: the shift is in the play weights' ridge group, so that such a fold
-    keeps it small rather than trading it against the offset. Its weight is bounded by half the input's span (a
-    play's thresholds at most its width apart)."""
-    on_force = path in ("force", "bridge")
-    key = ("onset column", path)
-    if key not in sig.cache:
-        step = np.zeros(sig.t.size)
-        above = np.flatnonzero(_onset_input(sig, on_force) > _onset_level(sig, on_force))
-        if above.size:
-            step[above[0] + 1:] = 1.0
-        if path == "force":
-            sig.cache[key] = simulate_deformation_columns(sig.reference_core, sig.t, step[:, None])[:, 0]
-        else:
-            sig.cache[key] = None if _onset_early(sig, on_force) else step
-    column = sig.cache[key]
-    if column is None:
-        return []
-    half = 0.5 * (sig.span_x if path in ("voltage", "bridge") else sig.span_f)
-    return [("onset_shift", column, -half, half, "sensor", "play")]
-
-
-def _onset_elements(coef: Mapping[str, float], path: str, sig: Signals) -> list[Slot]:
-    """The onset shift's element, right after its operator's ("before" on the force path, "after" on the others:
-    at the bridge it shifts the bridge's output, whose level is the core output's)."""
-    shift = float(coef.get("onset_shift", 0.0))
-    if shift == 0.0 or not math.isfinite(shift):
-        return []
-    # the level on the element's input (at the bridge, the bridge's output, whose level is the core output's)
-    level = _onset_level(sig, path == "force")
-    element = OnsetShiftElement(onset_level=level, shift=float(np.clip(shift, -1e6, 1e6)))
-    return [("before" if path == "force" else "after", element)]
+    return [(f"play{i}", cols[:, i], 0.0, np.inf, "sensor", "play") for i in range(cols.shape[1])]
 
 
 def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
@@ -283,15 +217,13 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
         w = np.minimum(w, 1e3)  # weights_v_per_n within its bound
         linear, weights = (float(np.sum(w[keep])), -w[keep]) if "_stop" in variant else (0.0, w[keep])
         return [("bridge", BridgeHysteresisElement(ViscoelasticElement(sig.reference_core), radii, weights,
-                                                   linear_v_per_n=linear, history_max_n=history)),
-                *_onset_elements(coef, path, sig)]
+                                                   linear_v_per_n=linear, history_max_n=history))]
     # on the force path the operator enters through the core (core(F + sum w op(F))); on the voltage path
     # the core output x stands for itself (x + sum w op(x)); x + sum w (x - p(x)) = (1 + sum w) x - sum w p(x)
     if "_stop" in variant:
         w = w * min(1.0, (1e6 - 1.0) / max(float(np.sum(w[keep])), 1e-300))  # linear_weight within its bound
     linear, weights = (1.0 + float(np.sum(w[keep])), -w[keep]) if "_stop" in variant else (1.0, w[keep])
-    return [("before" if path == "force" else "after", PlayHysteresisElement(linear, radii, weights, history_max=history)),
-            *_onset_elements(coef, path, sig)]
+    return [("before" if path == "force" else "after", PlayHysteresisElement(linear, radii, weights, history_max=history))]
 
 
 #: Stiction half-widths searched for a friction, as fractions of the force span; the polish refines the radius
@@ -339,14 +271,12 @@ def _friction_columns(sig: Signals, variant: str, param: Optional[float]) -> lis
         f = sig.f_nonlinear
         stop = f - play_operator(f, [r])[:, 0]
         sig.cache[key] = -simulate_deformation_columns(sig.reference_core, sig.t, stop[:, None])[:, 0]
-    return [("friction", sig.cache[key], 0.0, 1.0, "sensor", None), *_onset_columns(sig, "force")]
+    return [("friction", sig.cache[key], 0.0, 1.0, "sensor", None)]
 
 
 def _friction_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     coupling = float(np.clip(coef.get("friction", 0.0), 0.0, 1.0))
-    if coupling <= 0:
-        return []
-    return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling)), *_onset_elements(coef, "force", sig)]
+    return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling))] if coupling > 0 else []
 
 
 def _shift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
@@ -514,15 +444,14 @@ EFFECTS: dict[str, Effect] = {
         core_change={"elastic": "zener", "maxwell": "burgers", "zener": "zener2", "burgers": "burgers2"}),
     "hysteresis": Effect(
         "hysteresis", "path dependence at load reversals (hysteresis)", ("load_reversal",), ("load_direction",),
-        ("play_hysteresis", "bridge_hysteresis", "onset_shift"),
+        ("play_hysteresis", "bridge_hysteresis"),
         variants=("force", "voltage", "bridge", "force_descending", "voltage_descending", "bridge_descending",
                   "force_stop", "voltage_stop", "bridge_stop", "force_stop_descending", "voltage_stop_descending",
                   "bridge_stop_descending"),
         columns=_hyst_columns, to_elements=_hyst_elements, rivals=("friction",)),
     "friction": Effect(
         "friction", "a dead band at load reversals, the same width at every load (friction)", ("load_reversal",),
-        ("load_direction",), ("friction", "onset_shift"), grid=_friction_grid, columns=_friction_columns,
-        to_elements=_friction_elements,
+        ("load_direction",), ("friction",), grid=_friction_grid, columns=_friction_columns, to_elements=_friction_elements,
         # a partial friction is a single force play (F - c stop = (1 - c) F + c play), and a few plays are a spread
         # friction: with both named, each takes the other's misfit between their radii
         rivals=("hysteresis",)),

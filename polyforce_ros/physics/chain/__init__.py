@@ -31,8 +31,7 @@ from .drift import (
                    lagged_temperature_c,
 )
 from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
-from .hysteresis import (BridgeHysteresisElement, FrictionElement, OnsetShiftElement, PlayHysteresisElement, PreisachElement,
-                         play_operator)
+from .hysteresis import BridgeHysteresisElement, FrictionElement, PlayHysteresisElement, PreisachElement, play_operator
 from .sensor_chain import ELEMENT_TYPES, ChainStream, SensorChain
 from .static import GainElement, NonlinearGainElement, OffsetElement, PolynomialGainElement, ThermalSensitivityElement
 
@@ -41,7 +40,7 @@ __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "Forwar
            "GainElement", "NonlinearGainElement",
            "SensorLagElement", "TransportDelayElement", "ResonanceElement", "ThermalDriftElement", "ThermalSensitivityElement",
            "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement",
-           "FrictionElement", "OnsetShiftElement",
+           "FrictionElement",
            "ThermalLagElement",
            "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement",
            "lagged_temperature_c", "ELEMENT_TYPES", "SensorChain", "ChainStream"]

@@ -220,9 +220,6 @@ PARAMETER_BOUNDS = {
     "radii": (1e-9, 1e6, "", "play half-widths > 0, in the input unit; 1 MN or 1 MV is beyond any sensor"),
     "weights": (-1e6, 1e6, "", "play weights; with linear_weight every partial sum stays > 0 (monotone, invertible)"),
     "history_max": (0.0, 1e6, "", "the input's maximum before the record, in the input unit"),
-    # the shift a hysteresis or friction settles in from the first load (onset_shift), in its unit (N or V)
-    "onset_level": (-1e6, 1e6, "", "the input level that starts the shift; 1 MN or 1 MV is beyond any sensor"),
-    "shift": (-1e6, 1e6, "", "the shift itself; 1 MN or 1 MV is beyond any sensor"),
     # play operators at the bridge beside the core (bridge_hysteresis): force in, volts out
     "radii_n": (1e-9, 1e6, "N", "play half-widths > 0; 1 MN is beyond any sensor"),
     "weights_v_per_n": (-1e3, 1e3, "V/N", "a loop of 1 kV per newton is beyond any bridge"),

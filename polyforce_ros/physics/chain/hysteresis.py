@@ -1,6 +1,5 @@
 """Rate-independent hysteresis: the Preisach relay model, the Prandtl-Ishlinskii play operator, play
-operators at the bridge beside a viscoelastic core, Coulomb friction in the mechanism, and the shift such an
-operator settles in from the first load.
+operators at the bridge beside a viscoelastic core, and Coulomb friction in the mechanism.
 """
 from __future__ import annotations
 
@@ -18,7 +17,6 @@ from .base import (
     FunctionStream,
     ModelError,
     Numbers,
-    SimpleElement,
     abscissae_and_values,
     check_keys,
     check_number,
@@ -30,7 +28,7 @@ if TYPE_CHECKING:  # for annotations only: at run time the Preisach model loads 
     from ..preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
 
 __all__ = ["PreisachElement", "play_operator", "history_input", "play_states_after", "PlayHysteresisElement",
-           "BridgeHysteresisElement", "FrictionElement", "OnsetShiftElement"]
+           "BridgeHysteresisElement", "FrictionElement"]
 
 
 class _PreisachForwardState(TypedDict):
@@ -624,78 +622,3 @@ class FrictionElement(Frozen):
         """The element from a model-file mapping."""
         check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
         return cls(d["radius_n"], d["coupling"], d.get("deadband_n", 0.0), d.get("inverse_share", 1.0))
-
-
-class OnsetShiftElement(SimpleElement):
-    """A constant that a hysteresis or a friction adds to its output from the first load on:
-
-        y_i = x_i + shift   once some earlier input x_j (j < i) exceeded onset_level,   y_i = x_i before
-
-    A play whose thresholds are not symmetric (it engages at +a going up and at -b coming down) is a symmetric play
-    of half-width (a + b) / 2 whose output sits (b - a) / 2 higher once the input has first moved it: a sum of such
-    plays, or a mechanism that settles in once, is the symmetric operator followed by this element. It goes right
-    after the hysteresis or friction element whose output it shifts, in that element's unit (N on the force path,
-    V on the voltage path).
-
-    The inverse is exact and causal: ``x_i = y_i - shift`` once an earlier recovered input exceeded the level. It
-    neither amplifies nor delays noise.
-
-    Parameters (model file keys)
-    ----------------------------
-    onset_level : float
-        The input level whose first crossing (from below) turns the shift on [input unit].
-    shift : float
-        The constant added from the next sample on [input unit]; signed.
-    """
-
-    kind = "onset_shift"
-    PARAMS = (("onset_level", False), ("shift", False))
-    onset_level: float
-    shift: float
-
-    def forward_state(self) -> dict[str, bool]:
-        """A fresh state for block-wise :meth:`forward` runs: not yet loaded."""
-        return {"loaded": False}
-
-    def _loaded(self, x: FloatArray, before: bool) -> FloatArray:
-        """Whether the shift is on at each sample of ``x``: an earlier input exceeded the level."""
-        crossed = np.maximum.accumulate(x > self.onset_level) if x.size else np.zeros(0, dtype=bool)
-        loaded = np.empty(x.size, dtype=bool)
-        if x.size:
-            loaded[0] = before
-            loaded[1:] = crossed[:-1] | before
-        return loaded
-
-    def forward(self, t_s: npt.ArrayLike, x: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
-                state: Optional[dict[str, bool]] = None) -> FloatArray:
-        """The input plus ``shift`` from the sample after its first crossing of ``onset_level``."""
-        x = np.asarray(x, dtype=float)
-        st = state if state is not None else self.forward_state()
-        loaded = self._loaded(x, st["loaded"])
-        if x.size:
-            st["loaded"] = bool(loaded[-1] or x[-1] > self.onset_level)
-        out: FloatArray = x + self.shift * loaded
-        return out
-
-    def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
-        """The input for output ``y``: unshifted up to the first recovered input above the level, shifted after."""
-        y = np.asarray(y, dtype=float)
-        x = y.copy()
-        above = np.flatnonzero(y > self.onset_level)  # before the shift is on, the input is the output itself
-        if above.size:
-            x[above[0] + 1:] -= self.shift
-        return x
-
-    def streaming(self) -> ElementStream:
-        """The per-sample form of :meth:`backward`, O(1) per sample."""
-        state = [False]
-
-        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
-            x = y - self.shift if state[0] else y
-            state[0] = state[0] or x > self.onset_level
-            return x
-
-        def reset() -> None:
-            state[0] = False
-
-        return FunctionStream(step, reset)

@@ -25,7 +25,7 @@ from .drift import (
     ThermalLagElement,
 )
 from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
-from .hysteresis import BridgeHysteresisElement, FrictionElement, OnsetShiftElement, PlayHysteresisElement, PreisachElement
+from .hysteresis import BridgeHysteresisElement, FrictionElement, PlayHysteresisElement, PreisachElement
 from .static import (
     GainElement,
     NonlinearGainElement,
@@ -50,7 +50,7 @@ ELEMENT_TYPES["thermo_rheological"] = ThermoRheologicalElement
 for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportDelayElement, ResonanceElement,
                  ThermalDriftElement,
                  ThermalSensitivityElement, OffsetDriftElement, PreisachElement, PlayHysteresisElement, BridgeHysteresisElement,
-                 FrictionElement, OnsetShiftElement,
+                 FrictionElement,
                  ThermalLagElement, PolynomialDriftElement, PolynomialGainElement, ExponentialDriftElement, SplineDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
 

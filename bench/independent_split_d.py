@@ -1,7 +1,8 @@
 """Independent split D for ``polyforce diagnose``: shapes, profiles and rates that no other split uses.
 
-Split C (``bench/independent_split_c.py``) was run once and is spent. Split D is the untouched held-out set for
-the next engine: every name of the catalogue is hidden in two shapes that neither the registry's families
+Splits A, B and C were each run once and are spent; split D was written before the engine it measured and run
+once at commit ``0f78c4b`` (the result is in docs/discrepancy.md), so it is spent too. Every name of the catalogue
+is hidden in two shapes that neither the registry's families
 (``polyforce_ros/sim/truths.py``) nor splits A, B and C use:
 
 * a flow added to a two-Kelvin core, or a fast flow (300-3000 N s/V); a second Kelvin unit on a Zener sensor, or a

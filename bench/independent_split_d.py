@@ -34,13 +34,11 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
-from independent_split import puncture_train
 from polyforce_ros.physics.chain import play_operator
 from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers, Burgers2, Zener2, simulate_deformation
-from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import SecondOrderLag, StaticMap
-from split_kit import Parts, ShapeSplit, SimOnly, core_output
+from split_kit import LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, repeated_insertions
 
 SEED0 = 260_000  # never a seed of the registry's splits nor of splits A (90000..), B (140000..), C (210000..)
 FORCE_MAX_N = 9.0
@@ -84,23 +82,11 @@ def creep_tests(duration_s, rate_hz, rng):
 def sharpened_okamura(duration_s, rate_hz, rng):
     """The measured insertion scaled to 2-9 N, its force drops (punctures) made 2-5x faster: time runs faster
     wherever the force falls."""
-    try:
-        tp, fp = profiles.okamura_insertion(peak_n=1.0, rate_hz=rate_hz)
-    except FileNotFoundError:
-        return puncture_train(duration_s, rate_hz, rng)
-    t = np.arange(0.0, duration_s, 1.0 / rate_hz)
-    f = np.zeros_like(t)
-    start = rng.uniform(3.0, 10.0)
-    while True:
+    def sharpened(tp, fp, rng):
         falling = np.diff(fp, prepend=fp[0]) < 0
         warped = np.cumsum(np.where(falling, 1.0 / rng.uniform(2.0, 5.0), 1.0)) / rate_hz
-        one = np.interp(np.arange(0.0, warped[-1], 1.0 / rate_hz), warped, fp)
-        i0 = int(start * rate_hz)
-        if i0 + one.size >= t.size:
-            break
-        f[i0:i0 + one.size] = rng.uniform(2.0, FORCE_MAX_N) * one / max(one.max(), 1e-9)
-        start += one.size / rate_hz + rng.uniform(5.0, 30.0)
-    return t, f
+        return np.interp(np.arange(0.0, warped[-1], 1.0 / rate_hz), warped, fp)
+    return repeated_insertions(duration_s, rate_hz, rng, sharpened, FORCE_MAX_N)
 
 
 PROFILES = (tremor_staircase, creep_tests, sharpened_okamura)
@@ -158,21 +144,6 @@ class DirectionalGain(SimOnly):
         return out
 
 
-class LinearFilter(SimOnly):
-    """A continuous-time filter (numerator, denominator in s), from rest, on a uniform grid at the median step."""
-
-    def __init__(self, num, den):
-        self.num, self.den = num, den
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        b, a = signal.bilinear(self.num, self.den, fs=1.0 / h)
-        tu = np.arange(t[0], t[-1] + h, h)
-        y = signal.lfilter(b, a, np.interp(tu, t, x) - x[0]) + x[0]
-        return np.interp(t, tu, y)
-
-
 class LoadBandFriction(SimOnly):
     """Coulomb friction whose band grows with the load (a seal pressed harder): r = r0 (1 + F / F_max)."""
 
@@ -181,12 +152,8 @@ class LoadBandFriction(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         f = np.asarray(x, dtype=float)
-        out, p = np.empty_like(f), f[0]
-        for i, fi in enumerate(f):
-            r = self.r0 * (1 + max(fi, 0.0) / FORCE_MAX_N)
-            p = max(fi - r, min(fi + r, p))
-            out[i] = p
-        return out
+        r = self.r0 * (1 + np.maximum(f, 0.0) / FORCE_MAX_N)
+        return band_play(f, r, r)
 
 
 class ViscousCoulomb(SimOnly):

@@ -37,11 +37,9 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
-from independent_split import puncture_train
 from polyforce_ros.physics.viscoelastic import Zener, Zener2, simulate_deformation
-from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import Parts, ShapeSplit, SimOnly, core_output, kelvin
+from split_kit import LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin, repeated_insertions
 
 SEED0 = 330_000  # never a seed of the registry's splits nor of splits A (90000..), B, C (210000..), D (260000..)
 FORCE_MAX_N = 9.0
@@ -87,22 +85,10 @@ def calibration_ladders(duration_s, rate_hz, rng):
 
 def slow_okamura(duration_s, rate_hz, rng):
     """The measured insertion scaled to 2-9 N and made 1.5-3x slower, repeated with 5-30 s of rest."""
-    try:
-        tp, fp = profiles.okamura_insertion(peak_n=1.0, rate_hz=rate_hz)
-    except FileNotFoundError:
-        return puncture_train(duration_s, rate_hz, rng)
-    t = np.arange(0.0, duration_s, 1.0 / rate_hz)
-    f = np.zeros_like(t)
-    start = rng.uniform(3.0, 10.0)
-    while True:
+    def slowed(tp, fp, rng):
         slow = rng.uniform(1.5, 3.0)
-        one = np.interp(np.arange(0.0, tp[-1] * slow, 1.0 / rate_hz) / slow, tp - tp[0], fp)
-        i0 = int(start * rate_hz)
-        if i0 + one.size >= t.size:
-            break
-        f[i0:i0 + one.size] = rng.uniform(2.0, FORCE_MAX_N) * one / max(one.max(), 1e-9)
-        start += one.size / rate_hz + rng.uniform(5.0, 30.0)
-    return t, f
+        return np.interp(np.arange(0.0, tp[-1] * slow, 1.0 / rate_hz) / slow, tp - tp[0], fp)
+    return repeated_insertions(duration_s, rate_hz, rng, slowed, FORCE_MAX_N)
 
 
 PROFILES = (palpation, calibration_ladders, slow_okamura)
@@ -172,21 +158,6 @@ class Boxcar(SimOnly):
         return np.interp(t, tu, y)
 
 
-class AnalogFilter(SimOnly):
-    """A continuous-time filter (numerator, denominator in s), from rest, on a uniform grid at the median step."""
-
-    def __init__(self, num, den):
-        self.num, self.den = num, den
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        b, a = signal.bilinear(self.num, self.den, fs=1.0 / h)
-        tu = np.arange(t[0], t[-1] + h, h)
-        y = signal.lfilter(b, a, np.interp(tu, t, x) - x[0]) + x[0]
-        return np.interp(t, tu, y)
-
-
 class AsymmetricFriction(SimOnly):
     """Coulomb friction that sticks by ``up_n`` while the force rises and by ``down_n`` while it falls."""
 
@@ -194,12 +165,7 @@ class AsymmetricFriction(SimOnly):
         self.up, self.down = up_n, down_n
 
     def forward(self, t_s, x, aux=None, state=None):
-        f = np.asarray(x, dtype=float)
-        out, p = np.empty_like(f), f[0]
-        for i, fi in enumerate(f):
-            p = max(fi - self.up, min(fi + self.down, p))
-            out[i] = p
-        return out
+        return band_play(x, self.up, self.down)
 
 
 class ThermalBandFriction(SimOnly):
@@ -212,11 +178,7 @@ class ThermalBandFriction(SimOnly):
         f = np.asarray(x, dtype=float)
         temp = np.broadcast_to(aux["temperature_c"], f.shape)
         r = np.maximum(self.r0 * (1 + 0.1 * (temp - T_REF_C)), self.r0 / 4)
-        out, p = np.empty_like(f), f[0]
-        for i, fi in enumerate(f):
-            p = max(fi - r[i], min(fi + r[i], p))
-            out[i] = p
-        return out
+        return band_play(f, r, r)
 
 
 class ShiftedBurgers(SimOnly):
@@ -286,7 +248,7 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
             return p
         fc = float(np.exp(np.interp(m, [0, 1], np.log([30.0, 2.0]))))
         num, den = signal.butter(2, 2 * np.pi * fc, analog=True)
-        p.after.append(AnalogFilter(num, den))
+        p.after.append(LinearFilter(num, den))
         return p
     if effect == "nonlinear_gain":
         rel = float(np.interp(m, [0, 1], [0.02, 0.08]))
@@ -333,12 +295,12 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
             f0, zeta = rng.uniform(15.0, 45.0), rng.uniform(0.02, 0.08)
             w0 = 2 * np.pi * f0
             gain = float(np.interp(m, [0, 1], [0.015, 0.05])) * span / w0  # V per N/s at the mode
-            pickup = AnalogFilter([gain * w0 ** 2, 0.0], [1.0, 2 * zeta * w0, w0 ** 2])  # the rate, through the mode
+            pickup = LinearFilter([gain * w0 ** 2, 0.0], [1.0, 2 * zeta * w0, w0 ** 2])  # the rate, through the mode
             p.extra.append(lambda t, f, T, pickup=pickup: pickup.forward(t, f - f[0]))
             return p
         f0 = rng.uniform(20.0, 50.0)
         w0, zeta = 2 * np.pi * f0, rng.uniform(0.25, 0.4)
-        p.after.append(AnalogFilter([w0 ** 2], [1.0, 2 * zeta * w0, w0 ** 2]))
+        p.after.append(LinearFilter([w0 ** 2], [1.0, 2 * zeta * w0, w0 ** 2]))
         return p
     if effect == "friction":
         r = float(np.interp(m, [0, 1], [0.005, 0.03]) * FORCE_MAX_N)

@@ -13,13 +13,15 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
+from scipy import signal
 from tqdm import tqdm
 
-from independent_split import Truth, as_recorded, case_list, compensates, summarise, verdict_with
+from independent_split import Truth, as_recorded, case_list, compensates, puncture_train, summarise, verdict_with
 from polyforce_ros.discrepancy.engine import diagnose
 from polyforce_ros.physics.chain import OffsetElement, SensorChain, ViscoelasticElement
 from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers, simulate_deformation
+from polyforce_ros.sim import profiles
 
 OFFSET_V = 0.025
 DRIFTS = frozenset({"offset_drift", "thermal_drift"})
@@ -82,6 +84,54 @@ def dead_time(t, x, delay_s):
 def kelvin(t, f, compliance_v_per_n, tau_s):
     """A Kelvin unit's deformation, tau x' + x = c F, from rest."""
     return compliance_v_per_n * exp_convolve(t, f, [1.0 / tau_s])[:, 0] / tau_s
+
+
+def repeated_insertions(duration_s, rate_hz, rng, one_insertion, force_max_n=9.0):
+    """The measured Okamura insertion, reshaped by ``one_insertion(t, f, rng) -> force`` (a 1 N peak in, one
+    insertion out), scaled to a 2-``force_max_n`` N peak and repeated with 5-30 s of rest from 3-10 s on; a train
+    of synthetic punctures when ``../shared/data`` is absent."""
+    try:
+        tp, fp = profiles.okamura_insertion(peak_n=1.0, rate_hz=rate_hz)
+    except FileNotFoundError:
+        return puncture_train(duration_s, rate_hz, rng)
+    t = np.arange(0.0, duration_s, 1.0 / rate_hz)
+    f = np.zeros_like(t)
+    start = rng.uniform(3.0, 10.0)
+    while True:
+        one = one_insertion(tp, fp, rng)
+        i0 = int(start * rate_hz)
+        if i0 + one.size >= t.size:
+            break
+        f[i0:i0 + one.size] = rng.uniform(2.0, force_max_n) * one / max(one.max(), 1e-9)
+        start += one.size / rate_hz + rng.uniform(5.0, 30.0)
+    return t, f
+
+
+def band_play(f, up_n, down_n):
+    """A play that sticks by ``up_n`` while ``f`` rises and by ``down_n`` while it falls (scalars, or one value per
+    sample), started at ``f[0]``: the force a friction contact passes on."""
+    f = np.asarray(f, dtype=float)
+    up, down = np.broadcast_to(up_n, f.shape), np.broadcast_to(down_n, f.shape)
+    out, p = np.empty_like(f), f[0]
+    for i, fi in enumerate(f):
+        p = max(fi - up[i], min(fi + down[i], p))
+        out[i] = p
+    return out
+
+
+class LinearFilter(SimOnly):
+    """A continuous-time filter (numerator, denominator in s), from rest, on a uniform grid at the median step."""
+
+    def __init__(self, num, den):
+        self.num, self.den = num, den
+
+    def forward(self, t_s, x, aux=None, state=None):
+        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        h = float(np.median(np.diff(t)))
+        b, a = signal.bilinear(self.num, self.den, fs=1.0 / h)
+        tu = np.arange(t[0], t[-1] + h, h)
+        y = signal.lfilter(b, a, np.interp(tu, t, x) - x[0]) + x[0]
+        return np.interp(t, tu, y)
 
 
 def with_knocks(t, f, rng):

@@ -38,7 +38,8 @@ from polyforce_ros.physics.chain import play_operator
 from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers, Burgers2, Zener2, simulate_deformation
 from polyforce_ros.sim.truths import SecondOrderLag, StaticMap
-from split_kit import LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, repeated_insertions
+from split_kit import (LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, ramp_and_hold,
+                       repeated_insertions)
 
 SEED0 = 260_000  # never a seed of the registry's splits nor of splits A (90000..), B (140000..), C (210000..)
 FORCE_MAX_N = 9.0
@@ -51,16 +52,11 @@ DURATION_S = 500.0
 def tremor_staircase(duration_s, rate_hz, rng):
     """Levels held 5-40 s, reached in 0.1-1 s, with a hand tremor of 8-12 Hz and 20-80 mN on every hold."""
     t = np.arange(0.0, duration_s, 1.0 / rate_hz)
-    knots_t, knots_f, now = [0.0, rng.uniform(2.0, 6.0)], [0.0, 0.0], 0.0
+    knots_t, knots_f = [0.0, rng.uniform(2.0, 6.0)], [0.0, 0.0]
     now = knots_t[-1]
     while now < duration_s:
         level = rng.uniform(0.5, FORCE_MAX_N) * (rng.random() > 0.2)
-        now += rng.uniform(0.1, 1.0)
-        knots_t.append(now)
-        knots_f.append(level)
-        now += rng.uniform(5.0, 40.0)
-        knots_t.append(now)
-        knots_f.append(level)
+        now = ramp_and_hold(knots_t, knots_f, now, level, rng.uniform(0.1, 1.0), rng.uniform(5.0, 40.0))
     f = np.interp(t, knots_t, knots_f)
     tremor = rng.uniform(0.02, 0.08) * np.sin(2 * np.pi * rng.uniform(8.0, 12.0) * t + rng.uniform(0, 6.3))
     return t, np.clip(f + tremor * (f > 0.2), 0.0, None)

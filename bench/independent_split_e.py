@@ -35,11 +35,12 @@ against its noise without diagnosing.
 from __future__ import annotations
 
 import numpy as np
-from scipy import signal
+from scipy import integrate, signal
 
 from polyforce_ros.physics.viscoelastic import Zener, Zener2, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin, repeated_insertions
+from split_kit import (LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin, ramp_and_hold,
+                       repeated_insertions)
 
 SEED0 = 330_000  # never a seed of the registry's splits nor of splits A (90000..), B, C (210000..), D (260000..)
 FORCE_MAX_N = 9.0
@@ -66,19 +67,13 @@ def calibration_ladders(duration_s, rate_hz, rng):
     """Ascending then descending ladders of 3-6 equal steps to 4-9 N, each step held 4-15 s, reached in 0.5-2 s,
     with 10-40 s of rest between ladders."""
     t = np.arange(0.0, duration_s, 1.0 / rate_hz)
-    knots_t, knots_f, now = [0.0], [0.0], rng.uniform(3.0, 8.0)
-    knots_t.append(now)
-    knots_f.append(0.0)
+    knots_t, knots_f = [0.0, rng.uniform(3.0, 8.0)], [0.0, 0.0]
+    now = knots_t[-1]
     while now < duration_s:
         n, top = int(rng.integers(3, 7)), rng.uniform(4.0, FORCE_MAX_N)
         levels = np.concatenate([np.arange(1, n + 1), np.arange(n - 1, -1, -1)]) * top / n
         for level in levels:
-            now += rng.uniform(0.5, 2.0)
-            knots_t.append(now)
-            knots_f.append(level)
-            now += rng.uniform(4.0, 15.0)
-            knots_t.append(now)
-            knots_f.append(level)
+            now = ramp_and_hold(knots_t, knots_f, now, level, rng.uniform(0.5, 2.0), rng.uniform(4.0, 15.0))
         now += rng.uniform(10.0, 40.0)
     return t, np.interp(t, knots_t, knots_f)
 
@@ -122,7 +117,7 @@ class NortonFlowZener(SimOnly):
     def forward(self, t_s, x, aux=None, state=None):
         t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         rate = self.phi * f * (np.abs(f) / FORCE_MAX_N) ** (self.n - 1.0)
-        flow = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
+        flow = integrate.cumulative_trapezoid(rate, t, initial=0.0)
         return simulate_deformation(self.zener, t, f) + flow
 
 
@@ -190,12 +185,12 @@ class ShiftedBurgers(SimOnly):
     def forward(self, t_s, x, aux=None, state=None):
         t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         rate = self.rate_of(np.broadcast_to(aux["temperature_c"], t.shape))
-        xi = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
+        xi = integrate.cumulative_trapezoid(rate, t, initial=0.0)  # the reduced time
         if not self.flow_only:
             return simulate_deformation(self.c, xi, f)
         zener = Zener(self.c.k1_n_per_v, self.c.k2_n_per_v, self.c.eta2_n_s_per_v)
         integrand = rate * f / self.c.eta1_n_s_per_v
-        flow = np.concatenate([[0.0], np.cumsum(0.5 * (integrand[1:] + integrand[:-1]) * np.diff(t))])
+        flow = integrate.cumulative_trapezoid(integrand, t, initial=0.0)
         return simulate_deformation(zener, t, f) + flow
 
 

@@ -86,6 +86,14 @@ def kelvin(t, f, compliance_v_per_n, tau_s):
     return compliance_v_per_n * exp_convolve(t, f, [1.0 / tau_s])[:, 0] / tau_s
 
 
+def ramp_and_hold(knots_t, knots_f, now, level, ramp_s, hold_s):
+    """Append to a piecewise-linear load the knots of a ramp of ``ramp_s`` to ``level`` and a hold of ``hold_s``
+    from time ``now``; returns the time the hold ends."""
+    knots_t += [now + ramp_s, now + ramp_s + hold_s]
+    knots_f += [level, level]
+    return now + ramp_s + hold_s
+
+
 def repeated_insertions(duration_s, rate_hz, rng, one_insertion, force_max_n=9.0):
     """The measured Okamura insertion, reshaped by ``one_insertion(t, f, rng) -> force`` (a 1 N peak in, one
     insertion out), scaled to a 2-``force_max_n`` N peak and repeated with 5-30 s of rest from 3-10 s on; a train

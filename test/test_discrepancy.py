@@ -384,3 +384,86 @@ def test_the_generator_has_a_truth_for_every_base_the_diagnosis_offers():
     from polyforce_ros.sim.bench import BASE_TRUTH
 
     assert set(BASE_TRUTH) == set(BASES)
+
+
+# ----------------------------------------------------------------------------- effects a time drift stood in for
+
+def _held_steps(duration_s, rate_hz, rng, levels_n=(1.0, 9.0), hold_s=(10.0, 40.0)):
+    """Loads held 10-40 s at random levels (a fifth of them at rest), each reached in 0.2-1 s."""
+    t = np.arange(0.0, duration_s, 1.0 / rate_hz)
+    knots_t, knots_f, now = [0.0, 3.0], [0.0, 0.0], 3.0
+    while now < duration_s:
+        level, ramp = rng.uniform(*levels_n) * (rng.random() > 0.2), rng.uniform(0.2, 1.0)
+        knots_t += [now + ramp, now + ramp + rng.uniform(*hold_s)]
+        knots_f += [level, level]
+        now = knots_t[-1]
+    return t, np.interp(t, knots_t, knots_f)
+
+
+def _record_of(core, seed, duration_s=500.0, rate_hz=200.0, gaps_s=(), zero_v=None, temperature=None):
+    """A record of ``core`` under held steps, 2 mV of bridge noise and 5 mN of reference noise, with the samples of
+    each ``(start_s, length_s)`` of ``gaps_s`` dropped; ``zero_v(t, temperature)`` added to the voltage."""
+    from polyforce_ros.record import Record
+    rng = np.random.default_rng(seed)
+    t, f = _held_steps(duration_s, rate_hz, rng)
+    v = simulate_deformation(core, t, f) + 0.02 + rng.normal(0.0, 2e-3, t.size)
+    temp = None if temperature is None else temperature(t)
+    if zero_v is not None:
+        v = v + zero_v(t, temp)
+    keep = np.ones(t.size, dtype=bool)
+    for start, length in gaps_s:
+        keep &= ~((t >= start) & (t < start + length))
+    return Record(t[keep], f[keep] + rng.normal(0.0, 5e-3, int(keep.sum())), v[keep],
+                  None if temp is None else temp[keep])
+
+
+def test_record_gaps_are_the_longest_gaps_with_record_on_both_sides():
+    from polyforce_ros.discrepancy.signals import MAX_GAPS, record_gaps
+    rng = np.random.default_rng(3500)
+    for _ in range(20):
+        t = np.arange(0.0, 300.0, 0.005) + rng.uniform(-0.3, 0.3) * 0.005  # jittered stamps: never a gap
+        gaps = [(s, rng.uniform(0.02, 3.0)) for s in np.sort(rng.uniform(2.0, 298.0, int(rng.integers(0, 12))))]
+        keep = np.ones(t.size, dtype=bool)
+        for s, length in gaps:
+            keep &= ~((t >= s) & (t < s + length))
+        kept = t[keep]
+        found = record_gaps(kept, margin_s=20.0)
+        holes = [(a, b) for a, b in zip(kept[:-1], kept[1:]) if b - a >= 0.1 and a >= 20.0 and b <= kept[-1] - 20.0]
+        wanted = sorted(sorted(holes, key=lambda h: h[1] - h[0], reverse=True)[:MAX_GAPS])
+        assert [g[0] for g in found] == pytest.approx([0.5 * (a + b) for a, b in wanted])
+        assert [g[1] for g in found] == pytest.approx([b - a for a, b in wanted])
+    assert record_gaps(np.arange(0.0, 10.0, 0.01), margin_s=1.0) == ()
+    assert record_gaps(np.array([0.0, 1.0]), margin_s=0.0) == ()
+
+
+@pytest.mark.parametrize("seed", [3511, 3513])
+def test_a_flow_across_recording_gaps_is_named_flow_not_a_drift(seed):
+    """A zener that flows, recorded at 1 kHz with three gaps of 1.5-2.5 s over load changes: across a gap the force
+    is interpolated, but the flow integrated the load it really had, and the output carries the difference as a step
+    from the gap on. Without an offset step of its own per gap (bounded by what the hidden load can leave), a time
+    drift was fitted to the steps and named beside the flow (these two seeds)."""
+    rng = np.random.default_rng(seed)
+    t, f = _held_steps(500.0, 1000.0, np.random.default_rng(seed))
+    moves = t[np.flatnonzero(np.diff(f))]
+    picks = rng.choice(np.unique(np.round(moves[(moves > 50.0) & (moves < 400.0)])), 3, replace=False)
+    gaps = tuple((float(p) - rng.uniform(0.3, 0.8), rng.uniform(1.5, 2.5)) for p in picks)
+    core = MODEL_TYPES["burgers"](rng.uniform(5, 8), rng.uniform(30, 60), rng.uniform(1500, 3000), rng.uniform(1500, 3000))
+    d = diagnose(_record_of(core, seed, rate_hz=1000.0, gaps_s=gaps), base="zener")
+    assert d.missing_effects == ["viscous_flow"], [c.summary() for c in d.candidates if c.step <= 2]
+    assert sum(name.startswith("gap") for name in d.coefficients) == 3
+    assert not any(e.kind.startswith("gap") for e in d.chain.elements)  # a nuisance of the record, never saved
+
+
+@pytest.mark.parametrize("seed", [3502, 3503, 3504])
+def test_a_kelvin_unit_slower_than_the_cores_own_is_a_delayed_elasticity_not_a_drift(seed):
+    """A zener sensor with a second Kelvin unit 8-15x slower than its first: the base's only retardation time stands
+    in for part of it, so a delayed elasticity fitted beside that time leaves much of it and is not promising enough to
+    have its times refitted. A core effect is refitted when the refit makes it slower (a time drift needs no refit,
+    and was named in its place for one of these seeds)."""
+    rng = np.random.default_rng(seed)
+    k2, eta2 = rng.uniform(30.0, 60.0), rng.uniform(150.0, 600.0)
+    tau3 = eta2 / k2 * rng.uniform(8.0, 15.0)
+    k3 = rng.uniform(25.0, 50.0)
+    core = MODEL_TYPES["zener2"](rng.uniform(5.0, 8.0), k2, eta2, k3, k3 * tau3)
+    d = diagnose(_record_of(core, seed), base="zener")
+    assert d.missing_effects == ["delayed_elasticity"], [c.summary() for c in d.candidates if c.step == 1]

@@ -137,7 +137,8 @@ def design_columns(sig: Signals, st: Structure) -> Design:
             delay_s = parameter(term.param) if term.variant == "delay" else 0.0
             continue
         cols += _cached(sig, (term.effect, term.variant, term.param), partial(eff.columns, sig, term.variant, term.param))
-    names = [c[0] for c in cols] + ["offset"]
+    gaps = [(f"gap{k}", np.where(sig.t >= at, 1.0, 0.0), bound) for k, (at, bound) in enumerate(sig.gap_steps)]
+    names = [c[0] for c in cols] + ["offset"] + [g[0] for g in gaps]
     mats = []
     for c in cols:
         x = np.asarray(c[1], dtype=float)
@@ -148,9 +149,10 @@ def design_columns(sig: Signals, st: Structure) -> Design:
                 x = np.interp(sig.t - delay_s, sig.t, x, left=x[0])
         mats.append(x)
     mats.append(np.ones_like(sig.t))
-    lo = np.array([c[2] for c in cols] + [-np.inf])
-    hi = np.array([c[3] for c in cols] + [np.inf])
-    ridge = np.array([c[5] is not None for c in cols] + [False])  # ridge groups: play weights, spline knots
+    mats += [g[1] for g in gaps]  # the offset after each gap that hid load history (Signals.gap_ends_s)
+    lo = np.array([c[2] for c in cols] + [-np.inf] + [-g[2] for g in gaps])
+    hi = np.array([c[3] for c in cols] + [np.inf] + [g[2] for g in gaps])
+    ridge = np.array([c[5] is not None for c in cols] + [False] * (1 + len(gaps)))  # ridge groups: play weights, knots
     return names, mats, lo, hi, ridge
 
 

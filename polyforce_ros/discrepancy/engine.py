@@ -20,6 +20,8 @@ Procedure (:func:`diagnose`):
 3. **Base model.** The base core (compliance form, linear in its compliances
    once its retardation times are fixed) is fitted; times from a grid, then
    polished by :func:`~polyforce_ros.physics.fitting.multistart_least_squares`.
+   Each gap in the record that can hide load history gets a bounded offset
+   step of its own in every model (:func:`_gap_steps`).
 4. **Forward selection.** Every effect of the registry (:mod:`.effects`) that
    applies is added in turn to the current model (each variant, each value of
    its nonlinear parameter on its grid) and scored out of sample. The best is
@@ -30,7 +32,8 @@ Procedure (:func:`diagnose`):
    (fewer columns and time constants) is preferred unless the better one
    passes that same test against it (a promising candidate has its time
    constants, the core's included, refitted before it is judged, of the spline
-   drifts the best in and out of sample only; a refit that
+   drifts the best in and out of sample only; a core effect that a refit makes
+   slower than the core's own times, too; a refit that
    predicts the left-out blocks worse is not kept; a candidate that removes that
    share but not in enough folds is tried again with the shapes of the effects
    named before it re-chosen beside it, and kept if it passes the test against
@@ -96,7 +99,7 @@ from .resonance import ModeFit, choose_mode, with_mode
 from .result import Diagnosis
 from .selection import Candidate, Selection
 from .selection import parsimonious as _parsimonious  # noqa: F401 - likewise
-from .signals import BoolArray, FloatArray, IntArray, Signals, uniform_blocks
+from .signals import BoolArray, FloatArray, IntArray, Signals, record_gaps, uniform_blocks
 
 __all__ = ["EFFECTS", "BASES", "BLOCKS_PER_FOLD", "diagnose", "Diagnosis", "Candidate", "Record", "Signals", "Fitter",
            "Fit", "Structure", "Term", "fold_of"]
@@ -170,6 +173,36 @@ def _skipped(base: str, has_temperature: bool) -> dict[str, str]:
         if eff.core_change and base not in eff.core_change and name not in skipped:
             skipped[name] = f"does not apply to a {base} base (no core type adds it)"
     return skipped
+
+
+#: How much record each side of a gap [s] the force's move across it is measured on (means over it: the reference's
+#: noise averages out).
+EDGE_S = 0.1
+
+
+def _gap_steps(data: _Record, st: Structure, base_fit: Fit, margin_s: float) -> bool:
+    """Give the record after each gap that can hide load history its own offset step (:func:`.signals.record_gaps`),
+    at both rates; returns whether any was given.
+
+    A step is bounded by what the hidden load can leave: the gap's length times the force's move across it (the
+    means over :data:`EDGE_S` each side; a load that moved monotonically leaves at most half of that) times the base
+    core's creep rate per newton that lasts, its flow's compliance rate and the compliance over the time of each
+    Kelvin unit no faster than ``margin_s`` (a faster one forgets the hidden load within the blocks that fit the
+    step). A gap in a hold leaves nothing and gets no step. Bounded by the force span instead, or unbounded, the
+    steps took a drift's events, and the drift was not found."""
+    coef = base_fit.coef_map
+    rate_v_per_n_s = coef.get("phi", 0.0) + sum(coef.get(f"c{i}", 0.0) / tau for i, tau in enumerate(st.taus)
+                                                if tau >= margin_s)
+    t, f = data.full_rate.t, data.full_rate.f
+    steps: list[tuple[float, float]] = []
+    for at, length_s in record_gaps(t, margin_s):
+        before = f[np.searchsorted(t, at - length_s / 2 - EDGE_S):np.searchsorted(t, at)]
+        after = f[np.searchsorted(t, at):np.searchsorted(t, at + length_s / 2 + EDGE_S)]
+        moved_n = abs(float(np.mean(after)) - float(np.mean(before))) if before.size and after.size else 0.0
+        if moved_n * rate_v_per_n_s > 0.0:
+            steps.append((at, length_s * moved_n * rate_v_per_n_s))
+    data.fit_rate.gap_steps = data.full_rate.gap_steps = tuple(steps)
+    return bool(steps)
 
 
 @dataclass
@@ -284,6 +317,8 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     say(f"base {base}")
     st = base_structure(fitter, base)
     base_fit = fitter.evaluate(st)
+    if _gap_steps(data, st, base_fit, 2.0 * (t[-1] - t[0]) / (n_folds * blocks_per_fold)):
+        base_fit = fitter.evaluate(st)
     # 1. noise floor from the data
     noise = noise_floor(rec.voltage_v, force_n, base_fit.coef_map.get("j0", 0.0), t.size / int(valid.sum()))
     floor = noise.floor_v

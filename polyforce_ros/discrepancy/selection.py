@@ -186,10 +186,34 @@ class Selection:
         # promising in sample: the time constants (the core's too) are refitted with the effect in place (inherited
         # ones let the folds trade the effect against the core); the grid fits compete too, because a polish fits in
         # sample and can predict the left-out blocks worse
-        polished = [fitter.evaluate(polish(fitter, f.structure)) for f in to_polish.values()
-                    if polish_ and (polish_ != "parametric" or _has_param(f, name))
-                    and (to.fit_mse - f.fit_mse) / share >= self.min_excess_share]
+        promising = [f for f in to_polish.values() if (to.fit_mse - f.fit_mse) / share >= self.min_excess_share]
+        polished = [fitter.evaluate(polish(fitter, f.structure)) for f in promising
+                    if polish_ and (polish_ != "parametric" or _has_param(f, name))]
+        if polish_ is True and REGISTRY[name].core_change:
+            polished += self._slower_core(to, name, [f for f in to_polish.values() if f not in promising])
         return min(self._nested([*polished, *fits], name), key=lambda f: f.cv_mse)
+
+    def _slower_core(self, to: Fit, name: str, fits: list[Fit]) -> list[Fit]:
+        """``fits`` of the core effect ``name`` polished, of those that then add flow or hold a retardation slower
+        than every time of ``to``'s core: the current core's slowest time stood in for such an effect (it holds part of a
+        missing flow, or of a Kelvin unit slower than the record), so its grid fits, which keep that time, understate
+        it, and a time drift, which needs no such refit, would be named in its place. A polish that takes a time
+        outside the effect's own grid is not kept: below it, a retardation not promising on its grid would take a
+        sensor lag's misfit; above it, one that a flow beside a drift describes as well (a delayed elasticity's
+        grid ends at a quarter of the record)."""
+        slowest = max(to.structure.taus, default=0.0)
+        out = []
+        for f in fits:
+            p = self.fitter.evaluate(polish(self.fitter, f.structure))
+            term = p.structure.term(name)  # a flow has no time of its own: a dashpot is the slowest there is
+            if term is None or term.param is None:
+                out.append(p)
+                continue
+            taus = p.structure.taus
+            grid = [g for g in REGISTRY[name].grid(term.variant, self.fitter.sig) if g is not None]
+            if grid and max(taus) > slowest and min(grid) <= min(taus) and max(taus) <= max(grid):
+                out.append(p)  # slower, and every time within the effect's own range
+        return out
 
     def _nested(self, fits: list[Fit], name: str) -> list[Fit]:
         """``fits`` without those of a variant that extends a smaller one (:attr:`.effects.Effect.extends`) whose

@@ -14,7 +14,8 @@ import numpy.typing as npt
 
 from ..physics.viscoelastic import ViscoelasticModel
 
-__all__ = ["FloatArray", "BoolArray", "IntArray", "Signals", "uniform_blocks", "noise_std"]
+__all__ = ["FloatArray", "BoolArray", "IntArray", "Signals", "uniform_blocks", "record_gaps", "noise_std", "MIN_GAP_S",
+           "MAX_GAPS"]
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
@@ -43,6 +44,9 @@ class Signals:
         The reference core behind ``x_ref``.
     f_smooth : (n,) ndarray or None
         The force behind ``x_ref`` and the force plays [N]; None: ``f`` itself.
+    gap_steps : tuple of (float, float)
+        For each gap long enough to hide load history (:func:`record_gaps`): a time inside it [s] and the largest
+        step [V] the hidden load can leave; the design gives the record after each its own offset step, so bounded.
     span_f, span_x : float
         Force span [N] and span of ``x_ref`` [V] at the fit rate: the play radii scale with them (the same at every
         rate of one reference core).
@@ -65,6 +69,7 @@ class Signals:
     f_smooth: Optional[FloatArray] = None
     span_f: float = 1.0
     span_x: float = 1.0
+    gap_steps: tuple[tuple[float, float], ...] = ()
     cache: dict[Any, Any] = field(default_factory=dict, init=False, repr=False)
     record_cache: dict[Any, Any] = field(default_factory=dict, repr=False)
 
@@ -119,6 +124,37 @@ def uniform_blocks(t_s: npt.ArrayLike, force_n: npt.ArrayLike, voltage_v: npt.Ar
         return out
 
     return grid, mean(force_n), mean(voltage_v), mean(temperature_c), valid, k
+
+
+#: Shortest gap [s] whose hidden load history gets an offset step of its own: within 0.1 s a hand-held needle's
+#: force moves little, and interpolating across it loses less than the noise.
+MIN_GAP_S = 0.1
+#: Most gaps given a step (the longest): each is one more column of every model.
+MAX_GAPS = 8
+
+
+def record_gaps(t_s: npt.ArrayLike, margin_s: float, min_gap_s: float = MIN_GAP_S,
+                most: int = MAX_GAPS) -> tuple[tuple[float, float], ...]:
+    """(middle [s], length [s]) of each of the record's ``most`` longest gaps of at least ``min_gap_s`` with at least
+    ``margin_s`` of record before and after it (the middle: at any rate, every sample and every fitted bin lies on
+    one side), in time order.
+
+    Across a gap the force is interpolated, but a sensor with memory integrated the load it really had: a flow, or a
+    retardation slower than the record, carries the difference as a step in the output from the gap on. Each such
+    step is a nuisance of the record (it is not saved with the model); without one, a time drift is fitted to it
+    and named. A step is fitted out of sample only with record on both sides of it in every fold's training blocks:
+    two cross-validation blocks' length each side (blocks are dealt to the folds in turn). Nearer an end, the step
+    and the offset trade freely when a fold is left out.
+    """
+    t = np.asarray(t_s, dtype=float)
+    if t.size < 3:
+        return ()
+    dt = np.diff(t)
+    step = float(np.median(dt))
+    long_gaps = np.flatnonzero(dt >= max(min_gap_s, 5.0 * step))
+    long_gaps = long_gaps[(t[long_gaps] >= t[0] + margin_s) & (t[long_gaps + 1] <= t[-1] - margin_s)]
+    chosen = np.sort(long_gaps[np.argsort(dt[long_gaps])[::-1][:most]])
+    return tuple((float(0.5 * (t[k] + t[k + 1])), float(dt[k])) for k in chosen)
 
 
 def noise_std(x: npt.ArrayLike) -> float:

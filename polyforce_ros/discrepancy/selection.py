@@ -48,6 +48,8 @@ class Candidate:
         The selection step that tried it.
     accepted : bool
         Whether it names an effect of the answer.
+    retried : bool
+        Whether it was judged with the shapes named before it re-chosen beside it.
     """
 
     effect: str
@@ -58,6 +60,7 @@ class Candidate:
     excess_share: float
     step: int
     accepted: bool = False
+    retried: bool = False
 
     def summary(self) -> dict[str, Any]:
         """Plain data for the JSON's ``candidates`` list."""
@@ -288,7 +291,8 @@ class Selection:
         is tried again with the shapes named before it re-chosen beside it (they were chosen without it, e.g. a fine
         spline drift standing in for a flow's creep, and may be what its folds trade against); the retry is kept
         only when it passes the acceptance test against the current model re-chosen the same way, so that the gain
-        is the new effect's, not the re-choice's alone."""
+        is the new effect's, not the re-choice's alone. Once one candidate is retried, every other that removes that
+        share is judged with the shapes re-chosen beside it too (:meth:`_reshaped_too`)."""
         self.step += 1
         current = self.current
         step_candidates = []
@@ -301,6 +305,7 @@ class Selection:
             fit = self.addition(current, name)
             if fit is None:
                 continue
+            retried = False
             share = excess(current.cv_mse, self.floor_mse)
             if (self.accepted and not self.justified(fit, current)
                     and (current.cv_mse - fit.cv_mse) / share >= self.min_excess_share):
@@ -309,16 +314,37 @@ class Selection:
                     reshaped = self.rechosen(current, skip="", polish_=False)
                 if again.cv_mse < fit.cv_mse and self.justified(again, reshaped):
                     self.say(f"retry {name} with the shapes named before it re-chosen")
-                    fit = again
+                    fit, retried = again, True
             cand = Candidate(name, _variant(fit, name), fit,
                              math.sqrt(fit.cv_mse), float(np.mean(fit.sse_folds < current.sse_folds)),
                              float((current.cv_mse - fit.cv_mse) / share), self.step)
+            cand.retried = retried
             self.candidates.append(cand)
             if self.noise_limited(fit, name):
                 self.say(f"step {self.step}: {name} at its noise limit, not judged")
                 continue
             step_candidates.append(cand)
+        if any(c.retried for c in step_candidates):
+            step_candidates = [self._reshaped_too(c, current) for c in step_candidates]
         return parsimonious(step_candidates, self.acceptable, self.justified)
+
+    def _reshaped_too(self, cand: Candidate, current: Fit) -> Candidate:
+        """``cand`` with the shapes named before it re-chosen beside it, when that predicts better and it was not
+        retried so: once one candidate of a step is judged with the named shapes re-chosen, every candidate that
+        removes enough of the excess is, or a larger rival wins on the re-choice alone (a slow delayed elasticity
+        over a flow, each beside a settling drift)."""
+        share = excess(current.cv_mse, self.floor_mse)
+        if cand.retried or cand.excess_share < self.min_excess_share:
+            return cand
+        again = self.rechosen(cand.fit, skip=cand.effect, polish_=False)
+        if again.cv_mse >= cand.fit.cv_mse or self.noise_limited(again, cand.effect):
+            return cand
+        self.say(f"re-choose the shapes beside {cand.effect} too")
+        out = Candidate(cand.effect, _variant(again, cand.effect), again, math.sqrt(again.cv_mse),
+                        float(np.mean(again.sse_folds < current.sse_folds)),
+                        float((current.cv_mse - again.cv_mse) / share), self.step, retried=True)
+        self.candidates[self.candidates.index(cand)] = out
+        return out
 
     def accept(self, best: Candidate) -> None:
         """Name ``best``'s effect and refit the model with it (:func:`.refit.refine`)."""

@@ -149,7 +149,7 @@ def design_columns(sig: Signals, st: Structure) -> Design:
                 x = np.interp(sig.t - delay_s, sig.t, x, left=x[0])
         mats.append(x)
     mats.append(np.ones_like(sig.t))
-    mats += [g[1] for g in gaps]  # the offset after each gap that hid load history (Signals.gap_ends_s)
+    mats += [g[1] for g in gaps]  # the offset after each gap that hid load history (Signals.gap_steps)
     lo = np.array([c[2] for c in cols] + [-np.inf] + [-g[2] for g in gaps])
     hi = np.array([c[3] for c in cols] + [np.inf] + [g[2] for g in gaps])
     ridge = np.array([c[5] is not None for c in cols] + [False] * (1 + len(gaps)))  # ridge groups: play weights, knots

@@ -317,8 +317,7 @@ class Selection:
                     fit, retried = again, True
             cand = Candidate(name, _variant(fit, name), fit,
                              math.sqrt(fit.cv_mse), float(np.mean(fit.sse_folds < current.sse_folds)),
-                             float((current.cv_mse - fit.cv_mse) / share), self.step)
-            cand.retried = retried
+                             float((current.cv_mse - fit.cv_mse) / share), self.step, retried=retried)
             self.candidates.append(cand)
             if self.noise_limited(fit, name):
                 self.say(f"step {self.step}: {name} at its noise limit, not judged")
@@ -343,7 +342,8 @@ class Selection:
         out = Candidate(cand.effect, _variant(again, cand.effect), again, math.sqrt(again.cv_mse),
                         float(np.mean(again.sse_folds < current.sse_folds)),
                         float((current.cv_mse - again.cv_mse) / share), self.step, retried=True)
-        self.candidates[self.candidates.index(cand)] = out
+        # by identity: candidates compare by value, and a Fit's arrays have no single truth value
+        self.candidates[next(i for i, c in enumerate(self.candidates) if c is cand)] = out
         return out
 
     def accept(self, best: Candidate) -> None:

@@ -188,8 +188,8 @@ def _gap_steps(data: _Record, st: Structure, base_fit: Fit, margin_s: float) -> 
     means over :data:`EDGE_S` each side; a load that moved monotonically leaves at most half of that) times the base
     core's creep rate per newton that lasts, its flow's compliance rate and the compliance over the time of each
     Kelvin unit no faster than ``margin_s`` (a faster one forgets the hidden load within the blocks that fit the
-    step). A gap in a hold leaves nothing and gets no step. Bounded by the force span instead, or unbounded, the
-    steps took a drift's events, and the drift was not found."""
+    step). A gap in a hold leaves nothing and gets no step. A looser bound (the force span), or none, lets the
+    steps take a drift's events, and the drift is not found."""
     coef = base_fit.coef_map
     rate_v_per_n_s = coef.get("phi", 0.0) + sum(coef.get(f"c{i}", 0.0) / tau for i, tau in enumerate(st.taus)
                                                 if tau >= margin_s)

@@ -404,21 +404,23 @@ def _held_steps(duration_s, rate_hz, rng, levels_n=(1.0, 9.0), hold_s=(10.0, 40.
     return t, np.interp(t, knots_t, knots_f)
 
 
-def _record_of(core, seed, duration_s=500.0, rate_hz=200.0, gaps_s=(), zero_v=None, temperature=None):
+def _kept(t, gaps_s):
+    """The samples of ``t`` outside every ``(start_s, length_s)`` of ``gaps_s``."""
+    keep = np.ones(t.size, dtype=bool)
+    for start, length in gaps_s:
+        keep &= ~((t >= start) & (t < start + length))
+    return keep
+
+
+def _record_of(core, seed, duration_s=500.0, rate_hz=200.0, gaps_s=()):
     """A record of ``core`` under held steps, 2 mV of bridge noise and 5 mN of reference noise, with the samples of
-    each ``(start_s, length_s)`` of ``gaps_s`` dropped; ``zero_v(t, temperature)`` added to the voltage."""
+    each ``(start_s, length_s)`` of ``gaps_s`` dropped."""
     from polyforce_ros.record import Record
     rng = np.random.default_rng(seed)
     t, f = _held_steps(duration_s, rate_hz, rng)
     v = simulate_deformation(core, t, f) + 0.02 + rng.normal(0.0, 2e-3, t.size)
-    temp = None if temperature is None else temperature(t)
-    if zero_v is not None:
-        v = v + zero_v(t, temp)
-    keep = np.ones(t.size, dtype=bool)
-    for start, length in gaps_s:
-        keep &= ~((t >= start) & (t < start + length))
-    return Record(t[keep], f[keep] + rng.normal(0.0, 5e-3, int(keep.sum())), v[keep],
-                  None if temp is None else temp[keep])
+    keep = _kept(t, gaps_s)
+    return Record(t[keep], f[keep] + rng.normal(0.0, 5e-3, int(keep.sum())), v[keep])
 
 
 def test_record_gaps_are_the_longest_gaps_with_record_on_both_sides():
@@ -427,10 +429,7 @@ def test_record_gaps_are_the_longest_gaps_with_record_on_both_sides():
     for _ in range(20):
         t = np.arange(0.0, 300.0, 0.005) + rng.uniform(-0.3, 0.3) * 0.005  # jittered stamps: never a gap
         gaps = [(s, rng.uniform(0.02, 3.0)) for s in np.sort(rng.uniform(2.0, 298.0, int(rng.integers(0, 12))))]
-        keep = np.ones(t.size, dtype=bool)
-        for s, length in gaps:
-            keep &= ~((t >= s) & (t < s + length))
-        kept = t[keep]
+        kept = t[_kept(t, gaps)]
         found = record_gaps(kept, margin_s=20.0)
         holes = [(a, b) for a, b in zip(kept[:-1], kept[1:]) if b - a >= 0.1 and a >= 20.0 and b <= kept[-1] - 20.0]
         wanted = sorted(sorted(holes, key=lambda h: h[1] - h[0], reverse=True)[:MAX_GAPS])

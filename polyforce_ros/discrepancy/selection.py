@@ -189,11 +189,11 @@ class Selection:
         # promising in sample: the time constants (the core's too) are refitted with the effect in place (inherited
         # ones let the folds trade the effect against the core); the grid fits compete too, because a polish fits in
         # sample and can predict the left-out blocks worse
-        promising = [f for f in to_polish.values() if (to.fit_mse - f.fit_mse) / share >= self.min_excess_share]
-        polished = [fitter.evaluate(polish(fitter, f.structure)) for f in promising
+        promising = {k: f for k, f in to_polish.items() if (to.fit_mse - f.fit_mse) / share >= self.min_excess_share}
+        polished = [fitter.evaluate(polish(fitter, f.structure)) for f in promising.values()
                     if polish_ and (polish_ != "parametric" or _has_param(f, name))]
-        if polish_ is True and REGISTRY[name].core_change:
-            polished += self._slower_core(to, name, [f for f in to_polish.values() if f not in promising])
+        if polish_ is True and REGISTRY[name].core_change:  # by id: Fits compare by value, arrays and all
+            polished += self._slower_core(to, name, [f for k, f in to_polish.items() if k not in promising])
         return min(self._nested([*polished, *fits], name), key=lambda f: f.cv_mse)
 
     def _slower_core(self, to: Fit, name: str, fits: list[Fit]) -> list[Fit]:

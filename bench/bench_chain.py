@@ -272,7 +272,7 @@ def run_arm(kind, exe, seconds, rate_hz, relays, tmp, flow_timeout=60.0, settle_
         # where a delay arises: the sample's stamp -> its `wrench` reaching the sink (device, driver, first stage)
         wrench = (d["in_stamp_ns"] >= t0_ns) & (d["in_stamp_ns"] < t1_ns)
         to_wrench_us = (d["in_ns"][wrench] - d["in_stamp_ns"][wrench]) / 1e3
-        stats.update(percentiles(to_wrench_us, "to_wrench_"))
+        stats.update(percentiles(to_wrench_us, "to_wrench_"), wrenches=int(np.sum(wrench)))
         if to_wrench_us.size:
             stats["to_wrench_max_at_s"] = float((d["in_stamp_ns"][wrench][np.argmax(to_wrench_us)] - t0_ns) / 1e9)
     stats.update(kind=kind, rate_hz=rate_hz, seconds=seconds, warmup_s=warmup_s, load1=os.getloadavg()[0])
@@ -295,7 +295,8 @@ def interleaved_pairs(exe, pairs, seconds, rate_hz, relays, tmp, log=print):
             pooled[kind]["delivered"] += r["delivered"]
             log(f"{kind:<5} p50 {r['p50_us']:7.0f} us  p99 {r['p99_us']:7.0f} us  max {r['max_us']:8.0f} us  "
                 f"delivered {r['delivered']} of {r['frames']} ({100 * r['delivered_share']:.2f} %, untimed "
-                f"{r['delivered_untimed']})  commands {r['commands']}, unmatched {r['unmatched_commands']}  "
+                f"{r['delivered_untimed']})  `wrench` {r['wrenches']}, commands {r['commands']}, "
+                f"unmatched {r['unmatched_commands']}  "
                 f"flowing after {r['warmup_s']:.1f} s  load {r['load1']:.1f}  stamp -> `wrench` at the sink: "
                 f"p50 {r['to_wrench_p50_us']:.0f} us, max {r['to_wrench_max_us']:.0f} us"
                 + (f"  stamps agree {100 * r['stamp_agrees']:.2f} %" if kind == "relay" else ""))
@@ -369,6 +370,13 @@ def part(role, args):
             ins, outs = ([], [], []), ([], [], [])
             flowing = {"path": path + ".flowing"}
 
+            def mark_flowing():
+                # the whole chain flows once the sink hears both ends: a command alone can arrive before the
+                # sink's `wrench` subscription is discovered, and every command would then be unmatched
+                if flowing["path"] and ins[1] and outs[0][-1] != 0.0:
+                    open(flowing["path"], "w").close()
+                    flowing["path"] = None
+
             def on_wrench(msg):
                 ins[2].append(time.time_ns())
                 ins[0].append(msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec)
@@ -378,9 +386,7 @@ def part(role, args):
                 outs[2].append(time.time_ns())
                 outs[0].append(msg.wrench.force.z)
                 outs[1].append(msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec)
-                if flowing["path"] and msg.wrench.force.z != 0.0:
-                    open(flowing["path"], "w").close()
-                    flowing["path"] = None
+                mark_flowing()
 
             node.create_subscription(WrenchStamped, contract.Rel.WRENCH, on_wrench, QOS)
             node.create_subscription(WrenchStamped, HAPTIC_COMMAND, on_command, QOS)

@@ -70,14 +70,15 @@ def test_device_frames_counts_valid_frames_acquired_in_the_window(tmp_path):
                     reason="gcc or clang, and make, are needed to build the virtual device")
 def test_one_short_pair_runs_through_every_stage(tmp_path):
     exe = bench_chain.build_device(tmp_path)
-    lines = []
+    lines: list = []
     report = bench_chain.interleaved_pairs(exe, pairs=1, seconds=1.0, rate_hz=1000.0, relays=2, tmp=tmp_path,
                                            log=lines.append)
-    pair, pooled = report["pair0"], report["pooled"]
+    pair, pooled, printed = report["pair0"], report["pooled"], "\n".join(lines)
     for kind in bench_chain.KINDS:
-        assert pair[kind]["frames"] > 0 and pair[kind]["delivered"] > 0, (kind, lines)
-        assert pair[kind]["delivered"] <= pair[kind]["frames"] + 2, (kind, lines)  # the window's edges: a frame or so
-    assert pair["relay"]["stamp_agrees"] == 1.0  # the pairing by value agrees with the stamps the relays pass on
-    assert pair["relay"]["unmatched_commands"] == 0 and pair["chain"]["unmatched_commands"] == 0
+        assert pair[kind]["frames"] > 0 and pair[kind]["delivered"] > 0, f"{kind}: {printed}"
+        assert pair[kind]["delivered"] <= pair[kind]["frames"] + 2, f"{kind}: {printed}"  # the edges: a frame
+    assert pair["relay"]["stamp_agrees"] == 1.0, printed  # the pairing by value agrees with the relays' stamps
+    assert pair["relay"]["unmatched_commands"] == 0 and pair["chain"]["unmatched_commands"] == 0, printed
     assert np.isfinite([pooled["ratio_p50"], pooled["ratio_p99"], pooled["ratio_delivered"]]).all()
-    assert lines[-1].startswith("chain / relay: p50 ")
+    # the ratios' line, then a line on stalls if a loaded machine stalled an arm
+    assert any(line.startswith("chain / relay: p50 ") for line in lines[-2:]), printed

@@ -16,6 +16,7 @@ import sys
 
 import numpy as np
 import pytest
+from scipy import signal as scipy_signal
 
 from conftest import REPO
 from polyforce_ros.discrepancy.effects import EFFECTS, NAMES
@@ -470,3 +471,64 @@ def test_a_kelvin_unit_slower_than_the_cores_own_is_a_delayed_elasticity_not_a_d
     core = MODEL_TYPES["zener2"](rng.uniform(5.0, 8.0), k2, eta2, k3, k3 * tau3)
     d = diagnose(_record_of(core, seed), base="zener")
     assert d.missing_effects == ["delayed_elasticity"], [c.summary() for c in d.candidates if c.step == 1]
+
+
+def _taps(duration_s, rate_hz, rng):
+    """Presses of 1-8 N held 1-10 s, with 2-8 s of rest between them."""
+    t = np.arange(0.0, duration_s, 1.0 / rate_hz)
+    knots_t, knots_f, now = [0.0], [0.0], rng.uniform(2.0, 5.0)
+    while now < duration_s:
+        level, rise, hold = rng.uniform(1.0, 8.0), rng.uniform(0.1, 0.5), rng.uniform(1.0, 10.0)
+        knots_t += [now, now + rise, now + rise + hold, now + 2 * rise + hold]
+        knots_f += [0.0, level, level, 0.0]
+        now += 2 * rise + hold + rng.uniform(2.0, 8.0)
+    return t, np.interp(t, knots_t, knots_f)
+
+
+def test_a_drift_in_time_holds_at_rest_and_a_drift_that_follows_the_load_does_not():
+    """drift_follows_load on random records: a drift in time (linear, settling or a slow sine) is a drift whatever the
+    load; what a load leaves (creep integrated while loaded, with or without recovery at rest), described by the
+    smooth drift fitted to it, follows the load."""
+    from polyforce_ros.discrepancy.residual import drift_follows_load
+    rng = np.random.default_rng(3520)
+    for _ in range(12):
+        t, f = _taps(rng.uniform(200.0, 500.0), 100.0, rng)
+        noise = rng.normal(0.0, 2e-4, t.size)
+        s = t / t[-1]
+        in_time = [rng.uniform(-0.02, 0.02) * s, rng.uniform(-0.02, 0.02) * -np.expm1(-t / rng.uniform(10.0, 100.0)),
+                   rng.uniform(0.005, 0.02) * np.sin(2 * np.pi * t / rng.uniform(100.0, 300.0))]
+        for drift in in_time:
+            sig = Signals(t, f, drift + noise, None, 0.0, float(t[-1]), 23.0, span_f=float(np.ptp(f)))
+            assert not drift_follows_load(sig, np.zeros_like(t), drift)
+        flow = rng.uniform(1e-5, 1e-4) * np.cumsum(f) / 100.0  # creeps while loaded, stays at rest
+        a = math.exp(-0.01 / rng.uniform(2.0, 10.0))
+        lagged = scipy_signal.lfilter([1.0 - a], [1.0, -a], flow, zi=[a * flow[0]])[0]
+        for left in (flow, flow + 0.4 * (flow - lagged)):  # and a creep that partly recovers at rest
+            smooth = np.polyval(np.polyfit(s, left, 3), s)  # the drift fitted to it: smooth in time
+            sig = Signals(t, f, left + noise, None, 0.0, float(t[-1]), 23.0, span_f=float(np.ptp(f)))
+            assert drift_follows_load(sig, np.zeros_like(t), smooth)
+    # too few rests for a verdict
+    t = np.arange(0.0, 100.0, 0.01)
+    f = np.where((t > 10.0) & (t < 90.0), 5.0, 0.0)
+    sig = Signals(t, f, 1e-3 * np.cumsum(f) / 100.0, None, 0.0, 100.0, 23.0, span_f=5.0)
+    assert not drift_follows_load(sig, np.zeros_like(t), 1e-4 * t)
+
+
+@pytest.mark.parametrize("seed", [3521, 3522])
+def test_asymmetric_friction_is_named_friction_without_a_drift_beside_it(seed):
+    """Friction that sticks more while the force rises than while it falls, under presses with rests: the play the
+    model fits is symmetric, and a settling drift took what the asymmetry leaves while loaded (these seeds). A drift
+    that moves the record under load but not at rest follows the load, and is not judged."""
+    from polyforce_ros.record import Record
+    rng = np.random.default_rng(seed)
+    t, f = _taps(480.0, 350.0, rng)
+    r_n, share = rng.uniform(0.15, 0.3), rng.uniform(0.2, 0.4)
+    passed, p = np.empty_like(f), f[0]
+    for i, fi in enumerate(f):  # the force through the contact: it sticks by 2 r (1 - share) up, 2 r share down
+        p = max(fi - 2 * r_n * (1 - share), min(fi + 2 * r_n * share, p))
+        passed[i] = p
+    core = MODEL_TYPES["burgers"](rng.uniform(3.0, 8.0), rng.uniform(10.0, 40.0), rng.uniform(2e4, 1e5),
+                                  rng.uniform(50.0, 400.0))
+    v = simulate_deformation(core, t, passed) + 0.02 + rng.normal(0.0, 2e-3, t.size)
+    d = diagnose(Record(t, f + rng.normal(0.0, 5e-3, t.size), v), base="burgers")
+    assert d.missing_effects == ["friction"], [c.summary() for c in d.candidates if c.step <= 2]

@@ -3,6 +3,8 @@
 * :func:`noise_floor` (stage 1 of :func:`.engine.diagnose`): the white noise of the bridge voltage and of the
   reference force, from second differences of the raw samples, the reference's through the base fit's
   instantaneous compliance.
+* :func:`drift_follows_load` (stage 3): whether a fitted offset drift moves the residual at rest as it does under
+  load, as a drift in time does.
 * :func:`unexplained_test` (stage 5): the out-of-sample residual at the record's rate (:func:`out_of_sample`)
   averaged to ~1 s and tested for whiteness (Ljung-Box), and split into octave bands (:func:`band_structure`).
 """
@@ -21,7 +23,7 @@ from .design import Fit, Fitter, design
 from .signals import FloatArray, IntArray, Signals, noise_std
 
 __all__ = ["noise_std", "NoiseFloor", "noise_floor", "excess", "ljung_box", "band_structure", "Unexplained",
-           "unexplained_test", "out_of_sample", "where"]
+           "unexplained_test", "out_of_sample", "where", "drift_follows_load"]
 
 
 # ----------------------------------------------------------------------------- the noise floor
@@ -183,3 +185,70 @@ def where(loc: Mapping[str, Any]) -> dict[str, dict[str, float]]:
     corr = sorted(loc.get("correlation", {}).items(), key=lambda kv: -abs(kv[1]))[:2]
     return {"segments": {k: round(v["rms_ratio"], 3) for k, v in top},
             "follows": {k: round(v, 3) for k, v in corr}}
+
+
+# ----------------------------------------------------------------------------- a drift in time, or in load
+
+#: Rest: the reference force below this share of its span, for at least MIN_REST_S; each run's level is the mean
+#: over EDGE_S at its ends.
+REST_SHARE_OF_SPAN = 0.05
+MIN_REST_S = 1.0
+EDGE_S = 0.3
+
+
+def _slope(y: FloatArray, x: FloatArray) -> tuple[float, float]:
+    """Least-squares slope of ``y`` on ``x`` through zero, and its standard error."""
+    sxx = float(x @ x)
+    if sxx <= 0.0 or y.size < 2:
+        return math.nan, math.inf
+    b = float(x @ y) / sxx
+    res = y - b * x
+    return b, math.sqrt(float(res @ res) / (y.size - 1) / sxx)
+
+
+def drift_follows_load(sig: Signals, rest_of_model_v: FloatArray, drift_v: FloatArray, min_runs: int = 4) -> bool:
+    """Whether a fitted drift follows the load rather than time.
+
+    A drift in time moves the voltage at rest as it moves it under load. Over each rest (the reference force below
+    ``REST_SHARE_OF_SPAN`` of its span for ``MIN_REST_S``) and over each loaded stretch between two rests, the
+    change of the residual left without the drift (``sig.v - rest_of_model_v``) is compared with the drift's own
+    change there: the slope of one on the other is about 1 in both kinds of stretch for a drift. The drift follows
+    the load when the residual at rest moves less than half as much as the drift says and significantly less than
+    under load (three standard errors): what it describes happens while loaded (a core, a contact, a loop that the
+    model's shapes miss) and leaves the rests alone or runs against them.
+
+    Parameters
+    ----------
+    sig : Signals
+        The record at the fit rate.
+    rest_of_model_v, drift_v : (n,) ndarray
+        The fitted model's prediction without the drift, and the drift's part of it [V].
+    min_runs : int
+        Rests needed for a verdict (fewer: False).
+    """
+    h = float(np.median(np.diff(sig.t))) if sig.t.size > 1 else 0.0
+    if not h > 0.0:
+        return False
+    rest = sig.f < REST_SHARE_OF_SPAN * max(sig.span_f, 1e-12)
+    if sig.valid is not None:
+        rest &= sig.valid
+    edges = np.flatnonzero(np.diff(rest.astype(np.int8))) + 1
+    starts, stops = np.r_[0, edges], np.r_[edges, rest.size]
+    runs = [(int(a), int(b)) for a, b in zip(starts, stops) if rest[a] and (b - a) * h >= MIN_REST_S]
+    if len(runs) < min_runs:
+        return False
+    w = max(1, int(round(EDGE_S / h)))
+    resid = np.asarray(sig.v - rest_of_model_v, dtype=float)
+    drift = np.asarray(drift_v, dtype=float)
+
+    def changes(x: FloatArray) -> tuple[FloatArray, FloatArray]:
+        at_rest = np.array([x[b - w:b].mean() - x[a:a + w].mean() for a, b in runs])
+        loaded = np.array([x[a1:a1 + w].mean() - x[b0 - w:b0].mean() for (_, b0), (a1, _) in zip(runs[:-1], runs[1:])])
+        return at_rest, loaded
+
+    (r_rest, r_load), (d_rest, d_load) = changes(resid), changes(drift)
+    b_rest, se_rest = _slope(r_rest, d_rest)
+    b_load, se_load = _slope(r_load, d_load)
+    if not (math.isfinite(b_rest) and math.isfinite(b_load)):
+        return False
+    return bool(b_rest < 0.5 and b_load - b_rest > 3.0 * math.hypot(se_rest, se_load))

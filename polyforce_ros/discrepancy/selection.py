@@ -21,10 +21,10 @@ from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from .design import Fit, Fitter, Structure, n_params, size
+from .design import Fit, Fitter, Structure, design_columns, n_params, size
 from .effects import EFFECTS as REGISTRY, at_noise_limit, variant_group
 from .refit import candidates_for, polish, refine, without
-from .residual import excess
+from .residual import drift_follows_load, excess
 
 __all__ = ["Candidate", "parsimonious", "Selection"]
 
@@ -156,6 +156,20 @@ class Selection:
         (:func:`.effects.at_noise_limit`): such a fit describes the noise, and names nothing."""
         term = fit.structure.term(name)
         return term is not None and at_noise_limit(name, term.param, self.fitter.sig)
+
+    def follows_load(self, fit: Fit) -> bool:
+        """Whether ``fit``'s offset drift follows the load rather than time (:func:`.residual.drift_follows_load`):
+        such a drift stands in for a load-dependent shape the model misses, and names nothing."""
+        term = fit.structure.term("offset_drift")
+        if term is None:
+            return False
+        sig = self.fitter.sig
+        names, mats, *_ = design_columns(sig, fit.structure)
+        coef = fit.coef_map
+        own = {c[0] for c in REGISTRY["offset_drift"].columns(sig, term.variant, term.param)}
+        drift = sum((coef[n] * m for n, m in zip(names, mats) if n in own), np.zeros_like(sig.v))
+        model = sum((coef[n] * m for n, m in zip(names, mats)), np.zeros_like(sig.v))
+        return drift_follows_load(sig, model - drift, drift)
 
     def acceptable(self, c: Candidate) -> bool:
         """Whether a candidate passed the acceptance test against the model of its step."""
@@ -321,6 +335,9 @@ class Selection:
             self.candidates.append(cand)
             if self.noise_limited(fit, name):
                 self.say(f"step {self.step}: {name} at its noise limit, not judged")
+                continue
+            if name == "offset_drift" and self.follows_load(fit):
+                self.say(f"step {self.step}: offset_drift follows the load, not judged")
                 continue
             step_candidates.append(cand)
         if any(c.retried for c in step_candidates):

@@ -245,21 +245,26 @@ def force_noise_n(sig: Signals) -> float:
     return float(sig.record_cache[key])
 
 
-def _friction_grid(variant: str, sig: Signals) -> list[Optional[float]]:
-    """Half-widths (N) of the stiction band searched: 0.1-15 % of the force span, and never narrower than
+def _narrowest_band_n(sig: Signals) -> float:
+    """The narrowest stiction half-width searched (N): 0.1 % of the force span, and never narrower than
     :data:`FRICTION_NOISE_SIGMAS` standard deviations of the reference force's noise."""
-    lo, hi = FRICTION_FRACTIONS
-    low = max(lo * sig.span_f, FRICTION_NOISE_SIGMAS * force_noise_n(sig))
-    return _log_grid(low, max(hi * sig.span_f, 2.0 * low), 12)
+    return max(FRICTION_FRACTIONS[0] * sig.span_f, FRICTION_NOISE_SIGMAS * force_noise_n(sig))
+
+
+def _friction_grid(variant: str, sig: Signals) -> list[Optional[float]]:
+    """Half-widths (N) of the stiction band searched: from :func:`_narrowest_band_n` to 15 % of the force span."""
+    low = _narrowest_band_n(sig)
+    return _log_grid(low, max(FRICTION_FRACTIONS[1] * sig.span_f, 2.0 * low), 12)
 
 
 def at_noise_limit(effect: str, param: Optional[float], sig: Signals) -> bool:
-    """Whether ``effect``'s fitted parameter sits at the bound the record's noise sets: a stiction band as narrow as
-    the reference force's noise allows was wanted narrower still, where the play acts on that noise (it smooths
-    the force the model reads), not on a mechanism."""
+    """Whether ``effect``'s fitted parameter sits at the bound the record sets: a stiction band as narrow as the
+    search goes (the reference force's noise, or 0.1 % of the span) was wanted narrower still, where the play acts
+    on the force's smallest wiggles (it smooths the noise of the force the model reads), not on a mechanism; a band
+    that narrow moves the force by less than 0.1 % of its span, below what the master renders."""
     if effect != "friction" or param is None:
         return False
-    return param <= 1.05 * FRICTION_NOISE_SIGMAS * force_noise_n(sig)
+    return param <= 1.05 * _narrowest_band_n(sig)
 
 
 def _friction_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:

@@ -281,8 +281,12 @@ def _mode_stage(rec: Record, fitter: Fitter, sig_full: Signals, bin_of_sample: I
                 min_excess_share: float, say: Callable[[str], None]) -> tuple[Optional[ModeFit], Fit]:
     """Stage 5b: a mechanical mode fitted at the record's rate (:func:`.resonance.choose_mode`), named in
     ``selection`` when it passes; returns it (None when not) and the fit kept (without a sensor lag it replaces)."""
-    strongest = max(test.bands, key=lambda b: b["rms_v"]) if test.bands else None
+    strongest = max(test.bands, key=lambda b: b["rms_v"]) if test.bands and test.present else None
     band = (strongest["low_hz"], strongest["high_hz"]) if strongest else None
+    lag = current.structure.term("sensor_lag")
+    if band is None and lag is not None and lag.param:  # no structure left: start from the lag's corner
+        corner_hz = 1.0 / (2.0 * np.pi * float(lag.param))
+        band = (corner_hz / 2.0, corner_hz * 2.0)
     reduced = _without(current.structure, "sensor_lag") if "sensor_lag" in selection.accepted else None
     reduced_fit = fitter.evaluate(reduced) if reduced is not None else None
     fold = fitter.fold[bin_of_sample]
@@ -339,7 +343,9 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     test = unexplained_test(t, resid_after, floor, unexplained_ratio)
     # 5b. a mechanical mode, at the record's rate, on what the selection predicts
     mode = None
-    if test.present and "resonance" in catalogue:
+    # a moderately damped mode is also a low-pass: a sensor lag named at the fit rate may hold all of it and leave
+    # no structure, so a named lag is always offered to the mode as a rival
+    if "resonance" in catalogue and (test.present or "sensor_lag" in selection.accepted):
         say("resonance at the record's rate")
         mode, current = _mode_stage(rec, fitter, sig_full, bin_of_sample, current, selection, sim_after, test, floor,
                                     min_confidence, min_excess_share, say)

@@ -259,9 +259,9 @@ def _friction_grid(variant: str, sig: Signals) -> list[Optional[float]]:
 
 def at_noise_limit(effect: str, param: Optional[float], sig: Signals) -> bool:
     """Whether ``effect``'s fitted parameter sits at the bound the record sets: a stiction band as narrow as the
-    search goes (the reference force's noise, or 0.1 % of the span) was wanted narrower still, where the play acts
-    on the force's smallest wiggles (it smooths the noise of the force the model reads), not on a mechanism; a band
-    that narrow moves the force by less than 0.1 % of its span, below what the master renders."""
+    search goes (:func:`_narrowest_band_n`: the reference force's noise, or 0.1 % of the span) was wanted narrower
+    still, where the play acts on the force's smallest wiggles (it smooths the noise of the force the model reads),
+    not on a mechanism."""
     if effect != "friction" or param is None:
         return False
     return param <= 1.05 * _narrowest_band_n(sig)

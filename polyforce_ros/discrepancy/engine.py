@@ -53,9 +53,9 @@ Procedure (:func:`diagnose`):
    named effects worsen the out-of-sample error at the record's rate, or
    leave structure while explaining less than ``min_explained`` of the
    base's error above the floor (partial fits of something outside the
-   catalogue, listed under ``unexplained.partial_fits``). Before that judgement, structure in the residual is
-   offered to a mechanical mode fitted at the record's rate (:mod:`.resonance`), named ``resonance`` when it
-   passes the forward step's test; a sensor lag it makes redundant is dropped.
+   catalogue, listed under ``unexplained.partial_fits``). Before that judgement, structure in the residual, or
+   a named sensor lag, is offered to a mechanical mode fitted at the record's rate (:mod:`.resonance`), named
+   ``resonance`` when it passes the forward step's test; a sensor lag it makes redundant is dropped.
 6. **Judged in newtons** (:mod:`.newtons`). Each left-out block is
    compensated by the model fitted without it and compared with the
    reference force; a sensor lag's inverse gets an explicit bandwidth, a
@@ -276,17 +276,26 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     return judged
 
 
+#: Damping of the mode a named lag's delay starts the mode search from: the middle of what a lag can hide (a mode
+#: damped below ~0.2 rings, and leaves structure of its own).
+LAG_MODE_ZETA = 0.3
+
+
 def _mode_stage(rec: Record, fitter: Fitter, sig_full: Signals, bin_of_sample: IntArray, current: Fit,
                 selection: Selection, predicted_v: FloatArray, test: Any, floor_v: float, min_confidence: float,
                 min_excess_share: float, say: Callable[[str], None]) -> tuple[Optional[ModeFit], Fit]:
     """Stage 5b: a mechanical mode fitted at the record's rate (:func:`.resonance.choose_mode`), named in
-    ``selection`` when it passes; returns it (None when not) and the fit kept (without a sensor lag it replaces)."""
+    ``selection`` when it passes; returns it (None when not) and the fit kept (without a sensor lag it replaces).
+
+    The search starts from the residual's strongest band when the residual holds structure; else (a named lag
+    offered as the mode's rival) from the mode that delays the signal as the lag does: 2 zeta / w = the lag's
+    delay, zeta 0.3 (:data:`LAG_MODE_ZETA`)."""
     strongest = max(test.bands, key=lambda b: b["rms_v"]) if test.bands and test.present else None
     band = (strongest["low_hz"], strongest["high_hz"]) if strongest else None
     lag = current.structure.term("sensor_lag")
-    if band is None and lag is not None and lag.param:  # no structure left: start from the lag's corner
-        corner_hz = 1.0 / (2.0 * np.pi * float(lag.param))
-        band = (corner_hz / 2.0, corner_hz * 2.0)
+    if band is None and lag is not None and lag.param:  # every variant's parameter is its delay [s]
+        f0_hz = LAG_MODE_ZETA / (np.pi * float(lag.param))
+        band = (f0_hz / 2.0, f0_hz * 2.0)
     reduced = _without(current.structure, "sensor_lag") if "sensor_lag" in selection.accepted else None
     reduced_fit = fitter.evaluate(reduced) if reduced is not None else None
     fold = fitter.fold[bin_of_sample]

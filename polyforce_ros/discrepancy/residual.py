@@ -3,7 +3,7 @@
 * :func:`noise_floor` (stage 1 of :func:`.engine.diagnose`): the white noise of the bridge voltage and of the
   reference force, from second differences of the raw samples, the reference's through the base fit's
   instantaneous compliance.
-* :func:`drift_follows_load` (stage 3): whether a fitted offset drift moves the residual at rest as it does under
+* :func:`drift_follows_load` (stage 4): whether a fitted offset drift moves the residual at rest as it does under
   load, as a drift in time does.
 * :func:`unexplained_test` (stage 5): the out-of-sample residual at the record's rate (:func:`out_of_sample`)
   averaged to ~1 s and tested for whiteness (Ljung-Box), and split into octave bands (:func:`band_structure`).
@@ -189,11 +189,11 @@ def where(loc: Mapping[str, Any]) -> dict[str, dict[str, float]]:
 
 # ----------------------------------------------------------------------------- a drift in time, or in load
 
-#: Rest: the reference force below this share of its span, for at least MIN_REST_S; each run's level is the mean
-#: over EDGE_S at its ends.
+#: Rest: the reference force below this share of its span [-], for at least MIN_REST_S [s]; a rest's level at each
+#: end is the mean over REST_EDGE_S [s] there.
 REST_SHARE_OF_SPAN = 0.05
 MIN_REST_S = 1.0
-EDGE_S = 0.3
+REST_EDGE_S = 0.3
 
 
 def _slope(y: FloatArray, x: FloatArray) -> tuple[float, float]:
@@ -206,45 +206,67 @@ def _slope(y: FloatArray, x: FloatArray) -> tuple[float, float]:
     return b, math.sqrt(float(res @ res) / (y.size - 1) / sxx)
 
 
-def drift_follows_load(sig: Signals, rest_of_model_v: FloatArray, drift_v: FloatArray, min_runs: int = 4) -> bool:
+def drift_follows_load(sig: Signals, model_without_drift_v: FloatArray, drift_v: FloatArray, min_runs: int = 4
+                       ) -> bool:
     """Whether a fitted drift follows the load rather than time.
 
     A drift in time moves the voltage at rest as it moves it under load. Over each rest (the reference force below
     ``REST_SHARE_OF_SPAN`` of its span for ``MIN_REST_S``) and over each loaded stretch between two rests, the
-    change of the residual left without the drift (``sig.v - rest_of_model_v``) is compared with the drift's own
+    change of the residual left without the drift (``sig.v - model_without_drift_v``) is compared with the drift's own
     change there: the slope of one on the other is about 1 in both kinds of stretch for a drift. The drift follows
     the load when the residual at rest moves less than half as much as the drift says and significantly less than
     under load (three standard errors): what it describes happens while loaded (a core, a contact, a loop that the
     model's shapes miss) and leaves the rests alone or runs against them.
 
+    A fit bin left empty (``sig.valid`` False, as stamp jitter leaves some at the fit rate) takes the state of its
+    valid neighbours, so it does not cut a rest, and the levels are means over valid bins only.
+
     Parameters
     ----------
     sig : Signals
         The record at the fit rate.
-    rest_of_model_v, drift_v : (n,) ndarray
+    model_without_drift_v, drift_v : (n,) ndarray
         The fitted model's prediction without the drift, and the drift's part of it [V].
     min_runs : int
-        Rests needed for a verdict (fewer: False).
+        Rests needed for a verdict.
+
+    Returns
+    -------
+    bool
+        True when the drift follows the load; False when it holds at rest as a drift in time does, or when the
+        record has fewer than ``min_runs`` rests.
     """
     h = float(np.median(np.diff(sig.t))) if sig.t.size > 1 else 0.0
     if not h > 0.0:
         return False
-    rest = sig.f < REST_SHARE_OF_SPAN * max(sig.span_f, 1e-12)
-    if sig.valid is not None:
-        rest &= sig.valid
+    valid = np.ones(sig.t.size, dtype=bool) if sig.valid is None else np.asarray(sig.valid, dtype=bool)
+    if not valid.any():
+        return False
+    at_rest = sig.f < REST_SHARE_OF_SPAN * max(sig.span_f, 1e-12)
+    # an empty bin is at rest when the valid bins on both sides are
+    kept = np.flatnonzero(valid)
+    before = kept[np.clip(np.searchsorted(kept, np.arange(valid.size), side="right") - 1, 0, kept.size - 1)]
+    after = kept[np.clip(np.searchsorted(kept, np.arange(valid.size)), 0, kept.size - 1)]
+    rest = np.where(valid, at_rest, at_rest[before] & at_rest[after])
     edges = np.flatnonzero(np.diff(rest.astype(np.int8))) + 1
     starts, stops = np.r_[0, edges], np.r_[edges, rest.size]
     runs = [(int(a), int(b)) for a, b in zip(starts, stops) if rest[a] and (b - a) * h >= MIN_REST_S]
     if len(runs) < min_runs:
         return False
-    w = max(1, int(round(EDGE_S / h)))
-    resid = np.asarray(sig.v - rest_of_model_v, dtype=float)
+    w = max(1, int(round(REST_EDGE_S / h)))
+    resid = np.asarray(sig.v - model_without_drift_v, dtype=float)
     drift = np.asarray(drift_v, dtype=float)
+    runs = [(a, b) for a, b in runs if valid[a:a + w].any() and valid[b - w:b].any()]
+    if len(runs) < min_runs:
+        return False
+
+    def level(x: FloatArray, lo: int, hi: int) -> float:
+        return float(x[lo:hi][valid[lo:hi]].mean())
 
     def changes(x: FloatArray) -> tuple[FloatArray, FloatArray]:
-        at_rest = np.array([x[b - w:b].mean() - x[a:a + w].mean() for a, b in runs])
-        loaded = np.array([x[a1:a1 + w].mean() - x[b0 - w:b0].mean() for (_, b0), (a1, _) in zip(runs[:-1], runs[1:])])
-        return at_rest, loaded
+        rests = np.array([level(x, b - w, b) - level(x, a, a + w) for a, b in runs])
+        loaded = np.array([level(x, a1, a1 + w) - level(x, b0 - w, b0) for (_, b0), (a1, _) in zip(runs[:-1], runs[1:])])
+        return rests, loaded
 
     (r_rest, r_load), (d_rest, d_load) = changes(resid), changes(drift)
     b_rest, se_rest = _slope(r_rest, d_rest)

@@ -3,12 +3,14 @@
 The design of the other effects runs on block means at the fit rate (100 Hz), where a 15-60 Hz mode is averaged
 away. A mode acts on the voltage the rest of the model predicts: ``V = H(p) + noise`` with
 ``H(s) = w^2 / (s^2 + 2 zeta w s + w^2)`` (unit gain at rest), ``p`` the out-of-sample prediction at the record's
-rate. So when the unexplained test sees structure, (f0, zeta) are fitted by least squares to the transfer from
-``p`` to the measured voltage, started from the residual's strongest band, and the mode is named when it passes
-the forward step's own test: it lowers the out-of-sample error in ``min_confidence`` of the folds and removes
-``min_excess_share`` of the error above the noise floor. A damping at the bound (0.5) is a lag, not a mode. A
-sensor lag named at the fit rate may have stood in for the mode's slow part (a moderately damped mode delays the
-signal by 2 zeta / w): it is kept only when, beside the mode, it passes the same test (:func:`.engine.diagnose`).
+rate. So when the unexplained test sees structure, or a sensor lag is named (a mode damped at 0.25-0.4 is a
+low-pass too, and a lag may hold all of it), (f0, zeta) are fitted by least squares to the transfer from ``p`` to
+the measured voltage, started from the residual's strongest band (or from the mode that delays as the lag does),
+and the mode is named when it passes the forward step's own test: it lowers the out-of-sample error in
+``min_confidence`` of the folds and removes ``min_excess_share`` of the error above the noise floor. A damping at
+the bound (0.5) is a lag, not a mode. A sensor lag named at the fit rate may have stood in for the mode's slow part
+(a moderately damped mode delays the signal by 2 zeta / w): it is kept only when, beside the mode, it passes the
+same test (:func:`.engine.diagnose`).
 
 The fit runs on a uniform grid at the median step (a first-order-hold discretisation, exact for piecewise-linear
 input, as the ``resonance`` element's forward run); the fold errors are taken on the record's own stamps, through
@@ -91,7 +93,8 @@ def fit_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.Arr
     floor_v : float
         The noise floor [V].
     band_hz : (low, high) or None
-        The residual's strongest band [Hz]: where the search starts.
+        Where the search starts [Hz]: the residual's strongest band, or a band around the mode a named lag
+        stands for (:func:`.engine._mode_stage`).
     min_confidence, min_excess_share : float
         The forward step's acceptance thresholds.
     """
@@ -113,6 +116,8 @@ def fit_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.Arr
     lower = np.log([LOWEST_MODE_HZ, ZETA_BOUNDS[0]])
     upper = np.log([highest, ZETA_BOUNDS[1]])
     centres = [math.sqrt(band_hz[0] * band_hz[1]), band_hz[0], band_hz[1]] if band_hz else [0.1 * highest]
+    # starts clipped to the same bound are one start
+    centres = sorted({float(np.clip(f0, LOWEST_MODE_HZ, highest)) for f0 in centres})
     best = None
     for f0 in centres:
         for zeta in (0.03, 0.15):

@@ -152,8 +152,8 @@ class Selection:
                 and (than.cv_mse - fit.cv_mse) / share >= self.min_excess_share)
 
     def noise_limited(self, fit: Fit, name: str) -> bool:
-        """Whether ``name``'s parameter in ``fit`` sits at the bound the record's noise sets
-        (:func:`.effects.at_noise_limit`): such a fit describes the noise, and names nothing."""
+        """Whether ``name``'s parameter in ``fit`` sits at the narrowest bound its search allows
+        (:func:`.effects.at_noise_limit`): such a fit describes the input's noise, and names nothing."""
         term = fit.structure.term(name)
         return term is not None and at_noise_limit(name, term.param, self.fitter.sig)
 
@@ -170,6 +170,11 @@ class Selection:
         drift = sum((coef[n] * m for n, m in zip(names, mats) if n in own), np.zeros_like(sig.v))
         model = sum((coef[n] * m for n, m in zip(names, mats)), np.zeros_like(sig.v))
         return drift_follows_load(sig, model - drift, drift)
+
+    def not_judged(self, fit: Fit, name: str) -> bool:
+        """Whether ``name`` in ``fit`` names nothing (at its noise limit, or an offset drift that follows the load):
+        such a fit is neither judged in its step, nor re-judged, nor swapped in later."""
+        return self.noise_limited(fit, name) or (name == "offset_drift" and self.follows_load(fit))
 
     def acceptable(self, c: Candidate) -> bool:
         """Whether a candidate passed the acceptance test against the model of its step."""
@@ -353,7 +358,7 @@ class Selection:
         if cand.retried or cand.excess_share < self.min_excess_share:
             return cand
         again = self.rechosen(cand.fit, skip=cand.effect, polish_=False)
-        if again.cv_mse >= cand.fit.cv_mse or self.noise_limited(again, cand.effect):
+        if again.cv_mse >= cand.fit.cv_mse or self.not_judged(again, cand.effect):
             return cand
         self.say(f"re-choose the shapes beside {cand.effect} too")
         out = Candidate(cand.effect, _variant(again, cand.effect), again, math.sqrt(again.cv_mse),
@@ -416,7 +421,7 @@ class Selection:
         fitter = self.fitter
         for name in list(self.accepted[:-1]):
             rivals = [c for c in self.candidates if c.step == self.accepted_at[name] and c.effect not in self.accepted
-                      and self.acceptable(c) and not self.noise_limited(c.fit, c.effect)]
+                      and self.acceptable(c) and not self.not_judged(c.fit, c.effect)]
             reduced = without(self.current.structure, name) if rivals else None
             if reduced is None:
                 continue
@@ -428,7 +433,7 @@ class Selection:
                 again = self.rebuild(rival, name)
                 if again is not None and (fit is None or again.cv_mse < fit.cv_mse):
                     fit = again
-                if fit is None or self.noise_limited(fit, rival.effect) or not self.justified(fit, reduced_fit) or not (
+                if fit is None or self.not_judged(fit, rival.effect) or not self.justified(fit, reduced_fit) or not (
                         (size(fit) < size(self.current) and not self.justified(self.current, fit))
                         or self.justified(fit, self.current)):
                     continue

@@ -98,6 +98,13 @@ def _cached(sig: Signals, key: Any, make: Callable[[], Iterable[Col]]) -> list[C
     return cols
 
 
+def term_columns(sig: Signals, term: Term) -> list[Col]:
+    """The design columns of an effect's ``term`` on these signals (:attr:`.effects.Effect.columns`), made once per
+    signals; before a sensor lag filters its ``sensor`` columns (:func:`design_columns`)."""
+    eff = REGISTRY[term.effect]
+    return _cached(sig, (term.effect, term.variant, term.param), partial(eff.columns, sig, term.variant, term.param))
+
+
 #: A structure's design on one record: (column names, the columns, lower bounds, upper bounds, ridge mask).
 Design = tuple[list[str], list[FloatArray], FloatArray, FloatArray, BoolArray]
 
@@ -136,7 +143,7 @@ def design_columns(sig: Signals, st: Structure) -> Design:
             lag = lag_stages(term.variant, parameter(term.param))
             delay_s = parameter(term.param) if term.variant == "delay" else 0.0
             continue
-        cols += _cached(sig, (term.effect, term.variant, term.param), partial(eff.columns, sig, term.variant, term.param))
+        cols += term_columns(sig, term)
     gaps = [(f"gap{k}", np.where(sig.t >= at, 1.0, 0.0), bound) for k, (at, bound) in enumerate(sig.gap_steps)]
     names = [c[0] for c in cols] + ["offset"] + [g[0] for g in gaps]
     mats = []

@@ -250,15 +250,13 @@ def drift_follows_load(sig: Signals, model_without_drift_v: FloatArray, drift_v:
     rest = np.where(valid, at_rest, at_rest[before] & at_rest[after])
     edges = np.flatnonzero(np.diff(rest.astype(np.int8))) + 1
     starts, stops = np.r_[0, edges], np.r_[edges, rest.size]
-    runs = [(int(a), int(b)) for a, b in zip(starts, stops) if rest[a] and (b - a) * h >= MIN_REST_S]
+    w = max(1, int(round(REST_EDGE_S / h)))
+    runs = [(int(a), int(b)) for a, b in zip(starts, stops)
+            if rest[a] and (b - a) * h >= MIN_REST_S and valid[a:a + w].any() and valid[b - w:b].any()]
     if len(runs) < min_runs:
         return False
-    w = max(1, int(round(REST_EDGE_S / h)))
     resid = np.asarray(sig.v - model_without_drift_v, dtype=float)
     drift = np.asarray(drift_v, dtype=float)
-    runs = [(a, b) for a, b in runs if valid[a:a + w].any() and valid[b - w:b].any()]
-    if len(runs) < min_runs:
-        return False
 
     def level(x: FloatArray, lo: int, hi: int) -> float:
         return float(x[lo:hi][valid[lo:hi]].mean())

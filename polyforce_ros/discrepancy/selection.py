@@ -21,7 +21,7 @@ from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from .design import Fit, Fitter, Structure, design_columns, n_params, size
+from .design import Fit, Fitter, Structure, design_columns, n_params, size, term_columns
 from .effects import EFFECTS as REGISTRY, at_noise_limit, variant_group
 from .refit import candidates_for, polish, refine, without
 from .residual import drift_follows_load, excess
@@ -164,17 +164,25 @@ class Selection:
         if term is None:
             return False
         sig = self.fitter.sig
-        names, mats, *_ = design_columns(sig, fit.structure)
         coef = fit.coef_map
-        own = {c[0] for c in REGISTRY["offset_drift"].columns(sig, term.variant, term.param)}
-        drift = sum((coef[n] * m for n, m in zip(names, mats) if n in own), np.zeros_like(sig.v))
+        # the drift's columns are additive (no lag filters them): as they stand in the design
+        drift = sum((coef[name] * col for name, col, *_ in term_columns(sig, term)), np.zeros_like(sig.v))
+        names, mats, *_ = design_columns(sig, fit.structure)
         model = sum((coef[n] * m for n, m in zip(names, mats)), np.zeros_like(sig.v))
         return drift_follows_load(sig, model - drift, drift)
 
+    def why_not_judged(self, fit: Fit, name: str) -> Optional[str]:
+        """Why ``name`` in ``fit`` names nothing (at its noise limit, or an offset drift that follows the load), None
+        when it is judged: such a fit is neither judged in its step, nor re-judged, nor swapped in later."""
+        if self.noise_limited(fit, name):
+            return "at its noise limit"
+        if name == "offset_drift" and self.follows_load(fit):
+            return "follows the load"
+        return None
+
     def not_judged(self, fit: Fit, name: str) -> bool:
-        """Whether ``name`` in ``fit`` names nothing (at its noise limit, or an offset drift that follows the load):
-        such a fit is neither judged in its step, nor re-judged, nor swapped in later."""
-        return self.noise_limited(fit, name) or (name == "offset_drift" and self.follows_load(fit))
+        """Whether ``name`` in ``fit`` names nothing (:meth:`why_not_judged`)."""
+        return self.why_not_judged(fit, name) is not None
 
     def acceptable(self, c: Candidate) -> bool:
         """Whether a candidate passed the acceptance test against the model of its step."""
@@ -338,11 +346,9 @@ class Selection:
                              math.sqrt(fit.cv_mse), float(np.mean(fit.sse_folds < current.sse_folds)),
                              float((current.cv_mse - fit.cv_mse) / share), self.step, retried=retried)
             self.candidates.append(cand)
-            if self.noise_limited(fit, name):
-                self.say(f"step {self.step}: {name} at its noise limit, not judged")
-                continue
-            if name == "offset_drift" and self.follows_load(fit):
-                self.say(f"step {self.step}: offset_drift follows the load, not judged")
+            why = self.why_not_judged(fit, name)
+            if why is not None:
+                self.say(f"step {self.step}: {name} {why}, not judged")
                 continue
             step_candidates.append(cand)
         if any(c.retried for c in step_candidates):

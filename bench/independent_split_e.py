@@ -39,7 +39,7 @@ from scipy import integrate, signal
 
 from polyforce_ros.physics.viscoelastic import Zener, Zener2, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin, ramp_and_hold,
+from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, kelvin, ramp_and_hold,
                        repeated_insertions)
 
 SEED0 = 330_000  # never a seed of the registry's splits nor of splits A (90000..), B, C (210000..), D (260000..)
@@ -174,24 +174,6 @@ class ThermalBandFriction(SimOnly):
         temp = np.broadcast_to(aux["temperature_c"], f.shape)
         r = np.maximum(self.r0 * (1 + 0.1 * (temp - T_REF_C)), self.r0 / 4)
         return band_play(f, r, r)
-
-
-class ShiftedBurgers(SimOnly):
-    """A Burgers core whose flow alone (``flow_only``) or whole clock runs at the rate ``rate_of(T)``."""
-
-    def __init__(self, c, rate_of, flow_only):
-        self.c, self.rate_of, self.flow_only = c, rate_of, flow_only
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        rate = self.rate_of(np.broadcast_to(aux["temperature_c"], t.shape))
-        xi = integrate.cumulative_trapezoid(rate, t, initial=0.0)  # the reduced time
-        if not self.flow_only:
-            return simulate_deformation(self.c, xi, f)
-        zener = Zener(self.c.k1_n_per_v, self.c.k2_n_per_v, self.c.eta2_n_s_per_v)
-        integrand = rate * f / self.c.eta1_n_s_per_v
-        flow = integrate.cumulative_trapezoid(integrand, t, initial=0.0)
-        return simulate_deformation(zener, t, f) + flow
 
 
 # ----------------------------------------------------------------------------- truths

@@ -39,8 +39,8 @@ from scipy import integrate, signal
 
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin, ramp_and_hold
-from split_kit import repeated_insertions
+from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, kelvin,
+                       ramp_and_hold, repeated_insertions)
 
 SEED0 = 400_000  # never a seed of the registry's splits nor of splits A (90000..) to E (330000..)
 FORCE_MAX_N = 9.0
@@ -208,18 +208,6 @@ class WearingFriction(SimOnly):
         return band_play(f, r, r)
 
 
-class ShiftedCore(SimOnly):
-    """A Burgers core on a reduced time: its whole clock runs at ``rate_of(T)``."""
-
-    def __init__(self, c, rate_of):
-        self.c, self.rate_of = c, rate_of
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        rate = self.rate_of(np.broadcast_to(aux["temperature_c"], t.shape))
-        return simulate_deformation(self.c, integrate.cumulative_trapezoid(rate, t, initial=0.0), f)
-
-
 def _rate_of_temperature(t, temp, tau_s):
     """The temperature's rate (degC/s), through a first-order lag of ``tau_s`` from rest."""
     h = float(np.median(np.diff(t)))
@@ -326,12 +314,12 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
         if shape == "sigmoid_shift":
             b, at = float(np.interp(m, [0, 1], [0.6, 1.6])), T_REF_C + rng.uniform(-0.5, 0.5)
             width = rng.uniform(0.5, 1.5)
-            return Parts("burgers", ShiftedCore(c, lambda T, b=b, at=at, w=width: np.exp(
-                b * (np.tanh((T - at) / w) - np.tanh((T_REF_C - at) / w)))), core_changed=True)
+            return Parts("burgers", ShiftedBurgers(c, lambda T, b=b, at=at, w=width: np.exp(
+                b * (np.tanh((T - at) / w) - np.tanh((T_REF_C - at) / w))), flow_only=False), core_changed=True)
         b = float(np.interp(m, [0, 1], [0.08, 0.25]))
         q = rng.uniform(0.02, 0.06) * rng.choice([-1, 1])
-        return Parts("burgers", ShiftedCore(c, lambda T, b=b, q=q: np.exp(b * (T - T_REF_C) + q * (T - T_REF_C) ** 2)),
-                     core_changed=True)
+        return Parts("burgers", ShiftedBurgers(c, lambda T, b=b, q=q: np.exp(b * (T - T_REF_C) + q * (T - T_REF_C) ** 2),
+                                              flow_only=False), core_changed=True)
     if effect == "interference_spikes":
         size = float(np.interp(m, [0, 1], [0.02, 0.06]))
         seed = int(rng.integers(2**31))

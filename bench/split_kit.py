@@ -13,14 +13,14 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy import signal
+from scipy import integrate, signal
 from tqdm import tqdm
 
 from independent_split import Truth, as_recorded, case_list, compensates, puncture_train, summarise, verdict_with
 from polyforce_ros.discrepancy.engine import diagnose
 from polyforce_ros.physics.chain import OffsetElement, SensorChain, ViscoelasticElement
 from polyforce_ros.physics.expconv import exp_convolve
-from polyforce_ros.physics.viscoelastic import Burgers, simulate_deformation
+from polyforce_ros.physics.viscoelastic import Burgers, Zener, simulate_deformation
 from polyforce_ros.sim import profiles
 
 OFFSET_V = 0.025
@@ -140,6 +140,24 @@ class LinearFilter(SimOnly):
         tu = np.arange(t[0], t[-1] + h, h)
         y = signal.lfilter(b, a, np.interp(tu, t, x) - x[0]) + x[0]
         return np.interp(t, tu, y)
+
+
+class ShiftedBurgers(SimOnly):
+    """A Burgers core whose flow alone (``flow_only``) or whole clock runs at the rate ``rate_of(T)``."""
+
+    def __init__(self, c, rate_of, flow_only):
+        self.c, self.rate_of, self.flow_only = c, rate_of, flow_only
+
+    def forward(self, t_s, x, aux=None, state=None):
+        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        rate = self.rate_of(np.broadcast_to(aux["temperature_c"], t.shape))
+        xi = integrate.cumulative_trapezoid(rate, t, initial=0.0)  # the reduced time
+        if not self.flow_only:
+            return simulate_deformation(self.c, xi, f)
+        zener = Zener(self.c.k1_n_per_v, self.c.k2_n_per_v, self.c.eta2_n_s_per_v)
+        integrand = rate * f / self.c.eta1_n_s_per_v
+        flow = integrate.cumulative_trapezoid(integrand, t, initial=0.0)
+        return simulate_deformation(zener, t, f) + flow
 
 
 def with_knocks(t, f, rng):

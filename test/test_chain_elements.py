@@ -571,7 +571,8 @@ def test_a_curved_zero_and_a_lagged_span_follow_their_formulas_in_blocks_and_rou
     aux = {"temperature_c": temp}
     zero = (ThermalLagElement(coefficient_v_per_c=c, reference_c=ref, tau_s=tau, curvature_v_per_c2=q) if tau
             else ThermalDriftElement(coefficient_v_per_c=c, reference_c=ref, curvature_v_per_c2=q))
-    span = ThermalSensitivityElement(span_coefficient_per_c=c / 10, reference_c=ref, thermal_tau_s=tau)
+    span = ThermalSensitivityElement(span_coefficient_per_c=c / 10, reference_c=ref, thermal_tau_s=tau,
+                                     span_curvature_per_c2=q / 10)
     # the lag by its own recursion: exact for a temperature linear between samples (a first-order hold)
     if tau:
         a = np.exp(-0.05 / tau)
@@ -581,7 +582,8 @@ def test_a_curved_zero_and_a_lagged_span_follow_their_formulas_in_blocks_and_rou
         lagged = temp
     d = lagged - ref
     np.testing.assert_allclose(zero.forward(t, x, aux), x + c * d + q * d ** 2, atol=1e-9)
-    np.testing.assert_allclose(span.forward(t, x, aux), x * np.maximum(1 + c / 10 * d, 0.2), atol=1e-9)
+    np.testing.assert_allclose(span.forward(t, x, aux), x * np.maximum(1 + c / 10 * d + q / 10 * d ** 2, 0.2), atol=1e-9)
+    np.testing.assert_allclose(span.backward(t, span.forward(t, x, aux), aux), x, atol=1e-9)
     for e in (zero, span):
         state = e.forward_state()
         blocks = np.concatenate([e.forward(t[i:j], x[i:j], {"temperature_c": temp[i:j]}, state)
@@ -592,7 +594,12 @@ def test_a_curved_zero_and_a_lagged_span_follow_their_formulas_in_blocks_and_rou
 
 def test_a_zero_curvature_and_no_span_lag_stay_out_of_the_model_file_and_bad_values_are_refused():
     assert "curvature_v_per_c2" not in ThermalDriftElement(coefficient_v_per_c=1e-3, reference_c=20.0).to_dict()
-    assert "thermal_tau_s" not in ThermalSensitivityElement(span_coefficient_per_c=1e-3, reference_c=20.0).to_dict()
+    assert not {"thermal_tau_s", "span_curvature_per_c2"} & set(
+        ThermalSensitivityElement(span_coefficient_per_c=1e-3, reference_c=20.0).to_dict())
+    for bad in (float("nan"), "x", 1e9):
+        with pytest.raises(ModelError, match="span_curvature_per_c2"):
+            ThermalSensitivityElement.from_dict({"type": "thermal_sensitivity", "span_coefficient_per_c": 1e-3,
+                                                 "reference_c": 20.0, "span_curvature_per_c2": bad})
     for bad in ({"curvature_v_per_c2": 5.0}, {"curvature_v_per_c2": float("nan")}, {"curvature_v_per_c2": "x"}):
         with pytest.raises(ModelError, match="curvature_v_per_c2"):
             ThermalDriftElement.from_dict({"type": "thermal_drift", "coefficient_v_per_c": 1e-3, "reference_c": 20.0, **bad})

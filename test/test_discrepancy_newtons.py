@@ -369,6 +369,47 @@ def test_a_span_that_lags_the_thermometer_is_named_with_its_lag_and_compensates(
     assert _warm_needle_rmse_fraction(diag.chain, truth, 500.0, seed) <= 0.01
 
 
+@pytest.mark.parametrize("seed", [101, 102])
+def test_a_zero_that_answers_the_temperature_rate_is_named_thermal_drift_not_a_drift_in_time(seed):
+    """A zero driven by the temperature's rate through a lag (a gradient across the bridge while the gauges catch
+    up, c (lag(T) - T) = -c tau x the lagged rate) and by its level is named ``thermal_drift`` alone in its
+    lead-lag shape, with its time constant, and compensates a warm record; a spline in time would follow this
+    record only."""
+    from polyforce_ros.physics.chain import ThermalDriftElement, ThermalLagElement
+
+    rng = np.random.default_rng(seed)
+    tau_s, k = rng.uniform(15.0, 60.0), rng.uniform(4e-3, 1e-2) * rng.choice([-1, 1])
+    level = k * rng.uniform(-0.3, 0.3)
+    zero = [ThermalLagElement(coefficient_v_per_c=k, reference_c=23.0, tau_s=tau_s),
+            ThermalDriftElement(coefficient_v_per_c=level - k, reference_c=23.0)]
+    rec, truth = _chain_record(zero, seed)
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["thermal_drift"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    assert diag.variants["thermal_drift"] == "lag_lead"
+    saved = next(e for e in diag.chain.elements if isinstance(e, ThermalLagElement))
+    assert saved.tau_s == pytest.approx(tau_s, rel=0.3)
+    assert _warm_needle_rmse_fraction(diag.chain, truth, 500.0, seed) <= 0.01
+
+
+@pytest.mark.parametrize("seed", [111, 112])
+def test_a_span_curved_in_temperature_is_named_thermal_sensitivity_alone_and_saved_with_its_curvature(seed):
+    """A span whose temperature coefficient changes with temperature (c dT + q dT^2, q as large as c over 2-4 degC)
+    is named ``thermal_sensitivity`` alone, not with a thermal zero or a drift beside it, and saved with its
+    curvature."""
+    from polyforce_ros.physics.chain import ThermalSensitivityElement
+
+    rng = np.random.default_rng(seed)
+    c = rng.uniform(3e-3, 8e-3) * rng.choice([-1, 1])
+    q = abs(c) / rng.uniform(2.0, 4.0) * rng.choice([-1, 1])
+    span = ThermalSensitivityElement(span_coefficient_per_c=c, span_curvature_per_c2=q, reference_c=23.0)
+    rec, truth = _chain_record([span], seed)
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["thermal_sensitivity"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    saved = next(e for e in diag.chain.elements if isinstance(e, ThermalSensitivityElement))
+    assert saved.span_curvature_per_c2 == pytest.approx(q, rel=0.3)
+    assert _warm_needle_rmse_fraction(diag.chain, truth, 500.0, seed) <= 0.01
+
+
 def test_diagnose_says_when_the_runtime_guard_would_refuse_a_stiff_sensor_and_not_otherwise():
     """A sensor stiffer than ``max_noise_gain`` (15 N per V of bridge output against 10 N/V) passes its own bridge
     noise on above the guard, core alone: the diagnosis says the runtime refuses it with the default, and the

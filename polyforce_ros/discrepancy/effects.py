@@ -321,12 +321,17 @@ def _gain_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
 
 
 def _thermal_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
-    """The temperature's departure from the reference (lagged in the ``lag`` variants), and its square in the
-    ``curved`` ones: a zero whose temperature coefficient itself changes with temperature."""
+    """The temperature's departure from the reference (lagged in the ``lag`` variants), its square in the
+    ``curved`` ones (a zero whose temperature coefficient itself changes with temperature), and the departure itself
+    beside the lagged one in ``lag_lead``: a zero that answers the temperature's rate as well as its level (a
+    gradient across the bridge while the gauges catch up with the air; c (T - lag(T)) is c tau times the lagged
+    rate of T)."""
     temp = _departure_c(sig, variant, param)
     cols: list[Col] = [("thermal", temp, -np.inf, np.inf, "additive", None)]
     if variant.endswith("curved"):
         cols.append(("thermal_curvature", temp ** 2, -np.inf, np.inf, "additive", None))
+    if variant == "lag_lead":
+        cols.append(("thermal_direct", sig.temperature - sig.temp_ref, -np.inf, np.inf, "additive", None))
     return cols
 
 
@@ -340,14 +345,20 @@ def _departure_c(sig: Signals, variant: str, param: Optional[float]) -> FloatArr
 
 
 def _span_thermal_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
-    # the core output scaled by the temperature's departure: x (1 + c dT) - x = c x dT
-    return [("span_thermal", sig.core_output * _departure_c(sig, variant, param), -np.inf, np.inf, "sensor", None)]
+    """The core output scaled by the temperature's departure, x (1 + c dT) - x = c x dT (lagged in the ``lag``
+    variants), and by its square in the ``curved`` ones: a span coefficient that itself changes with temperature."""
+    temp = _departure_c(sig, variant, param)
+    cols: list[Col] = [("span_thermal", sig.core_output * temp, -np.inf, np.inf, "sensor", None)]
+    if variant.endswith("curved"):
+        cols.append(("span_thermal_curvature", sig.core_output * temp ** 2, -np.inf, np.inf, "sensor", None))
+    return cols
 
 
 def _span_thermal_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     c = float(np.clip(coef.get("span_thermal", 0.0), -0.05, 0.05))
+    q = float(np.clip(coef.get("span_thermal_curvature", 0.0), -0.005, 0.005))
     tau = float(parameter(param)) if variant.startswith("lag") else 0.0
-    return [("after", ThermalSensitivityElement(span_coefficient_per_c=c, thermal_tau_s=tau,
+    return [("after", ThermalSensitivityElement(span_coefficient_per_c=c, thermal_tau_s=tau, span_curvature_per_c2=q,
                                                 reference_c=float(np.clip(sig.temp_ref, -100.0, 300.0))))]
 
 
@@ -356,8 +367,12 @@ def _thermal_elements(coef: Mapping[str, float], variant: str, param: Optional[f
     q = float(np.clip(coef.get("thermal_curvature", 0.0), -1.0, 1.0))
     ref = float(np.clip(sig.temp_ref, -100.0, 300.0))
     if variant.startswith("lag"):
-        return [("late", ThermalLagElement(coefficient_v_per_c=c, reference_c=ref, tau_s=float(parameter(param)),
-                                           curvature_v_per_c2=q))]
+        out: list[Slot] = [("late", ThermalLagElement(coefficient_v_per_c=c, reference_c=ref,
+                                                      tau_s=float(parameter(param)), curvature_v_per_c2=q))]
+        if variant == "lag_lead":
+            direct = float(np.clip(coef.get("thermal_direct", 0.0), -10.0, 10.0))
+            out.append(("late", ThermalDriftElement(coefficient_v_per_c=direct, reference_c=ref)))
+        return out
     return [("late", ThermalDriftElement(coefficient_v_per_c=c, reference_c=ref, curvature_v_per_c2=q))]
 
 
@@ -473,13 +488,14 @@ EFFECTS: dict[str, Effect] = {
     "thermal_drift": Effect(
         "thermal_drift", "output following temperature (thermal_drift)", ("temperature_change",), ("temperature",),
         ("thermal_drift", "thermal_lag"),
-        variants=("direct", "lag", "direct_curved", "lag_curved"), grid=_thermal_grid,
-        extends={"direct_curved": "direct", "lag_curved": "lag"},
+        variants=("direct", "lag", "direct_curved", "lag_curved", "lag_lead"), grid=_thermal_grid,
+        extends={"direct_curved": "direct", "lag_curved": "lag", "lag_lead": "lag"},
         columns=_thermal_columns, to_elements=_thermal_elements, needs_temperature=True),
     "thermal_sensitivity": Effect(
         "thermal_sensitivity", "a span that follows temperature (thermal_sensitivity)", ("temperature_change", "high_load"),
-        ("temperature",), ("thermal_sensitivity",), variants=("direct", "lag"), grid=_thermal_grid,
-        columns=_span_thermal_columns, to_elements=_span_thermal_elements, needs_temperature=True),
+        ("temperature",), ("thermal_sensitivity",), variants=("direct", "lag", "direct_curved", "lag_curved"),
+        grid=_thermal_grid, extends={"direct_curved": "direct", "lag_curved": "lag"}, columns=_span_thermal_columns,
+        to_elements=_span_thermal_elements, needs_temperature=True),
     "thermo_rheological": Effect(
         "thermo_rheological", "creep that speeds up when warm (thermo_rheological)", ("temperature_change", "hold_under_load"),
         ("temperature", "load_history"), ("thermo_rheological",), grid=_shift_grid, columns=_core_clock,

@@ -72,7 +72,16 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
     bounds = [(TAU_BOUNDS[0], longest) if kind == "core" else param_log_bounds(st.terms[i], sig) for kind, i in idx]
     lower, upper = np.array(bounds).T
     x0 = np.clip(x0, lower, upper)
-    sol = multistart_least_squares(residual, [x0], lower, upper, max_nfev=8 * len(idx))
+    starts = [x0]
+    for j, (kind, i) in enumerate(idx):
+        if kind == "term" and st.terms[i].variant in REGISTRY[st.terms[i].effect].extends:
+            # a variant that extends a smaller one has that variant's optima too: start from each grid value
+            for g in REGISTRY[st.terms[i].effect].grid(st.terms[i].variant, sig):
+                if g is not None:
+                    x = x0.copy()
+                    x[j] = np.clip(math.log(g), lower[j], upper[j])
+                    starts.append(x)
+    sol = multistart_least_squares(residual, starts, lower, upper, max_nfev=8 * len(idx))
     return make(sol.x)
 
 

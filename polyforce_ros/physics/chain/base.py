@@ -206,6 +206,8 @@ PARAMETER_BOUNDS = {
     "curvature_v_per_c2": (-1.0, 1.0, "V/degC^2", "full scale within 3 degC already"),
     # span change per degC: 5 %/degC halves or doubles the span within 20 degC (diagnosis fits +-2 %/degC)
     "span_coefficient_per_c": (-0.05, 0.05, "1/degC", "the span halves or doubles within 20 degC already"),
+    # the span coefficient's own change per degC: 5e-3/degC^2 halves or doubles the span within 10 degC
+    "span_curvature_per_c2": (-0.005, 0.005, "1/degC^2", "the span halves or doubles within 10 degC already"),
     # the span's thermal lag behind the thermometer (0 = none): up to a day
     "thermal_tau_s": (1e-3, 1e5, "s", "a span a day behind its temperature follows the weather, not the sensor"),
     # a polymer sensor below -100 degC is glass, above 300 degC it decomposes

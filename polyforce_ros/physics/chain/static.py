@@ -136,8 +136,15 @@ class NonlinearGainElement(SimpleElement):
 _MIN_SPAN_FACTOR = 0.2
 
 
+def span_factor(coefficient_per_c: float, curvature_per_c2: float, departure_c: FloatOrArray) -> FloatOrArray:
+    """The span factor 1 + c dT + q dT^2 at a temperature departure ``departure_c`` [degC]."""
+    return 1.0 + departure_c * (coefficient_per_c + curvature_per_c2 * departure_c)
+
+
 class ThermalSensitivityElement(SimpleElement):
-    """A span that changes with temperature: y = x (1 + span_coefficient_per_c (T - reference_c)).
+    """A span that changes with temperature: y = x (1 + c dT + q dT^2), dT = T - reference_c, c =
+    ``span_coefficient_per_c`` and q = ``span_curvature_per_c2`` (optional, 0: a span coefficient that itself changes
+    with temperature).
 
     The load cell datasheets' "temperature effect on sensitivity", beside the zero's
     (:class:`ThermalDriftElement`). T comes from ``aux['temperature_c']``; without it T is
@@ -150,10 +157,12 @@ class ThermalSensitivityElement(SimpleElement):
 
     kind = "thermal_sensitivity"
     PARAMS = (("span_coefficient_per_c", False), ("reference_c", False))
-    OPTIONAL = {"thermal_tau_s": 0.0}
+    OPTIONAL = {"thermal_tau_s": 0.0, "span_curvature_per_c2": 0.0}
+    SIGNED = frozenset({"span_curvature_per_c2"})
     span_coefficient_per_c: float
     reference_c: float
     thermal_tau_s: float
+    span_curvature_per_c2: float
 
     def _factor(self, t_s: npt.ArrayLike, n: int, aux: Optional[Mapping[str, Any]],
                 state: Optional[ThermalForwardState] = None) -> FloatOrArray:
@@ -162,7 +171,8 @@ class ThermalSensitivityElement(SimpleElement):
             temp = lagged_temperature_c(t_s, temp, self.thermal_tau_s, state)
         if temp is None:
             return 1.0
-        return np.maximum(1.0 + self.span_coefficient_per_c * (temp - self.reference_c), _MIN_SPAN_FACTOR)
+        return np.maximum(span_factor(self.span_coefficient_per_c, self.span_curvature_per_c2, temp - self.reference_c),
+                          _MIN_SPAN_FACTOR)
 
     def forward_state(self) -> Optional[ThermalForwardState]:
         """A fresh lag state for block-wise :meth:`forward` runs (None without a lag)."""
@@ -181,7 +191,7 @@ class ThermalSensitivityElement(SimpleElement):
 
     def streaming(self) -> ElementStream:
         """The per-sample form of :meth:`backward`; a sample without ``aux['temperature_c']`` passes unchanged."""
-        c, ref = self.span_coefficient_per_c, self.reference_c
+        c, q, ref = self.span_coefficient_per_c, self.span_curvature_per_c2, self.reference_c
         lag = LaggedTemperatureStream(self.thermal_tau_s) if self.thermal_tau_s > 0.0 else None
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
@@ -190,7 +200,7 @@ class ThermalSensitivityElement(SimpleElement):
                 return y
             if lag is not None:
                 temp = lag.update(t_s, temp)
-            return float(y / max(1.0 + c * (temp - ref), _MIN_SPAN_FACTOR))
+            return float(y / max(span_factor(c, q, temp - ref), _MIN_SPAN_FACTOR))
 
         return FunctionStream(step, lag.reset if lag is not None else lambda: None)
 

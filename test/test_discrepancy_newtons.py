@@ -336,9 +336,11 @@ def test_a_lag_that_a_fast_retardation_of_the_base_would_stand_in_for_is_named_s
 
 
 @pytest.mark.parametrize("seed", [81, 82])
-def test_a_curved_thermal_zero_is_named_thermal_drift_and_saved_with_its_curvature(seed):
+def test_a_curved_thermal_zero_is_named_thermal_drift_and_its_saved_zero_follows_the_truth(seed):
     """A zero whose temperature coefficient changes with temperature (k dT + q dT^2, the curvature as large as the
-    slope over 4 degC) is named ``thermal_drift`` alone, not taken by a drift in time, and saved with its curvature."""
+    slope over 4 degC) is named ``thermal_drift`` alone, not taken by a drift in time. Under one warming a curved
+    zero and a lead-lag one can describe the record equally well: whichever shape is saved follows the truth's zero
+    over the record within 2 % of its span, and compensates a record with another temperature history."""
     from polyforce_ros.physics.chain import ThermalDriftElement, ThermalLagElement
 
     rng = np.random.default_rng(seed)
@@ -347,8 +349,14 @@ def test_a_curved_thermal_zero_is_named_thermal_drift_and_saved_with_its_curvatu
     rec, truth = _chain_record([truth_zero], seed)
     diag = diagnose(rec, base="burgers")
     assert diag.missing_effects == ["thermal_drift"], (diag.missing_effects, diag.unexplained["partial_fits"])
-    saved = next(e for e in diag.chain.elements if isinstance(e, (ThermalDriftElement, ThermalLagElement)))
-    assert saved.curvature_v_per_c2 == pytest.approx(abs(k) / 4, rel=0.3)
+    aux = {"temperature_c": rec.temperature_c}
+
+    def zero(elements):
+        out = sum(e.forward(rec.t_s, np.zeros_like(rec.t_s), aux) for e in elements
+                  if isinstance(e, (ThermalDriftElement, ThermalLagElement)))
+        return out - np.mean(out)
+    saved_v, truth_v = zero(diag.chain.elements), zero(truth.elements)
+    assert np.sqrt(np.mean((saved_v - truth_v) ** 2)) <= 0.02 * np.ptp(truth_v)
     assert _warm_needle_rmse_fraction(diag.chain, truth, 500.0, seed) <= 0.01
 
 

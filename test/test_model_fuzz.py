@@ -275,7 +275,7 @@ def _example_chains():
         "transport_delay": ELEMENT_TYPES["transport_delay"](delay_s=0.02),
         "resonance": ELEMENT_TYPES["resonance"](frequency_hz=25.0, damping_ratio=0.05),
         "thermal_sensitivity": ELEMENT_TYPES["thermal_sensitivity"](span_coefficient_per_c=0.003, reference_c=22.0,
-                                                                    thermal_tau_s=30.0),
+                                                                    thermal_tau_s=30.0, span_curvature_per_c2=-2e-4),
         "thermal_drift": ThermalDriftElement(coefficient_v_per_c=2e-3, reference_c=22.0, curvature_v_per_c2=-1e-4),
         "offset_drift": OffsetDriftElement(rate_v_per_s=1e-4),
         "preisach": PreisachElement(hysteretic_identity(0.0, 10.0, 0.05, n_levels=4), continuous=True),

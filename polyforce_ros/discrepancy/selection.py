@@ -247,20 +247,27 @@ class Selection:
 
     def _nested(self, fits: list[Fit], name: str) -> list[Fit]:
         """``fits`` without those of a variant that extends a smaller one (:attr:`.effects.Effect.extends`) whose
-        added columns are not each at least :data:`SIGNIFICANT_SE` block-jackknife standard errors from zero: a
-        column the folds cannot agree on describes nothing the smaller variant misses."""
+        added columns are not each at least :data:`SIGNIFICANT_SE` block-jackknife standard errors from zero (a
+        column the folds cannot agree on describes nothing the smaller variant misses), or that does not improve on
+        the smaller variant's best fit as an added effect must improve on the current model (:meth:`justified`): a
+        column that is certain but small describes a misfit of the record, not the shape of the effect."""
         extends = REGISTRY[name].extends
         smaller = {v: {n for f in fits if _variant(f, name) == s for n in f.names} for v, s in extends.items()}
+        smallest_fit = {s: min((f for f in fits if _variant(f, name) == s), key=lambda f: f.cv_mse, default=None)
+                        for s in set(extends.values())}
 
-        def significant(f: Fit) -> bool:
+        def kept_beside_smaller(f: Fit) -> bool:
             v = _variant(f, name)
             if v not in extends:
                 return True
             co = f.coefficients()
-            return all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"]
-                       for n in f.names if n not in smaller[v] and n in co)
+            if not all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"]
+                       for n in f.names if n not in smaller[v] and n in co):
+                return False
+            rival = smallest_fit[extends[v]]
+            return rival is None or self.justified(f, rival)
 
-        kept = [f for f in fits if significant(f)]
+        kept = [f for f in fits if kept_beside_smaller(f)]
         return kept or fits
 
     def rebuild(self, rival: Candidate, name: str) -> Optional[Fit]:

@@ -253,8 +253,11 @@ class Selection:
         column that is certain but small describes a misfit of the record, not the shape of the effect."""
         extends = REGISTRY[name].extends
         smaller = {v: {n for f in fits if _variant(f, name) == s for n in f.names} for v, s in extends.items()}
-        smallest_fit = {s: min((f for f in fits if _variant(f, name) == s), key=lambda f: f.cv_mse, default=None)
-                        for s in set(extends.values())}
+        smallest_fit: dict[str, Fit] = {}
+        for f in fits:
+            v = _variant(f, name)
+            if v in extends.values() and (v not in smallest_fit or f.cv_mse < smallest_fit[v].cv_mse):
+                smallest_fit[v] = f
 
         def kept_beside_smaller(f: Fit) -> bool:
             v = _variant(f, name)
@@ -264,7 +267,7 @@ class Selection:
             if not all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"]
                        for n in f.names if n not in smaller[v] and n in co):
                 return False
-            rival = smallest_fit[extends[v]]
+            rival = smallest_fit.get(extends[v])
             return rival is None or self.justified(f, rival)
 
         kept = [f for f in fits if kept_beside_smaller(f)]

@@ -200,7 +200,7 @@ class ThermalSensitivityElement(SimpleElement):
                 return y
             if lag is not None:
                 temp = lag.update(t_s, temp)
-            return float(y / max(span_factor(c, q, temp - ref), _MIN_SPAN_FACTOR))
+            return float(y / max(float(span_factor(c, q, temp - ref)), _MIN_SPAN_FACTOR))
 
         return FunctionStream(step, lag.reset if lag is not None else lambda: None)
 

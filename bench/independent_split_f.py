@@ -39,7 +39,7 @@ from scipy import integrate, signal
 
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, kelvin,
+from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, dahl, kelvin,
                        ramp_and_hold, repeated_insertions)
 
 SEED0 = 400_000  # never a seed of the registry's splits nor of splits A (90000..) to E (330000..)
@@ -140,13 +140,7 @@ class Dahl(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         x = np.asarray(x, dtype=float)
-        dx = np.diff(x, prepend=x[0])
-        y, out = 0.0, np.empty_like(x)
-        for i, step in enumerate(dx.tolist()):
-            y += self.sigma * (1.0 - y / self.y_max * np.sign(step)) * step
-            y = min(max(y, -self.y_max), self.y_max)
-            out[i] = y
-        return x + out
+        return x + dahl(x, self.y_max, self.sigma)
 
 
 def amplitude_play(f, share, rest_n=0.2):

@@ -37,7 +37,7 @@ from scipy import integrate
 
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, core_output, dead_time,
+from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, core_output, dahl, dead_time,
                        kelvin, ramp_and_hold, repeated_insertions)
 
 SEED0 = 470_000  # never a seed of the registry's splits nor of splits A (90000..) to F (400000..)
@@ -152,18 +152,6 @@ def bouc_wen(x, amplitude, a=1.0, beta=0.6, gamma=0.4, n=1.0):
         z += a * step - beta * abs(step) * abs(z) ** (n - 1) * z - gamma * step * abs(z) ** n
         out[i] = z
     return out * scale
-
-
-def dahl(x, y_max, sigma):
-    """A Dahl state driven by ``x``: dy/dx = sigma (1 - y / y_max sign(dx)), from zero."""
-    x = np.asarray(x, dtype=float)
-    dx = np.diff(x, prepend=x[0])
-    y, out = 0.0, np.empty_like(x)
-    for i, step in enumerate(dx.tolist()):
-        y += sigma * (1.0 - y / y_max * np.sign(step)) * step
-        y = min(max(y, -y_max), y_max)
-        out[i] = y
-    return out
 
 
 class ForceLoop(SimOnly):

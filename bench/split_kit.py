@@ -127,6 +127,18 @@ def band_play(f, up_n, down_n):
     return out
 
 
+def dahl(x, y_max, sigma):
+    """A Dahl state driven by ``x``: dy/dx = sigma (1 - y / y_max sign(dx)), from zero, held within +-y_max."""
+    x = np.asarray(x, dtype=float)
+    dx = np.diff(x, prepend=x[0])
+    y, out = 0.0, np.empty_like(x)
+    for i, step in enumerate(dx.tolist()):
+        y += sigma * (1.0 - y / y_max * np.sign(step)) * step
+        y = min(max(y, -y_max), y_max)
+        out[i] = y
+    return out
+
+
 class LinearFilter(SimOnly):
     """A continuous-time filter (numerator, denominator in s), from rest, on a uniform grid at the median step."""
 

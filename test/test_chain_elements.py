@@ -607,3 +607,46 @@ def test_a_zero_curvature_and_no_span_lag_stay_out_of_the_model_file_and_bad_val
         with pytest.raises(ModelError, match="thermal_tau_s"):
             ThermalSensitivityElement.from_dict({"type": "thermal_sensitivity", "span_coefficient_per_c": 1e-3,
                                                  "reference_c": 20.0, "thermal_tau_s": bad})
+
+
+@settings(max_examples=25, deadline=None)
+@given(rate=st.floats(1e-4, 0.05), exponent=st.floats(0.3, 4.5), scale=st.floats(1.0, 20.0), shift=st.floats(0.0, 0.2),
+       yield_n=st.one_of(st.just(0.0), st.floats(0.1, 6.0)), seed=st.integers(0, 2 ** 16))
+def test_a_power_flow_adds_its_left_sum_to_the_core_runs_in_blocks_and_its_inverse_undoes_it(rate, exponent, scale,
+                                                                                             shift, yield_n, seed):
+    """V = core(F) + rate sum over the samples before of ((F - yield) / scale)^n dt above the yield, block by block
+    as in one run; the inverse (plain or thermo-rheological core) returns the force; the model file round-trips."""
+    from polyforce_ros.physics.chain import PowerFlowElement, ThermoRheologicalElement
+    from polyforce_ros.physics.viscoelastic import Zener
+
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.5e-3, 1.5e-3, 6000))
+    f = np.clip(4 + 3 * np.sin(2 * np.pi * rng.uniform(0.1, 2.0) * t) + rng.normal(0, 0.05, t.size), -0.5, None)
+    aux = {"temperature_c": 23 + 3 * np.sin(t / rng.uniform(0.5, 5.0))}
+    plain = ViscoelasticElement(Zener(rng.uniform(1, 10), rng.uniform(5, 50), rng.uniform(10, 500)))
+    core = ThermoRheologicalElement(plain, shift, 23.0) if shift > 0.1 else plain
+    e = PowerFlowElement(core, rate, exponent, scale, yield_n)
+    left = np.concatenate([[0.0], np.cumsum(np.diff(t) * rate * (np.maximum(f[:-1] - yield_n, 0) / scale) ** exponent)])
+    v = e.forward(t, f, aux)
+    np.testing.assert_allclose(v, core.forward(t, f, aux) + left, atol=1e-12)
+    state = e.forward_state()
+    blocks = np.concatenate([e.forward(t[i:j], f[i:j], {"temperature_c": aux["temperature_c"][i:j]}, state)
+                             for i, j in ((0, 1), (1, 2500), (2500, 6000))])
+    np.testing.assert_allclose(blocks, v, atol=1e-12)
+    np.testing.assert_allclose(e.backward(t, v, aux), f, atol=1e-6)
+    assert PowerFlowElement.from_dict(e.to_dict()).to_dict() == e.to_dict()
+
+
+def test_a_power_flow_refuses_a_falling_rate_a_wild_exponent_and_a_core_that_is_not_viscoelastic():
+    from polyforce_ros.physics.chain import PowerFlowElement
+    from polyforce_ros.physics.viscoelastic import Zener
+
+    core = ViscoelasticElement(Zener(3.0, 20.0, 200.0))
+    good = PowerFlowElement(core, 0.01, 2.0, 9.0).to_dict()
+    for key, bad in (("flow_rate_v_per_s", -1e-3), ("flow_rate_v_per_s", float("nan")), ("flow_exponent", 0.0),
+                     ("flow_exponent", 50.0), ("flow_force_scale_n", 0.0), ("flow_yield_n", -1.0),
+                     ("core", {"type": "offset", "offset_v": 0.0})):
+        with pytest.raises(ModelError, match="power_flow|core|type"):
+            PowerFlowElement.from_dict({**good, key: bad})
+    with pytest.raises(ModelError, match="power_flow"):
+        PowerFlowElement(PowerFlowElement(core, 0.01, 2.0, 9.0), 0.01, 2.0, 9.0)

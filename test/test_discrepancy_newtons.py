@@ -418,6 +418,44 @@ def test_a_span_curved_in_temperature_is_named_thermal_sensitivity_alone_and_sav
     assert _warm_needle_rmse_fraction(diag.chain, truth, 500.0, seed) <= 0.01
 
 
+def _flowing(core, rate_v_per_s_of_force):
+    """Volts of ``core`` with a dashpot beside it whose rate (V/s) is ``rate_v_per_s_of_force(F)``, plus an offset."""
+    from polyforce_ros.physics.viscoelastic import simulate_deformation
+
+    def volts(t, f):
+        rate = rate_v_per_s_of_force(np.asarray(f, dtype=float))
+        return (simulate_deformation(core, t, f) + 0.04
+                + np.concatenate([[0.0], np.cumsum(np.diff(t) * rate[:-1])]))
+    return volts
+
+
+@pytest.mark.parametrize("shape, seed", [("norton", 121), ("yield", 122), ("norton", 123)])
+def test_a_flow_not_linear_in_the_force_is_named_viscous_flow_not_a_drift_and_compensates(shape, seed):
+    """A dashpot whose rate grows faster than the force (a power law F^2-3.5, or a Bingham flow only above a yield
+    force of 1-3 N: not the engine's shape) beside a zener core leaves steps at rest that a spline in time could
+    follow. It is named ``viscous_flow`` alone, and the saved model compensates a new needle record of the sensor
+    within 1 % of full scale."""
+    from polyforce_ros.record import Record
+    from polyforce_ros.sim.bench import random_core, random_load
+
+    rng = np.random.default_rng(seed)
+    core = random_core("zener", rng)
+    if shape == "norton":
+        n, peak = rng.uniform(2.0, 3.5), rng.uniform(1e-3, 3e-3)
+        volts = _flowing(core, lambda f: peak * (np.maximum(f, 0.0) / 8.0) ** n)
+    else:
+        yield_n, phi = rng.uniform(1.0, 3.0), rng.uniform(2e-4, 5e-4)
+        volts = _flowing(core, lambda f: phi * np.maximum(f - yield_n, 0.0))
+    t, f = random_load(300.0, 500.0, seed)
+    rec = Record(t, f + rng.normal(0.0, 0.005, t.size), volts(t, f) + rng.normal(0.0, 2e-3, t.size), None)
+    diag = diagnose(rec, base="zener")
+    assert diag.missing_effects == ["viscous_flow"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    tn, force = profiles.make_profile("needle_insertion", rate_hz=500.0, seed=seed)
+    v = volts(tn, force) + np.random.default_rng(seed + 1).normal(0.0, 2e-3, tn.size)
+    used, out = Compensator(diag.chain, CompensatorConfig(auto_tare=False)).run(np.round(tn * 1e9).astype(np.int64), v)
+    assert used.all() and np.sqrt(np.mean((out - force) ** 2)) <= 0.01 * np.ptp(force)
+
+
 def test_diagnose_says_when_the_runtime_guard_would_refuse_a_stiff_sensor_and_not_otherwise():
     """A sensor stiffer than ``max_noise_gain`` (15 N per V of bridge output against 10 N/V) passes its own bridge
     noise on above the guard, core alone: the diagnosis says the runtime refuses it with the default, and the

@@ -28,7 +28,7 @@ from polyforce_ros.physics.chain import (
     ELEMENT_TYPES, PARAMETER_BOUNDS, GainElement, ModelError, NonlinearGainElement, OffsetDriftElement,
     OffsetElement, PreisachElement, SensorChain, SensorLagElement, ThermalDriftElement, ViscoelasticElement,
 )
-from polyforce_ros.physics.viscoelastic import MODEL_TYPES, PAPER_BURGERS, Burgers
+from polyforce_ros.physics.viscoelastic import MODEL_TYPES, PAPER_BURGERS, Burgers, Zener
 
 MAX = sys.float_info.max
 PAPER_TEXT = (REPO / "config" / "paper_burgers.yaml").read_text()
@@ -297,6 +297,9 @@ def _example_chains():
             chains[kind] = SensorChain([effects[kind], ViscoelasticElement(PAPER_BURGERS), OffsetElement(0.0)])
         elif kind == "thermo_rheological":  # the core on the reduced time
             chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(PAPER_BURGERS), 0.05, 22.0),
+                                        OffsetElement(0.02)])
+        elif kind == "power_flow":  # a zener core with a power-law dashpot beside it
+            chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(Zener(3.0, 20.0, 200.0)), 0.01, 2.5, 9.0),
                                         OffsetElement(0.02)])
         elif kind == "bridge_hysteresis":  # the core and its plays in one element
             chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(PAPER_BURGERS), [0.1, 0.5], [0.01, 0.005],

@@ -17,8 +17,8 @@ import numpy as np
 import numpy.typing as npt
 from scipy import linalg, optimize
 
-from ..physics.chain import (BridgeHysteresisElement, Element, OffsetElement, SensorChain, ThermoRheologicalElement,
-                             ViscoelasticElement, reduced_time_s)
+from ..physics.chain import (BridgeHysteresisElement, Element, OffsetElement, PowerFlowElement, SensorChain,
+                             ThermoRheologicalElement, ViscoelasticElement, reduced_time_s)
 from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
 from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, Col, lag_columns, lag_stages, parameter
@@ -136,9 +136,6 @@ def design_columns(sig: Signals, st: Structure) -> Design:
     lag: Optional[list[float]] = None
     delay_s = 0.0
     for term in st.terms:
-        eff = REGISTRY[term.effect]
-        if eff.core_change:
-            continue
         if term.effect == "sensor_lag":
             lag = lag_stages(term.variant, parameter(term.param))
             delay_s = parameter(term.param) if term.variant == "delay" else 0.0
@@ -345,16 +342,17 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
     """Model-file chain: [force-path hysteresis] core [gain, voltage-path hysteresis] [lag] [thermal, drift] offset."""
     slots: dict[str, list[Element]] = {"before": [], "core": [], "bridge": [], "after": [], "lag": [], "late": []}
     for term in st.terms:
-        eff = REGISTRY[term.effect]
-        if eff.core_change:
-            continue
-        for slot, element in eff.to_elements(coef, term.variant, term.param, sig):
+        for slot, element in REGISTRY[term.effect].to_elements(coef, term.variant, term.param, sig):
             slots[slot].append(element)
     slots["after"].sort(key=lambda e: 0 if e.kind == "nonlinear_gain" else 1)
     fitted = ViscoelasticElement(core_model(st, coef))
     shifted = [e for e in slots["core"] if isinstance(e, ThermoRheologicalElement)]
     if shifted:  # viscosities that follow temperature: the fitted core on the reduced time
         fitted = ThermoRheologicalElement(fitted, shifted[0].shift_per_c, shifted[0].reference_c)
+    flows = [e for e in slots["core"] if isinstance(e, PowerFlowElement)]
+    if flows:  # a power-law dashpot beside the fitted core (on its clock's core, shifted or not)
+        fitted = PowerFlowElement(fitted, flows[0].flow_rate_v_per_s, flows[0].flow_exponent,
+                                  flows[0].flow_force_scale_n, flows[0].flow_yield_n)
     core: Element = fitted
     bridges = [e for e in slots["bridge"] if isinstance(e, BridgeHysteresisElement)]
     if bridges:  # hysteresis at the bridge (one term per effect, so one element): the fitted core, plays beside it

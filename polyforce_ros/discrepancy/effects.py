@@ -38,6 +38,7 @@ from ..physics.chain import (
     BridgeHysteresisElement, Element, ExponentialDriftElement, FrictionElement, PlayHysteresisElement, PolynomialDriftElement,
     PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
+    PowerFlowElement,
     ThermoRheologicalElement,
     TransportDelayElement, lagged_temperature_c, play_operator,
 )
@@ -301,6 +302,43 @@ def _shift_elements(coef: Mapping[str, float], variant: str, param: Optional[flo
                                               float(np.clip(sig.temp_ref, -100.0, 300.0))))]
 
 
+def _flow_grid(variant: str, sig: Signals) -> list[Optional[float]]:
+    """The nonlinear dashpot's parameter searched: the exponent of a power law (``power``: a flow slower, 0.5, to
+    much faster, 4, than in proportion to the load), or the yield force as a share of the force span (``yield``);
+    none for the core's linear dashpot."""
+    if variant == "power":
+        return [0.5, 0.75, 1.5, 2.0, 3.0, 4.0]
+    return [0.1, 0.2, 0.3, 0.45] if variant == "yield" else [None]
+
+
+def _flow_law(variant: str, param: Optional[float]) -> tuple[float, float]:
+    """(exponent, yield as a share of the force span) of a nonlinear dashpot variant."""
+    return (parameter(param), 0.0) if variant == "power" else (1.0, parameter(param))
+
+
+def _flow_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
+    """A nonlinear dashpot's flow beside the core's linear one: the left sum of ((F - yield) / span)^n dt over the
+    forces above the yield, the flow each sample has before its force acts
+    (:class:`~polyforce_ros.physics.chain.PowerFlowElement`)."""
+    if variant not in ("power", "yield"):
+        return []
+    exponent, yield_share = _flow_law(variant, param)
+    span = max(sig.span_f, 1e-9)
+    rate = (np.maximum(sig.f - yield_share * span, 0.0) / span) ** exponent
+    flow = np.concatenate([[0.0], np.cumsum(np.diff(sig.t) * rate[:-1])])
+    return [("flow_nonlinear", flow, 0.0, np.inf, "sensor", None)]
+
+
+def _flow_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
+    if variant not in ("power", "yield"):
+        return []
+    exponent, yield_share = _flow_law(variant, param)
+    span = float(np.clip(sig.span_f, 1e-3, 1e5))
+    rate = float(np.clip(coef.get("flow_nonlinear", 0.0), 0.0, 10.0))
+    # the core here is a stand-in: build_chain puts the fitted core beside the flow
+    return [("core", PowerFlowElement(ViscoelasticElement(sig.reference_core), rate, exponent, span, yield_share * span))]
+
+
 def _lag_apply(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
     """The lag has no columns of its own: it filters the sensor columns (:func:`.design.design_columns`)."""
     return []
@@ -456,8 +494,10 @@ def _drift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
 EFFECTS: dict[str, Effect] = {
     "viscous_flow": Effect(
         "viscous_flow", "creep during holds that never settles (viscous_flow)", ("hold_under_load", "late_in_record"),
-        ("load_history",), ("maxwell", "burgers", "burgers2"),
-        core_change={"elastic": "maxwell", "zener": "burgers", "zener2": "burgers2"}),
+        ("load_history",), ("maxwell", "burgers", "burgers2", "power_flow"),
+        # the core's linear dashpot, or beside it one whose rate is a power of the force or flows above a yield
+        variants=("", "power", "yield"), grid=_flow_grid, columns=_flow_columns, to_elements=_flow_elements,
+        extends={"power": "", "yield": ""}, core_change={"elastic": "maxwell", "zener": "burgers", "zener2": "burgers2"}),
     "delayed_elasticity": Effect(
         "delayed_elasticity", "creep and recovery that settle (delayed_elasticity)", ("hold_under_load", "rest_after_unloading"),
         ("load_history",), ("zener", "burgers", "zener2", "burgers2"), grid=_delayed_grid,

@@ -19,7 +19,7 @@ from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, T
 from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, parameter
 from .signals import FloatArray, Signals
 
-__all__ = ["polish", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]
+__all__ = ["polish", "is_core_time", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]
 
 
 def polish(fitter: Fitter, st: Structure) -> Structure:
@@ -28,10 +28,9 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
     # a core effect's parameter (a delayed elasticity's time) is one of the core's times, not a column's: it is not
     # polished on its own (it would stay at its grid value while the core's time moves, and without() drops the core
     # time nearest to it) but follows the core time it names
-    own_tau = {k: int(np.argmin([abs(math.log(tau / t.param)) for tau in st.taus]))
-               for k, t in enumerate(st.terms) if t.param is not None and REGISTRY[t.effect].core_change and st.taus}
-    idx += [("term", k) for k, t in enumerate(st.terms)
-            if t.param is not None and not REGISTRY[t.effect].core_change]
+    own_tau = {k: int(np.argmin([abs(math.log(tau / parameter(t.param))) for tau in st.taus]))
+               for k, t in enumerate(st.terms) if is_core_time(t) and st.taus}
+    idx += [("term", k) for k, t in enumerate(st.terms) if t.param is not None and not is_core_time(t)]
     if not idx:
         return st
     x0 = np.log([st.taus[i] if kind == "core" else parameter(st.terms[i].param) for kind, i in idx])
@@ -83,6 +82,11 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
                     starts.append(x)
     sol = multistart_least_squares(residual, starts, lower, upper, max_nfev=8 * len(idx))
     return make(sol.x)
+
+
+def is_core_time(term: Term) -> bool:
+    """Whether a term's parameter is one of the core's retardation times (a core effect's plain variant)."""
+    return term.param is not None and bool(REGISTRY[term.effect].core_change) and not term.variant
 
 
 def param_log_bounds(term: Term, sig: Signals) -> tuple[float, float]:
@@ -170,18 +174,31 @@ def candidates_for(st: Structure, effect: str, has_temperature: bool, sig: Signa
             if len(st.taus) == 1:
                 limit = sig.duration_s / 4.0
                 out += [Structure(new, (tau,), st.terms + (Term(effect),)) for tau in TAU_GRID if tau <= limit]
+            if not _bridge_hysteresis(st):  # the bridge's inverse solves its plays with a plain core beside them
+                out += [Structure(new, st.taus, st.terms + (Term(effect, variant, p),))
+                        for variant in ("power", "yield") for p in eff.grid(variant, sig)]
             return out
         return [Structure(new, tuple(sorted(st.taus + (tau,))), st.terms + (Term(effect, "", tau),))
                 for tau in eff.grid("", sig) if tau is not None and all(abs(math.log(tau / t)) > 0.5 for t in st.taus)]
     if eff.needs_temperature and not has_temperature:
         return []
     out = []
+    flow = st.term("viscous_flow")
+    power_flow = flow is not None and flow.variant in ("power", "yield")
     for variant in eff.variants:
+        if effect == "hysteresis" and power_flow and variant.startswith("bridge"):
+            continue  # a power-law dashpot wraps the core that the bridge's plays would sit beside
         for param in eff.grid(variant, sig):
             out.append(Structure(st.core, st.taus, st.terms + (Term(effect, variant, param),)))
     if effect == "sensor_lag":
         out += _lag_from_core(st, sig)
     return out
+
+
+def _bridge_hysteresis(st: Structure) -> bool:
+    """Whether ``st`` holds hysteresis at the bridge (plays on the applied force beside the core)."""
+    term = st.term("hysteresis")
+    return term is not None and term.variant.startswith("bridge")
 
 
 def _lag_from_core(st: Structure, sig: Signals) -> list[Structure]:

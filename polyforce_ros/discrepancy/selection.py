@@ -23,7 +23,7 @@ import numpy as np
 
 from .design import Fit, Fitter, Structure, design_columns, n_params, size, term_columns
 from .effects import EFFECTS as REGISTRY, at_noise_limit, variant_group
-from .refit import candidates_for, polish, refine, without
+from .refit import candidates_for, is_core_time, polish, refine, without
 from .residual import drift_follows_load, excess
 
 __all__ = ["Candidate", "parsimonious", "Selection"]
@@ -236,7 +236,7 @@ class Selection:
         for f in fits:
             p = self.fitter.evaluate(polish(self.fitter, f.structure))
             term = p.structure.term(name)  # a flow has no time of its own: a dashpot is the slowest there is
-            if term is None or term.param is None:
+            if term is None or not is_core_time(term):
                 out.append(p)
                 continue
             taus = p.structure.taus

@@ -20,7 +20,7 @@ from .base import (
                    short_repr,
                    smoke_records,
 )
-from .core import ThermoRheologicalElement, ViscoelasticElement, reduced_time_s
+from .core import PowerFlowElement, ThermoRheologicalElement, ViscoelasticElement, reduced_time_s
 from .drift import (
                    ExponentialDriftElement,
                    OffsetDriftElement,
@@ -36,7 +36,8 @@ from .sensor_chain import ELEMENT_TYPES, ChainStream, SensorChain
 from .static import GainElement, NonlinearGainElement, OffsetElement, PolynomialGainElement, ThermalSensitivityElement
 
 __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "ForwardElement", "Element", "PARAMETER_BOUNDS",
-           "MAX_PREISACH_LEVELS", "ViscoelasticElement", "ThermoRheologicalElement", "reduced_time_s", "OffsetElement",
+           "MAX_PREISACH_LEVELS", "ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement",
+           "reduced_time_s", "OffsetElement",
            "GainElement", "NonlinearGainElement",
            "SensorLagElement", "TransportDelayElement", "ResonanceElement", "ThermalDriftElement", "ThermalSensitivityElement",
            "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement",

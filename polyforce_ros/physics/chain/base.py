@@ -14,7 +14,8 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = ["ModelError", "ElementStream", "ForwardElement", "Element", "Frozen", "short_repr", "check_number", "check_keys",
-           "smoke_records", "SimpleElement", "StepFunction", "FunctionStream", "temperature_c_of", "float_list",
+           "smoke_records", "SimpleElement", "StepFunction", "FunctionStream", "stream_backward", "temperature_c_of",
+           "float_list",
            "abscissae_and_values", "FloatArray", "FloatOrArray", "Numbers", "PARAMETER_BOUNDS", "MAX_PREISACH_LEVELS", "DAY_S",
            "MAX_RATE_PER_S"]
 
@@ -208,6 +209,11 @@ PARAMETER_BOUNDS = {
     "span_coefficient_per_c": (-0.05, 0.05, "1/degC", "the span halves or doubles within 20 degC already"),
     # the span coefficient's own change per degC: 5e-3/degC^2 halves or doubles the span within 10 degC
     "span_curvature_per_c2": (-0.005, 0.005, "1/degC^2", "the span halves or doubles within 10 degC already"),
+    # a power-law dashpot: 10 V/s fills any range within a second; exponents beyond 5 are a step, below 0.2 a constant
+    "flow_rate_v_per_s": (0.0, 10.0, "V/s", "a range filled within a second already"),
+    "flow_exponent": (0.2, 5.0, "", "a flow rate steeper than F^5 is a yield step, flatter than F^0.2 a constant"),
+    "flow_force_scale_n": (1e-3, 1e5, "N", "1 mN to 100 kN: beyond any force sensor range"),
+    "flow_yield_n": (0.0, 1e5, "N", "100 kN: beyond any force sensor range"),
     # the span's thermal lag behind the thermometer (0 = none): up to a day
     "thermal_tau_s": (1e-3, 1e5, "s", "a span a day behind its temperature follows the weather, not the sensor"),
     # a polymer sensor below -100 degC is glass, above 300 degC it decomposes
@@ -366,6 +372,24 @@ class StepFunction(Protocol):
     """The per-sample inverse of a :class:`FunctionStream`: ``t_s`` (s) and an output sample in, the input out."""
 
     def __call__(self, t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]: ...
+
+
+def stream_backward(stream: ElementStream, t_s: npt.ArrayLike, y: npt.ArrayLike,
+                    aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+    """An element's inverse over a record, run sample by sample through its ``stream`` (an implicit or recursive
+    inverse): each sample's input, the last one for a sample the stream refuses; the temperature of ``aux`` (a
+    scalar or one value per sample) passed on with each sample."""
+    t, v = np.asarray(t_s, dtype=float), np.asarray(y, dtype=float)
+    if t.size > 1 and np.any(np.diff(t) < 0):
+        raise ValueError("t_s must be non-decreasing")
+    temp = temperature_c_of(aux, t.size)
+    out = np.empty(v.size)
+    last = 0.0
+    for i, (ti, vi) in enumerate(zip(t.tolist(), v.tolist())):
+        x = stream.step(ti, vi, None if temp is None else {"temperature_c": float(temp[i])})
+        last = x if x is not None else last
+        out[i] = last
+    return out
 
 
 class FunctionStream:

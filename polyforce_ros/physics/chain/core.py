@@ -19,10 +19,10 @@ from ..viscoelastic import (
     compensate,
     simulate_deformation,
 )
-from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, ModelError, check_keys, check_number, short_repr,
-                   smoke_records, temperature_c_of)
+from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, FunctionStream, ModelError, check_keys, check_number,
+                   short_repr, smoke_records, stream_backward, temperature_c_of)
 
-__all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "reduced_time_s", "MAX_LOG_SHIFT"]
+__all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "reduced_time_s", "MAX_LOG_SHIFT"]
 
 
 def _laplace_mismatch(rel: RelaxationModulus, comp: CreepCompliance, s: npt.ArrayLike) -> FloatArray:
@@ -271,3 +271,130 @@ class ThermoRheologicalElement(ViscoelasticElement):
         if not isinstance(d["core"], dict):
             raise ModelError(f"thermo_rheological: core must be a mapping (a viscoelastic core), got {short_repr(d['core'])}")
         return cls(ViscoelasticElement.from_dict(d["core"]), d["shift_per_c"], d["reference_c"])
+
+
+class _FlowState(TypedDict):
+    core: Any  # the wrapped core's forward state
+    t: Optional[float]  # the last stamp of the previous block [s]
+    force_n: float  # its force [N]
+    flow_v: float  # the flow reached at it [V]
+
+
+class PowerFlowElement(ViscoelasticElement):
+    """A viscoelastic core beside a dashpot whose rate is a power of the force above a yield force (Norton creep,
+    a Bingham flow):
+
+        V = core(F) + flow_rate_v_per_s * integral of (max(F - flow_yield_n, 0) / flow_force_scale_n) ** flow_exponent dt
+
+    A flow that runs faster than in proportion to the load (exponent > 1), slower (< 1), or only above a yield
+    force. The integral runs on the forces before each sample (a left sum), so the inverse is
+    explicit: the flow at a sample is known before its force is solved for. ``core`` is a viscoelastic core or a
+    thermo-rheological one.
+
+    Parameters (model file keys)
+    ----------------------------
+    core : mapping
+        The viscoelastic core (any model type, or ``thermo_rheological``).
+    flow_rate_v_per_s : float >= 0
+        The flow's rate at ``force_scale_n`` [V/s].
+    flow_exponent : float
+        Its exponent, 0.2-5.
+    flow_force_scale_n : float > 0
+        The force the rate is given at [N].
+    flow_yield_n : float >= 0, optional
+        The force below which nothing flows [N] (0: every positive force flows).
+    """
+
+    KEYS = ("core", "flow_rate_v_per_s", "flow_exponent", "flow_force_scale_n")
+    OPTIONAL = {"flow_yield_n": 0.0}
+    core: ViscoelasticElement
+    flow_rate_v_per_s: float
+    flow_exponent: float
+    flow_force_scale_n: float
+    flow_yield_n: float
+
+    def __init__(self, core: ViscoelasticElement, flow_rate_v_per_s: float, flow_exponent: float,
+                 flow_force_scale_n: float, flow_yield_n: float = 0.0) -> None:
+        if not isinstance(core, ViscoelasticElement) or isinstance(core, PowerFlowElement):
+            raise ModelError("power_flow: core must be a viscoelastic core (plain or thermo_rheological)")
+        rate = check_number("power_flow", "flow_rate_v_per_s", flow_rate_v_per_s, positive=False)
+        if rate < 0.0:
+            raise ModelError(f"power_flow: flow_rate_v_per_s must be >= 0, got {rate!r}")
+        exponent = check_number("power_flow", "flow_exponent", flow_exponent, positive=True)
+        scale = check_number("power_flow", "flow_force_scale_n", flow_force_scale_n, positive=True)
+        yield_n = check_number("power_flow", "flow_yield_n", flow_yield_n, positive=False)
+        if yield_n < 0.0:
+            raise ModelError(f"power_flow: flow_yield_n must be >= 0, got {yield_n!r}")
+        self._freeze(model=core.model, kind="power_flow", core=core, flow_rate_v_per_s=rate, flow_exponent=exponent,
+                     flow_force_scale_n=scale, flow_yield_n=yield_n)
+
+    def flow_rate(self, force_n: npt.ArrayLike) -> FloatArray:
+        """The flow's rate at each force [V/s]."""
+        f = np.maximum(np.asarray(force_n, dtype=float) - self.flow_yield_n, 0.0) / self.flow_force_scale_n
+        out: FloatArray = self.flow_rate_v_per_s * f ** self.flow_exponent
+        return out
+
+    def forward_state(self) -> _FlowState:  # type: ignore[override]
+        """A fresh state for block-wise :meth:`forward` runs: the core's, and the flow at the last stamp."""
+        return {"core": self.core.forward_state(), "t": None, "force_n": 0.0, "flow_v": 0.0}
+
+    def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_FlowState] = None) -> FloatArray:  # type: ignore[override]
+        """The core's deformation plus the flow; ``state`` carries both across blocks."""
+        st = state if state is not None else self.forward_state()
+        t, f = np.asarray(t_s, dtype=float), np.asarray(force_n, dtype=float)
+        out = self.core.forward(t, f, aux, state=st["core"])
+        if not t.size:
+            return out
+        before_t = st["t"] if st["t"] is not None else float(t[0])
+        steps = np.diff(t, prepend=before_t) * np.concatenate([self.flow_rate([st["force_n"]]), self.flow_rate(f[:-1])])
+        flow = st["flow_v"] + np.cumsum(steps)
+        st["t"], st["force_n"], st["flow_v"] = float(t[-1]), float(f[-1]), float(flow[-1])
+        result: FloatArray = out + flow
+        return result
+
+    def backward(self, t_s: npt.ArrayLike, deformation_v: npt.ArrayLike,
+                 aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """Force for a deformation record from a relaxed sensor, sample by sample (:meth:`streaming`)."""
+        return stream_backward(self.streaming(), t_s, deformation_v, aux)
+
+    def streaming(self) -> FunctionStream:  # type: ignore[override]
+        """The per-sample inverse: the flow so far taken off, then the core's own inverse."""
+        inner = self.core.streaming()
+        rate, exponent, scale, yield_n = (self.flow_rate_v_per_s, self.flow_exponent, self.flow_force_scale_n,
+                                          self.flow_yield_n)
+        held: dict[str, Any] = {"t": None, "force_n": 0.0, "flow_v": 0.0}
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+            flow = held["flow_v"]
+            if held["t"] is not None:
+                flow += (t_s - held["t"]) * rate * (max(held["force_n"] - yield_n, 0.0) / scale) ** exponent
+            force = inner.step(t_s, y - flow, aux)
+            if force is not None:  # a refused sample (a stamp going back) leaves the flow as it was
+                held.update(t=t_s, force_n=force, flow_v=flow)
+            return force
+
+        def reset() -> None:
+            inner.reset()
+            held.update(t=None, force_n=0.0, flow_v=0.0)
+
+        return FunctionStream(step, reset)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping."""
+        out = {"type": self.kind, "core": self.core.to_dict(), "flow_rate_v_per_s": float(self.flow_rate_v_per_s),
+               "flow_exponent": float(self.flow_exponent), "flow_force_scale_n": float(self.flow_force_scale_n)}
+        if self.flow_yield_n != 0.0:
+            out["flow_yield_n"] = float(self.flow_yield_n)
+        return out
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping."""
+        check_keys("power_flow", d, cls.KEYS, cls.OPTIONAL)
+        core = d["core"]
+        if not isinstance(core, dict):
+            raise ModelError(f"power_flow: core must be a mapping (a viscoelastic core), got {short_repr(core)}")
+        inner = (ThermoRheologicalElement.from_dict(core) if core.get("type") == "thermo_rheological"
+                 else ViscoelasticElement.from_dict(core))
+        return cls(inner, d["flow_rate_v_per_s"], d["flow_exponent"], d["flow_force_scale_n"], d.get("flow_yield_n", 0.0))

@@ -21,6 +21,7 @@ from .base import (
     check_keys,
     check_number,
     short_repr,
+    stream_backward,
 )
 from .core import ViscoelasticElement
 
@@ -423,17 +424,7 @@ class BridgeHysteresisElement(Frozen):
 
     def backward(self, t_s: npt.ArrayLike, voltage_v: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
         """The force for a deformation record, sample by sample (the inverse is implicit)."""
-        t, v = np.asarray(t_s, dtype=float), np.asarray(voltage_v, dtype=float)
-        if t.size > 1 and np.any(np.diff(t) < 0):
-            raise ValueError("t_s must be non-decreasing")
-        stream = self.streaming()
-        out = np.empty(v.size)
-        last = 0.0
-        for i, (ti, vi) in enumerate(zip(t.tolist(), v.tolist())):
-            f = stream.step(ti, vi)
-            last = f if f is not None else last
-            out[i] = last
-        return out
+        return stream_backward(self.streaming(), t_s, voltage_v, aux)
 
     def streaming(self) -> ElementStream:
         """The per-sample inverse: O(m log m) per sample for m plays."""

@@ -38,7 +38,7 @@ from scipy import integrate
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
 from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, core_output, dahl, dead_time,
-                       kelvin, ramp_and_hold, repeated_insertions)
+                       kelvin, ramp_and_hold, relaxing_play, repeated_insertions)
 
 SEED0 = 470_000  # never a seed of the registry's splits nor of splits A (90000..) to F (400000..)
 FORCE_MAX_N = 9.0
@@ -184,14 +184,7 @@ class RelaxingFriction(SimOnly):
         self.r, self.tau = r_n, tau_s
 
     def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        dt = np.diff(t, prepend=t[0])
-        out, p = np.empty_like(f), f[0]
-        for i, (fi, h) in enumerate(zip(f.tolist(), dt.tolist())):
-            p += (fi - p) * (1.0 - np.exp(-h / self.tau))
-            p = max(fi - self.r, min(fi + self.r, p))
-            out[i] = p
-        return out
+        return relaxing_play(np.asarray(t_s, dtype=float), np.asarray(x, dtype=float), self.r, self.tau)
 
 
 class DeadTimeLag(SimOnly):

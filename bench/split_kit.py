@@ -139,6 +139,17 @@ def dahl(x, y_max, sigma):
     return out
 
 
+def relaxing_play(t, x, r, tau_s):
+    """A play of half-width ``r`` whose stuck value creeps toward the input with ``tau_s``, started at ``x[0]``."""
+    dt = np.diff(t, prepend=t[0])
+    out, p = np.empty_like(x), x[0]
+    for i, (xi, h) in enumerate(zip(x.tolist(), dt.tolist())):
+        p += (xi - p) * (1.0 - np.exp(-h / tau_s))
+        p = max(xi - r, min(xi + r, p))
+        out[i] = p
+    return out
+
+
 class LinearFilter(SimOnly):
     """A continuous-time filter (numerator, denominator in s), from rest, on a uniform grid at the median step."""
 

@@ -8,7 +8,7 @@ import pytest
 from conftest import REPO
 from polyforce_ros.physics import fitting
 from polyforce_ros.physics.identification import fit_creep
-from polyforce_ros.physics.viscoelastic import MODEL_TYPES, Burgers2, Zener2, simulate_deformation
+from polyforce_ros.physics.viscoelastic import MODEL_TYPES, Burgers2, Burgers3, Zener2, Zener3, simulate_deformation
 from polyforce_ros.sim import profiles
 
 
@@ -51,8 +51,10 @@ def test_every_model_type_has_finite_starts_inside_the_bounds(kind):
         MODEL_TYPES[kind].from_vector(np.exp(theta)).relaxation()  # a usable model
 
 
-@pytest.mark.parametrize("truth", [Zener2(5.0, 12.0, 40.0, 20.0, 600.0), Burgers2(5.0, 12.0, 5000.0, 40.0, 20.0, 600.0)])
-def test_creep_calibration_fits_the_two_kelvin_types(truth):
+@pytest.mark.parametrize("truth", [Zener2(5.0, 12.0, 40.0, 20.0, 600.0), Burgers2(5.0, 12.0, 5000.0, 40.0, 20.0, 600.0),
+                                   Zener3(5.0, 12.0, 6.0, 20.0, 200.0, 15.0, 1500.0),
+                                   Burgers3(5.0, 12.0, 5000.0, 6.0, 20.0, 200.0, 15.0, 1500.0)])
+def test_creep_calibration_fits_the_two_and_three_kelvin_types(truth):
     t, f = profiles.creep(rate_hz=20.0)
     v = simulate_deformation(truth, t, f) + 0.03
     fit = fit_creep(truth.kind, t, f, v)  # raised KeyError for zener2 before the one fitting stack

@@ -15,12 +15,16 @@ from polyforce_ros.physics.viscoelastic import (
     Zener,
     Zener2,
     Burgers2,
+    Zener3,
+    Burgers3,
     compensate,
     simulate_deformation,
 )
 
 MODELS = [Maxwell(3.0, 400.0), KelvinVoigt(3.2, 40.0), Zener(4.8, 10.0, 85.12), PAPER_BURGERS,
-          Zener2(4.8, 10.0, 85.12, 20.0, 30.0), Burgers2(4.8, 10.0, 4627.94, 85.12, 20.0, 30.0)]
+          Zener2(4.8, 10.0, 85.12, 20.0, 30.0), Burgers2(4.8, 10.0, 4627.94, 85.12, 20.0, 30.0),
+          Zener3(4.8, 10.0, 15.0, 20.0, 300.0, 12.0, 1200.0),
+          Burgers3(4.8, 10.0, 4627.94, 15.0, 20.0, 300.0, 12.0, 1200.0)]
 
 
 def test_paper_eq5_to_eq9_at_printed_precision():

@@ -333,9 +333,9 @@ def core_model(st: Structure, coef: Mapping[str, float]) -> ViscoelasticModel:
         return model(k1, *kel[0])
     if kind == "burgers":
         return model(k1, kel[0][0], eta1, kel[0][1])
-    if kind == "zener2":
-        return model(k1, *kel[0], *kel[1])
-    return model(k1, kel[0][0], eta1, kel[0][1], *kel[1])
+    if kind in ("zener2", "zener3"):
+        return model(k1, *(x for k in kel for x in k))
+    return model(k1, kel[0][0], eta1, kel[0][1], *(x for k in kel[1:] for x in k))
 
 
 def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> SensorChain:

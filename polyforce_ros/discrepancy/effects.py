@@ -46,7 +46,8 @@ from ..physics.expconv import exp_convolve, exp_convolve_columns
 from ..physics.viscoelastic import simulate_deformation_columns
 from .signals import FloatArray, Signals, noise_std
 
-__all__ = ["Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
+__all__ = ["SPREAD_RATIO",
+           "Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
            "SPLINE_INTERVALS", "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n",
            "at_noise_limit", "lag_columns", "lag_stages",
            "variant_group", "parameter", "hints"]
@@ -136,6 +137,9 @@ class Effect:
     extends : dict
         Variant -> the smaller variant it holds (its columns and more): chosen only when the columns it adds are
         significant (:data:`.selection.SIGNIFICANT_SE`).
+    core_times : dict
+        Variant -> the number of retardation times it adds to the core (a core effect whose parameter is the first
+        of them; any further one starts :data:`SPREAD_RATIO` times slower than the one before).
     """
 
     name: str
@@ -152,6 +156,7 @@ class Effect:
     rivals: tuple[str, ...] = ()
     record_rate: bool = False
     extends: Mapping[str, str] = field(default_factory=dict)
+    core_times: Mapping[str, int] = field(default_factory=dict)
 
 
 # --------------------------------------------------------------------------- columns and elements
@@ -475,10 +480,20 @@ def _lag_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     return _log_grid(0.002, 0.1, 10) if variant == "delay" else _log_grid(0.003, 0.8, 12)
 
 
+#: How much slower each further Kelvin unit of a spread delayed elasticity starts than the one before: apart enough
+#: that their columns are not collinear, close enough that two of them span a decade of a spread spectrum.
+SPREAD_RATIO = 10.0
+
+
 def _delayed_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     """Starting retardation times (s) of a delayed elasticity, up to a quarter of the record; the polish may take
-    one up to the record's length (:func:`.refit.polish`), beyond which it is flow within the record."""
-    return _log_grid(0.3, max(min(300.0, sig.duration_s / 4.0), 1.0), 12)
+    one up to the record's length (:func:`.refit.polish`), beyond which it is flow within the record. A spread one
+    (two units) starts its second unit :data:`SPREAD_RATIO` times slower, so its first starts within the record
+    divided by that."""
+    grid = _log_grid(0.3, max(min(300.0, sig.duration_s / 4.0), 1.0), 12)
+    if variant == "spread":
+        return [g for g in grid if g is not None and g * SPREAD_RATIO <= sig.duration_s / 2.0]
+    return grid
 
 
 def _thermal_grid(variant: str, sig: Signals) -> list[Optional[float]]:
@@ -494,14 +509,18 @@ def _drift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
 EFFECTS: dict[str, Effect] = {
     "viscous_flow": Effect(
         "viscous_flow", "creep during holds that never settles (viscous_flow)", ("hold_under_load", "late_in_record"),
-        ("load_history",), ("maxwell", "burgers", "burgers2", "power_flow"),
+        ("load_history",), ("maxwell", "burgers", "burgers2", "burgers3", "power_flow"),
         # the core's linear dashpot, or beside it one whose rate is a power of the force or flows above a yield
         variants=("", "power", "yield"), grid=_flow_grid, columns=_flow_columns, to_elements=_flow_elements,
-        extends={"power": "", "yield": ""}, core_change={"elastic": "maxwell", "zener": "burgers", "zener2": "burgers2"}),
+        extends={"power": "", "yield": ""}, core_change={"elastic": "maxwell", "zener": "burgers", "zener2": "burgers2",
+                                                               "zener3": "burgers3"}),
     "delayed_elasticity": Effect(
         "delayed_elasticity", "creep and recovery that settle (delayed_elasticity)", ("hold_under_load", "rest_after_unloading"),
-        ("load_history",), ("zener", "burgers", "zener2", "burgers2"), grid=_delayed_grid,
-        core_change={"elastic": "zener", "maxwell": "burgers", "zener": "zener2", "burgers": "burgers2"}),
+        ("load_history",), ("zener", "burgers", "zener2", "burgers2", "zener3", "burgers3"), grid=_delayed_grid,
+        # one Kelvin unit, or two a decade apart (a retardation spectrum spread over time scales)
+        variants=("", "spread"), extends={"spread": ""}, core_times={"": 1, "spread": 2},
+        core_change={"elastic": "zener", "maxwell": "burgers", "zener": "zener2", "burgers": "burgers2",
+                     "zener2": "zener3", "burgers2": "burgers3"}),
     "hysteresis": Effect(
         "hysteresis", "path dependence at load reversals (hysteresis)", ("load_reversal",), ("load_direction",),
         ("play_hysteresis", "bridge_hysteresis"),

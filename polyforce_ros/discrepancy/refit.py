@@ -16,7 +16,7 @@ import numpy as np
 from ..physics.fitting import multistart_least_squares
 from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, Term, bounded_solve, core_model,
                      design_columns, refresh_ref, stack)
-from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, parameter
+from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, SPREAD_RATIO, parameter
 from .signals import FloatArray, Signals
 
 __all__ = ["polish", "is_core_time", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]
@@ -85,8 +85,8 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
 
 
 def is_core_time(term: Term) -> bool:
-    """Whether a term's parameter is one of the core's retardation times (a core effect's plain variant)."""
-    return term.param is not None and bool(REGISTRY[term.effect].core_change) and not term.variant
+    """Whether a term's parameter is one of the core's retardation times (a core effect's variant that adds them)."""
+    return term.param is not None and term.variant in REGISTRY[term.effect].core_times
 
 
 def param_log_bounds(term: Term, sig: Signals) -> tuple[float, float]:
@@ -136,12 +136,19 @@ def without(st: Structure, effect: str) -> Optional[Structure]:
     terms = tuple(t for t in st.terms if t.effect != effect)
     eff = REGISTRY[effect]
     if eff.core_change:
-        back = {v: k for k, v in eff.core_change.items()}.get(st.core)
+        back: Optional[str] = st.core
+        reverse = {v: k for k, v in eff.core_change.items()}
+        for _ in range(max(1, eff.core_times.get(term.variant, 1))):
+            back = reverse.get(back) if back is not None else None
         if back is None:
             return None
         taus = st.taus
-        if effect == "delayed_elasticity" and term.param is not None and len(taus) > CORE_SHAPE[back][0]:
-            drop = int(np.argmin([abs(math.log(t / term.param)) for t in taus]))
+        # the times it added: the core time nearest its parameter, and each further one nearest a spread's start
+        for k in range(eff.core_times.get(term.variant, 0)):
+            if term.param is None or len(taus) <= CORE_SHAPE[back][0]:
+                break
+            at = term.param * SPREAD_RATIO ** k
+            drop = int(np.argmin([abs(math.log(t / at)) for t in taus]))
             taus = tuple(t for i, t in enumerate(taus) if i != drop)
         return Structure(back, taus, terms)
     return Structure(st.core, st.taus, terms)
@@ -178,8 +185,18 @@ def candidates_for(st: Structure, effect: str, has_temperature: bool, sig: Signa
                 out += [Structure(new, st.taus, st.terms + (Term(effect, variant, p),))
                         for variant in ("power", "yield") for p in eff.grid(variant, sig)]
             return out
-        return [Structure(new, tuple(sorted(st.taus + (tau,))), st.terms + (Term(effect, "", tau),))
-                for tau in eff.grid("", sig) if tau is not None and all(abs(math.log(tau / t)) > 0.5 for t in st.taus)]
+        out = []
+        for variant, n_times in eff.core_times.items():
+            kind: Optional[str] = st.core
+            for _ in range(n_times):
+                kind = eff.core_change.get(kind) if kind is not None else None
+            if kind is None:
+                continue
+            for tau in eff.grid(variant, sig):
+                added = tuple(tau * SPREAD_RATIO ** k for k in range(n_times)) if tau is not None else ()
+                if added and all(abs(math.log(a / t)) > 0.5 for a in added for t in st.taus):
+                    out.append(Structure(kind, tuple(sorted(st.taus + added)), st.terms + (Term(effect, variant, tau),)))
+        return out
     if eff.needs_temperature and not has_temperature:
         return []
     out = []

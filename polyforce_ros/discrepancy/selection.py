@@ -22,7 +22,7 @@ from typing import Any, Callable, Optional, Sequence, Union
 import numpy as np
 
 from .design import Fit, Fitter, Structure, design_columns, n_params, size, term_columns
-from .effects import EFFECTS as REGISTRY, at_noise_limit, variant_group
+from .effects import EFFECTS as REGISTRY, SPREAD_RATIO, at_noise_limit, variant_group
 from .refit import candidates_for, is_core_time, polish, refine, without
 from .residual import drift_follows_load, excess
 
@@ -241,7 +241,8 @@ class Selection:
                 continue
             taus = p.structure.taus
             grid = [g for g in REGISTRY[name].grid(term.variant, self.fitter.sig) if g is not None]
-            if grid and max(taus) > slowest and min(grid) <= min(taus) and max(taus) <= max(grid):
+            reach = SPREAD_RATIO ** (REGISTRY[name].core_times.get(term.variant, 1) - 1)  # a spread's further units
+            if grid and max(taus) > slowest and min(grid) <= min(taus) and max(taus) <= max(grid) * reach:
                 out.append(p)  # slower, and every time within the effect's own range
         return out
 

@@ -150,7 +150,7 @@ def starts_from_compliance(kind: str, j_inst_v_per_n: float, j_end_v_per_n: floa
     starts = []
     for tau in taus_s:
         # two Kelvin elements share the delayed compliance, one faster and one slower than tau
-        half, fast, slow = 2.0 / delayed, tau / 2.0, tau * 4.0
+        half, third, fast, slow = 2.0 / delayed, 3.0 / delayed, tau / 2.0, tau * 4.0
         table = {
             "elastic": (1 / j_end,),
             "maxwell": (1 / j_inst, 1 / flow),
@@ -159,6 +159,9 @@ def starts_from_compliance(kind: str, j_inst_v_per_n: float, j_end_v_per_n: floa
             "burgers": (1 / j_inst, 1 / delayed, 1 / flow, tau / delayed),
             "zener2": (1 / j_inst, half, half * fast, half, half * slow),
             "burgers2": (1 / j_inst, half, 1 / flow, half * fast, half, half * slow),
+            # three Kelvin elements: one faster, one at and one slower than tau
+            "zener3": (1 / j_inst, third, third * fast, third, third * tau, third, third * slow),
+            "burgers3": (1 / j_inst, third, 1 / flow, third * fast, third, third * tau, third, third * slow),
         }
         starts.append(np.log(table[kind]))
     return starts

@@ -26,7 +26,7 @@ from ..discrepancy.effects import EFFECTS as REGISTRY, NAMES
 from ..physics.chain import ForwardElement, OffsetElement, SensorChain, ViscoelasticElement
 from ..physics.preisach import hysteretic_identity as hysteretic_identity  # the bench's Preisach truths (re-exported)
 from ..physics.viscoelastic import (PAPER_BURGERS, Burgers2, Elastic, KelvinVoigt, Maxwell, ViscoelasticModel, Zener,
-                                    Zener2)
+                                    Zener2, Zener3, Burgers3)
 from .sensor import BridgeSimulator
 from .truths import (FAMILIES, HIDDEN_AGAINST, Additive, FloatArray, MakeFn, Truth, TruthContext,
                      families as split_families)
@@ -113,6 +113,8 @@ BASE_TRUTH: dict[str, ViscoelasticModel] = {
     "burgers": PAPER_BURGERS,
     "zener2": Zener2(4.8, 10.0, 85.12, 20.0, 2000.0),
     "burgers2": Burgers2(4.8, 10.0, 4627.94, 85.12, 20.0, 2000.0),
+    "zener3": Zener3(4.8, 10.0, 85.12, 20.0, 2000.0, 40.0, 40.0),
+    "burgers3": Burgers3(4.8, 10.0, 4627.94, 85.12, 20.0, 2000.0, 40.0, 40.0),
 }
 
 

@@ -181,8 +181,8 @@ class Frozen:
 _STIFFNESS = (1e-7, 1e13, "N/V", "a decade around the fitted 1e-6..1e12; 1/k and k**2 stay far from float64 limits")
 _VISCOSITY = (1e-7, 1e13, "N*s/V", "a decade around the fitted 1e-6..1e12; time constants eta/k 1e-20..1e20 s")
 PARAMETER_BOUNDS = {
-    **{f"{k}_n_per_v": _STIFFNESS for k in ("k", "k1", "k2", "k3")},
-    **{f"{e}_n_s_per_v": _VISCOSITY for e in ("eta", "eta1", "eta2", "eta3")},
+    **{f"{k}_n_per_v": _STIFFNESS for k in ("k", "k1", "k2", "k3", "k4")},
+    **{f"{e}_n_s_per_v": _VISCOSITY for e in ("eta", "eta1", "eta2", "eta3", "eta4")},
     # a bridge/ADC reads a few volts; 1 kV is far beyond any amplifier output
     "voltage_v": (-1e3, 1e3, "V", "an offset beyond any amplifier output is not a sensor"),
     # a drift faster than 1 kV/s crosses any ADC range within milliseconds (diagnosis fits +-1 V/s)

@@ -488,14 +488,17 @@ class Zener2(ViscoelasticModel):
         return _relaxation_from_compliance(self.compliance())
 
 
+def _kelvin_chain_compliance(k1_n_per_v: float, kelvins: Sequence[tuple[float, float]],
+                             fluidity_v_per_n_s: float = 0.0) -> CreepCompliance:
+    """J(t) of spring k1 + Kelvin elements (k_i, eta_i) in series [+ a free dashpot]."""
+    return CreepCompliance(1.0 / k1_n_per_v, tuple(1.0 / k for k, _ in kelvins), tuple(eta / k for k, eta in kelvins),
+                           fluidity_v_per_n_s)
+
+
 def _two_kelvin_compliance(model: Union[Zener2, Burgers2], fluidity_v_per_n_s: float = 0.0) -> CreepCompliance:
     """J(t) of spring k1 + Kelvin (k2, eta2) + Kelvin (k3, eta3) [+ a free dashpot]."""
-    return CreepCompliance(
-        1.0 / model.k1_n_per_v,
-        (1.0 / model.k2_n_per_v, 1.0 / model.k3_n_per_v),
-        (model.eta2_n_s_per_v / model.k2_n_per_v, model.eta3_n_s_per_v / model.k3_n_per_v),
-        fluidity_v_per_n_s,
-    )
+    return _kelvin_chain_compliance(model.k1_n_per_v, ((model.k2_n_per_v, model.eta2_n_s_per_v),
+                                                       (model.k3_n_per_v, model.eta3_n_s_per_v)), fluidity_v_per_n_s)
 
 
 @dataclass(frozen=True)
@@ -536,8 +539,83 @@ class Burgers2(ViscoelasticModel):
         return _relaxation_from_compliance(self.compliance())
 
 
+@dataclass(frozen=True)
+class Zener3(ViscoelasticModel):
+    """Spring k1 in series with three Kelvin elements (k2, eta2), (k3, eta3) and (k4, eta4): a solid with three
+    retardation times (a spread retardation spectrum)."""
+
+    kind: ClassVar[str] = "zener3"
+    shape: ClassVar[tuple[int, bool, bool]] = (3, True, False)
+    k1_n_per_v: float
+    k2_n_per_v: float
+    eta2_n_s_per_v: float
+    k3_n_per_v: float
+    eta3_n_s_per_v: float
+    k4_n_per_v: float
+    eta4_n_s_per_v: float
+
+    def compliance(self) -> CreepCompliance:
+        """The creep compliance J(t) = 1/k1 + sum over the three Kelvin elements of (1/k_i) (1 - exp(-t k_i/eta_i))
+        in V/N.
+
+        Returns
+        -------
+        CreepCompliance
+            j0 = 1/k1 [V/N] and three retarded terms c_i = 1/k_i [V/N] with tau_i = eta_i/k_i [s].
+        """
+        return _kelvin_chain_compliance(self.k1_n_per_v, ((self.k2_n_per_v, self.eta2_n_s_per_v),
+                                                          (self.k3_n_per_v, self.eta3_n_s_per_v),
+                                                          (self.k4_n_per_v, self.eta4_n_s_per_v)))
+
+    def relaxation(self) -> RelaxationModulus:
+        """The relaxation modulus G(t) in N/V from the compliance via Laplace (three exponentials).
+
+        Raises ValueError if the rates come out complex or non-negative.
+        """
+        return _relaxation_from_compliance(self.compliance())
+
+
+@dataclass(frozen=True)
+class Burgers3(ViscoelasticModel):
+    """Burgers (k1, eta1, Kelvin k2/eta2) with two more Kelvin elements (k3, eta3) and (k4, eta4): a fluid with
+    three retardation times."""
+
+    kind: ClassVar[str] = "burgers3"
+    shape: ClassVar[tuple[int, bool, bool]] = (3, True, True)
+    k1_n_per_v: float
+    k2_n_per_v: float
+    eta1_n_s_per_v: float
+    eta2_n_s_per_v: float
+    k3_n_per_v: float
+    eta3_n_s_per_v: float
+    k4_n_per_v: float
+    eta4_n_s_per_v: float
+
+    def compliance(self) -> CreepCompliance:
+        """The creep compliance J(t) = 1/k1 + t/eta1 + sum over the three Kelvin elements of
+        (1/k_i) (1 - exp(-t k_i/eta_i)) in V/N.
+
+        Returns
+        -------
+        CreepCompliance
+            j0 = 1/k1 [V/N], three retarded terms c_i = 1/k_i [V/N] with tau_i = eta_i/k_i [s], and
+            fluidity 1/eta1 [V/(N*s)].
+        """
+        return _kelvin_chain_compliance(self.k1_n_per_v, ((self.k2_n_per_v, self.eta2_n_s_per_v),
+                                                          (self.k3_n_per_v, self.eta3_n_s_per_v),
+                                                          (self.k4_n_per_v, self.eta4_n_s_per_v)),
+                                        1.0 / self.eta1_n_s_per_v)
+
+    def relaxation(self) -> RelaxationModulus:
+        """The relaxation modulus G(t) in N/V from the compliance via Laplace (four exponentials: a fluid).
+
+        Raises ValueError if the rates come out complex or non-negative.
+        """
+        return _relaxation_from_compliance(self.compliance())
+
+
 MODEL_TYPES: dict[str, type[ViscoelasticModel]] = {
-    cls.kind: cls for cls in (Elastic, Maxwell, KelvinVoigt, Zener, Burgers, Zener2, Burgers2)
+    cls.kind: cls for cls in (Elastic, Maxwell, KelvinVoigt, Zener, Burgers, Zener2, Burgers2, Zener3, Burgers3)
 }
 
 #: Seed 000, eq. 5: the Burgers parameters identified from the 5 N creep test.

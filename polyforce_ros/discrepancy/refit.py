@@ -183,7 +183,7 @@ def candidates_for(st: Structure, effect: str, has_temperature: bool, sig: Signa
                 out += [Structure(new, (tau,), st.terms + (Term(effect),)) for tau in TAU_GRID if tau <= limit]
             if not _bridge_hysteresis(st):  # the bridge's inverse solves its plays with a plain core beside them
                 out += [Structure(new, st.taus, st.terms + (Term(effect, variant, p),))
-                        for variant in ("power", "yield") for p in eff.grid(variant, sig)]
+                        for variant in eff.variants if variant for p in eff.grid(variant, sig)]
             return out
         out = []
         for variant, n_times in eff.core_times.items():
@@ -201,7 +201,7 @@ def candidates_for(st: Structure, effect: str, has_temperature: bool, sig: Signa
         return []
     out = []
     flow = st.term("viscous_flow")
-    power_flow = flow is not None and flow.variant in ("power", "yield")
+    power_flow = flow is not None and bool(flow.variant)  # a dashpot beside the core, not the core's own
     for variant in eff.variants:
         if effect == "hysteresis" and power_flow and variant.startswith("bridge"):
             continue  # a power-law dashpot wraps the core that the bridge's plays would sit beside

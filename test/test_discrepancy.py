@@ -68,7 +68,8 @@ def test_hidden_effect_of_a_random_family_is_named_and_the_error_reaches_the_noi
 
 
 @pytest.mark.parametrize("base, seed", [("burgers", 3101), ("zener", 3102), ("elastic", 3103), ("maxwell", 3104),
-                                        ("kelvin", 3105), ("zener2", 3106), ("burgers2", 3107)])
+                                        ("kelvin", 3105), ("zener2", 3106), ("burgers2", 3107), ("zener3", 3108),
+                                        ("burgers3", 3109)])
 def test_clean_data_is_none_and_nothing_is_unexplained(base, seed):
     """Every core type of the fitting stack is a base the diagnosis can run against (BASES = MODEL_TYPES)."""
     rec, case = bench_record("none", 0.0, base, DURATION_S, RATE_HZ, seed)

@@ -7,6 +7,7 @@ follow the core consistent with the core they fit. :func:`base_structure` fits t
 """
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import replace
 from typing import Optional
@@ -162,8 +163,10 @@ def base_structure(fitter: Fitter, base: str) -> Structure:
     grid: list[tuple[float, ...]]
     if n_tau == 1:
         grid = [(tau,) for tau in TAU_GRID]
-    else:
+    elif n_tau == 2:
         grid = [(a, b) for i, a in enumerate(TAU_GRID[::2]) for b in TAU_GRID[::2][i + 1:]]
+    else:  # three Kelvin units: every three distinct times of every third grid value (20 starts)
+        grid = list(itertools.combinations(TAU_GRID[::3], n_tau))
     best = min(grid, key=lambda taus: fitter.evaluate(Structure(base, taus)).cv_mse)
     return polish(fitter, Structure(base, best))
 

@@ -5,6 +5,7 @@ deterministic for a given ``seed``. Compression is positive.
 """
 from __future__ import annotations
 
+import math
 import os
 from pathlib import Path
 from typing import Any, Callable, Optional, Union
@@ -58,9 +59,20 @@ def step(force_n: float = 5.0, pre_s: float = 2.0, hold_s: float = 30.0, rise_s:
 
 def sine_sweep(f_start_hz: float = 0.01, f_stop_hz: float = 10.0, amplitude_n: float = 1.0, offset_n: float = 3.0,
                duration_s: float = 600.0, rate_hz: float = 1000.0) -> Profile:
-    """Logarithmic chirp from ``f_start_hz`` to ``f_stop_hz`` around a preload ``offset_n``."""
+    """Logarithmic chirp from ``f_start_hz`` to ``f_stop_hz`` around a preload ``offset_n``, sin(phase) with
+    phase = 2 pi f0 T / ln(f1 / f0) ((f1 / f0)^(t / T) - 1).
+
+    Evaluated sample by sample with the C library's ``exp`` and ``sin``: numpy's vectorised ones take other paths
+    on other CPUs (AVX-512 or not) and differ in the last bit, and the shipped bags are reproduced byte for byte.
+    """
     t = _time(duration_s, rate_hz)
-    wave = signal.chirp(t, f0=f_start_hz, t1=t[-1], f1=f_stop_hz, method="logarithmic", phi=-90)
+    span_s = float(t[-1]) if t.size > 1 else 1.0
+    if f_stop_hz == f_start_hz:
+        phase = [2.0 * math.pi * f_start_hz * ti for ti in t.tolist()]
+    else:
+        k = math.log(f_stop_hz / f_start_hz)
+        phase = [2.0 * math.pi * f_start_hz * span_s / k * (math.exp(k * ti / span_s) - 1.0) for ti in t.tolist()]
+    wave = np.fromiter((math.sin(x) for x in phase), dtype=float, count=t.size)
     return t, offset_n + amplitude_n * wave
 
 

@@ -203,7 +203,12 @@ def test_a_compensation_node_started_3_s_after_the_driver_zeroes_before_any_forc
         # both streams cover the unloaded second after the restart (the reference may be delivered later)
         covered = lambda d: d and max(d) >= restarted_ns + 1_000_000_000  # noqa: E731
         assert h.spin_until(lambda: covered(ref) and covered(wrench), 30.0)
-    after = [s for s in sorted(set(wrench) & set(ref)) if restarted_ns <= s < restarted_ns + 1_000_000_000]
-    window = lambda d: sum(restarted_ns <= s < restarted_ns + 1_000_000_000 for s in d)  # noqa: E731
-    assert after, (window(wrench), window(ref), restarted_ns, max(wrench), max(ref), min(ref))
-    assert max(abs(wrench[s] - ref[s]) for s in after) <= 0.05
+    # judged against the profile's own force at each stamp (what reference_force carries): under a scheduler stall
+    # of the one process that spins every node, the writer's history can overwrite a second of reference samples
+    # while the compensated ones of that second still arrive
+    after = [s for s in sorted(wrench) if restarted_ns <= s < restarted_ns + 1_000_000_000]
+    assert after, (restarted_ns, max(wrench), max(ref), min(ref))
+    rate_hz, period_n = driver.rate_hz, driver.period_n
+    truth = {s: float(driver.profile_f[round((s - restarted_ns) * rate_hz / 1e9) % period_n]) for s in after}
+    assert all(ref[s] == truth[s] for s in after if s in ref)  # the stamp-to-sample map is the driver's
+    assert max(abs(wrench[s] - truth[s]) for s in after) <= 0.05

@@ -9,6 +9,7 @@ one record with each cross-validation fold left out in turn, from per-fold norma
 from __future__ import annotations
 
 import math
+import re
 from dataclasses import dataclass, replace
 from functools import partial
 from typing import Any, Callable, Iterable, Mapping, Optional, Sequence, cast
@@ -29,6 +30,8 @@ __all__ = ["BASES", "BLOCKS_PER_FOLD", "CORE_SHAPE", "TAU_GRID", "TAU_BOUNDS", "
            "refresh_ref", "n_params", "size"]
 
 BASES = tuple(MODEL_TYPES)  # every core type the fitting stack knows
+#: The design's name of the decay of a fast retardation after a gap (:class:`.signals.GapStep`).
+GAP_DECAY = re.compile(r"gap\d+_c\d+")
 #: Contiguous time blocks dealt to each cross-validation fold (interleaved): a left-out block (but the record's
 #: first and last) lies between blocks that are fitted, so a term that follows time is judged on how it
 #: interpolates, not extrapolates.
@@ -109,9 +112,11 @@ def term_columns(sig: Signals, term: Term) -> list[Col]:
 Design = tuple[list[str], list[FloatArray], FloatArray, FloatArray, BoolArray]
 
 
-def design(sig: Signals, st: Structure) -> tuple[list[str], FloatArray, FloatArray, FloatArray, BoolArray]:
-    """(names, A, lower, upper, ridge group mask) of a structure on these signals."""
-    names, mats, lo, hi, ridge = design_columns(sig, st)
+def design(sig: Signals, st: Structure, extra: Sequence[Col] = ()
+           ) -> tuple[list[str], FloatArray, FloatArray, FloatArray, BoolArray]:
+    """(names, A, lower, upper, ridge group mask) of a structure on these signals, with the additive columns
+    ``extra`` beside it (a rival that is no effect of the catalogue)."""
+    names, mats, lo, hi, ridge = design_columns(sig, st, extra)
     return names, stack(mats), lo, hi, ridge
 
 
@@ -128,7 +133,7 @@ def stack(columns: Sequence[FloatArray], rows: slice = _ALL_ROWS) -> FloatArray:
     return a
 
 
-def design_columns(sig: Signals, st: Structure) -> Design:
+def design_columns(sig: Signals, st: Structure, extra: Sequence[Col] = ()) -> Design:
     """:func:`design` with the columns of A as a list of arrays (not stacked: the polish needs a few rows)."""
     shift = st.term("thermo_rheological")
     b = None if shift is None else parameter(shift.param)
@@ -141,7 +146,17 @@ def design_columns(sig: Signals, st: Structure) -> Design:
             delay_s = parameter(term.param) if term.variant == "delay" else 0.0
             continue
         cols += term_columns(sig, term)
-    gaps = [(f"gap{k}", np.where(sig.t >= at, 1.0, 0.0), bound) for k, (at, bound) in enumerate(sig.gap_steps)]
+    cols += list(extra)
+    gaps = []  # the record after each gap that hid load history (Signals.gap_steps): a step, and the decay of each
+    for k, gap in enumerate(sig.gap_steps):  # retardation fast enough to forget the hidden load within the record
+        after = sig.t >= gap.at_s
+        if gap.step_bound_v > 0.0:
+            gaps.append((f"gap{k}", np.where(after, 1.0, 0.0), gap.step_bound_v))
+        for i, tau in enumerate(st.taus[:CORE_SHAPE[st.core][0]]):
+            bound_v = gap.state_bound_v * -math.expm1(-gap.length_s / tau) if tau < gap.fast_s else 0.0
+            if bound_v > 0.0:
+                decay = np.where(after, np.exp(-np.clip(sig.t - gap.at_s, 0.0, None) / tau), 0.0)
+                gaps.append((f"gap{k}_c{i}", decay, bound_v))  # named as GAP_DECAY matches
     names = [c[0] for c in cols] + ["offset"] + [g[0] for g in gaps]
     mats = []
     for c in cols:
@@ -153,7 +168,7 @@ def design_columns(sig: Signals, st: Structure) -> Design:
                 x = np.interp(sig.t - delay_s, sig.t, x, left=x[0])
         mats.append(x)
     mats.append(np.ones_like(sig.t))
-    mats += [g[1] for g in gaps]  # the offset after each gap that hid load history (Signals.gap_steps)
+    mats += [g[1] for g in gaps]
     lo = np.array([c[2] for c in cols] + [-np.inf] + [-g[2] for g in gaps])
     hi = np.array([c[3] for c in cols] + [np.inf] + [g[2] for g in gaps])
     ridge = np.array([c[5] is not None for c in cols] + [False] * (1 + len(gaps)))  # ridge groups: play weights, knots
@@ -242,10 +257,11 @@ class Fitter:
         self.rows = [[slice(int(a), int(b)) for a, b in zip(starts, stops) if fold[a] == k] for k in range(n_folds)]
         self.evaluations = 0
 
-    def evaluate(self, st: Structure) -> Fit:
-        """Fit ``st`` on all blocks and with each fold left out; score each fold out of sample."""
+    def evaluate(self, st: Structure, extra: Sequence[Col] = ()) -> Fit:
+        """Fit ``st`` (with the additive columns ``extra`` beside it) on all blocks and with each fold left out; score
+        each fold out of sample."""
         self.evaluations += 1
-        names, a, lo, hi, ridge = design(self.sig, st)
+        names, a, lo, hi, ridge = design(self.sig, st, extra)
         v = self.sig.v
         if self.sig.valid is not None and not self.sig.valid.all():  # empty bins count for nothing
             a = a * self.sig.valid[:, None]
@@ -266,9 +282,17 @@ class Fitter:
         reg = PLAY_RIDGE * float(np.trace(g_all)) / g_all.shape[0] * ridge.astype(float)
         coef = bounded_solve(g_all, h_all, lo_s, hi_s, reg)
         fit_sse = float(coef @ g_all @ coef - 2 * h_all @ coef + vv_all)
+        # a gap's decays are nuisances of the record that live within the block after the gap: every fold keeps the
+        # values fitted on all blocks (the same for every model), or the fold that leaves that block out has nothing
+        # to fit them on
+        fixed = np.array([GAP_DECAY.fullmatch(name) is not None for name in names])
+        free = ~fixed
         folds, sse = [], []
         for g, h, vv in grams:
-            c = bounded_solve(g_all - g, h_all - h, lo_s, hi_s, reg * (1 - 1.0 / self.k))
+            g_in, h_in = g_all - g, h_all - h
+            c = coef.copy()
+            c[free] = bounded_solve(g_in[np.ix_(free, free)], h_in[free] - g_in[np.ix_(free, fixed)] @ coef[fixed],
+                                    lo_s[free], hi_s[free], reg[free] * (1 - 1.0 / self.k))
             folds.append(c / scale)
             sse.append(max(float(c @ g @ c - 2 * h @ c + vv), 0.0))
         n = v.size if self.sig.valid is None else int(self.sig.valid.sum())

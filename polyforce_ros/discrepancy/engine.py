@@ -21,7 +21,8 @@ Procedure (:func:`diagnose`):
    once its retardation times are fixed) is fitted; times from a grid, then
    polished by :func:`~polyforce_ros.physics.fitting.multistart_least_squares`.
    Each gap in the record that can hide load history gets a bounded offset
-   step of its own in every model (:func:`_gap_steps`).
+   step of its own in every model, and a bounded decay of each fast
+   retardation of the core (:func:`_gap_steps`).
 4. **Forward selection.** Every effect of the registry (:mod:`.effects`) that
    applies is added in turn to the current model (each variant, each value of
    its nonlinear parameter on its grid) and scored out of sample. The best is
@@ -99,7 +100,7 @@ from .resonance import ModeFit, choose_mode, with_mode
 from .result import Diagnosis
 from .selection import Candidate, Selection
 from .selection import parsimonious as _parsimonious  # noqa: F401 - likewise
-from .signals import BoolArray, FloatArray, IntArray, Signals, record_gaps, uniform_blocks
+from .signals import BoolArray, FloatArray, GapStep, IntArray, Signals, record_gaps, uniform_blocks
 
 __all__ = ["EFFECTS", "BASES", "BLOCKS_PER_FOLD", "diagnose", "Diagnosis", "Candidate", "Record", "Signals", "Fitter",
            "Fit", "Structure", "Term", "fold_of"]
@@ -181,26 +182,31 @@ EDGE_S = 0.1
 
 
 def _gap_steps(data: _Record, st: Structure, base_fit: Fit, margin_s: float) -> bool:
-    """Give the record after each gap that can hide load history its own offset step (:func:`.signals.record_gaps`),
-    at both rates; returns whether any was given.
+    """Give the record after each gap that can hide load history its own offset step, and a decay of each of the
+    core's retardations faster than ``margin_s`` (:class:`.signals.GapStep`, :func:`.signals.record_gaps`), at both
+    rates; returns whether any was given.
 
     A step is bounded by what the hidden load can leave: the gap's length times the force's move across it (the
     means over :data:`EDGE_S` each side; a load that moved monotonically leaves at most half of that) times the base
     core's creep rate per newton that lasts, its flow's compliance rate and the compliance over the time of each
-    Kelvin unit no faster than ``margin_s`` (a faster one forgets the hidden load within the blocks that fit the
-    step). A gap in a hold leaves nothing and gets no step. A looser bound (the force span), or none, lets the
-    steps take a drift's events, and the drift is not found."""
+    Kelvin unit no faster than ``margin_s``. A faster unit forgets the hidden load within the blocks that fit the step,
+    but not at once: its state leaves the gap off by at most its compliance times the force's move (the hidden load
+    departs from the interpolated one by no more), and decays with its own time; the bound takes the base's static
+    compliance, which no unit of a refitted core exceeds. A gap in a hold leaves nothing and gets neither. A looser
+    step bound (the force span), or none, lets the steps take a drift's events, and the drift is not found; without
+    the decays, a fast unit's transient after a gap is structure no effect explains."""
     coef = base_fit.coef_map
     rate_v_per_n_s = coef.get("phi", 0.0) + sum(coef.get(f"c{i}", 0.0) / tau for i, tau in enumerate(st.taus)
                                                 if tau >= margin_s)
+    static_v_per_n = coef.get("j0", 0.0) + sum(coef.get(f"c{i}", 0.0) for i in range(len(st.taus)))
     t, f = data.full_rate.t, data.full_rate.f
-    steps: list[tuple[float, float]] = []
+    steps: list[GapStep] = []
     for at, length_s in record_gaps(t, margin_s):
         before = f[np.searchsorted(t, at - length_s / 2 - EDGE_S):np.searchsorted(t, at)]
         after = f[np.searchsorted(t, at):np.searchsorted(t, at + length_s / 2 + EDGE_S)]
         moved_n = abs(float(np.mean(after)) - float(np.mean(before))) if before.size and after.size else 0.0
-        if moved_n * rate_v_per_n_s > 0.0:
-            steps.append((at, length_s * moved_n * rate_v_per_n_s))
+        if moved_n * max(rate_v_per_n_s, static_v_per_n) > 0.0:
+            steps.append(GapStep(at, length_s, length_s * moved_n * rate_v_per_n_s, moved_n * static_v_per_n, margin_s))
     data.fit_rate.gap_steps = data.full_rate.gap_steps = tuple(steps)
     return bool(steps)
 

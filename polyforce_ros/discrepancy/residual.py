@@ -18,12 +18,14 @@ import numpy as np
 import numpy.typing as npt
 from scipy import stats
 
+from ..physics.chain import lagged_temperature_c
 from ..physics.identification import block_average
 from .design import Fit, Fitter, design
+from .effects import Col, lag_columns
 from .signals import FloatArray, IntArray, Signals, noise_std
 
 __all__ = ["noise_std", "NoiseFloor", "noise_floor", "excess", "ljung_box", "band_structure", "Unexplained",
-           "unexplained_test", "out_of_sample", "where", "drift_follows_load"]
+           "unexplained_test", "out_of_sample", "where", "drift_follows_load", "slow_response_columns"]
 
 
 # ----------------------------------------------------------------------------- the noise floor
@@ -272,3 +274,44 @@ def drift_follows_load(sig: Signals, model_without_drift_v: FloatArray, drift_v:
     if not (math.isfinite(b_rest) and math.isfinite(b_load)):
         return False
     return bool(b_rest < 0.5 and b_load - b_rest > 3.0 * math.hypot(se_rest, se_load))
+
+
+#: Retardation times of the generic slow response to the load that an offset drift must beat [s]: half-decades from
+#: 1 s to the record's length (a slower unit is flow within it).
+SLOW_LOAD_TAU_S = (1.0, 1.0)
+#: Thermal lags of the generic slow response to the temperature [s]: half-decades from 3 s to half the record.
+SLOW_THERMAL_TAU_S = (3.0, 0.5)
+
+
+def _half_decades(lo_s: float, hi_s: float) -> FloatArray:
+    """Times from ``lo_s`` up to ``hi_s`` (inclusive where it falls on the grid), 10^0.5 apart [s]."""
+    n = int(math.floor(2.0 * math.log10(max(hi_s / lo_s, 1.0)) + 1e-9)) + 1
+    return np.asarray(lo_s * 10.0 ** (0.5 * np.arange(n)), dtype=float)
+
+
+def slow_response_columns(sig: Signals) -> list[Col]:
+    """Additive design columns of a generic slow response to what drives the sensor, free in sign: the load through
+    unit-gain first-order lags (:data:`SLOW_LOAD_TAU_S`); with a temperature, its departure direct and through lags
+    (:data:`SLOW_THERMAL_TAU_S`), alone and times the load (a zero and a span that follow the temperature in any slow
+    way).
+
+    An offset drift is a function of time alone. What a model misses in the shape of a slow effect it holds (creep
+    spread over time scales, a zero behind two thermal lags, a contact that slips) is a function of the load or the
+    temperature history, which a spline in time also follows: these columns are the rival that tells the two apart
+    (:meth:`.selection.Selection.why_not_judged`)."""
+    key = "slow response"
+    if key not in sig.record_cache:
+        t, f = sig.t, sig.f
+        cols: list[Col] = [(f"slow_load_{tau:.3g}", lag_columns(t, f, float(tau)), -np.inf, np.inf, "additive", None)
+                           for tau in _half_decades(SLOW_LOAD_TAU_S[0], SLOW_LOAD_TAU_S[1] * sig.duration_s)]
+        if sig.temp is not None:
+            temps = [("direct", sig.temp)] + [
+                (f"{tau:.3g}", lagged_temperature_c(t, sig.temp, float(tau)))
+                for tau in _half_decades(SLOW_THERMAL_TAU_S[0], SLOW_THERMAL_TAU_S[1] * sig.duration_s)]
+            for name, temp in temps:
+                departure = np.asarray(temp, dtype=float) - sig.temp_ref
+                cols.append((f"slow_zero_{name}", departure, -np.inf, np.inf, "additive", None))
+                cols.append((f"slow_span_{name}", departure * f, -np.inf, np.inf, "additive", None))
+        sig.record_cache[key] = [(c[0], np.ascontiguousarray(c[1], dtype=float), *c[2:]) for c in cols]
+    out: list[Col] = sig.record_cache[key]
+    return out

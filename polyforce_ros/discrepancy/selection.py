@@ -24,7 +24,7 @@ import numpy as np
 from .design import Fit, Fitter, Structure, design_columns, n_params, size, term_columns
 from .effects import EFFECTS as REGISTRY, SPREAD_RATIO, at_noise_limit, variant_group
 from .refit import candidates_for, is_core_time, polish, refine, without
-from .residual import drift_follows_load, excess
+from .residual import drift_follows_load, excess, slow_response_columns
 
 __all__ = ["Candidate", "parsimonious", "Selection"]
 
@@ -171,13 +171,31 @@ class Selection:
         model = sum((coef[n] * m for n, m in zip(names, mats)), np.zeros_like(sig.v))
         return drift_follows_load(sig, model - drift, drift)
 
+    def driven_as_well(self, fit: Fit) -> bool:
+        """Whether ``fit``'s offset drift is predicted as well by a generic slow response to the load and the
+        temperature (:func:`.residual.slow_response_columns`) in its place: the left-out blocks are predicted at
+        least as well by what drives the sensor as by time, so the drift stands in for the shape of an effect of
+        the load or the temperature, and names nothing."""
+        term = fit.structure.term("offset_drift")
+        reduced = without(fit.structure, "offset_drift") if term is not None else None
+        if reduced is None:
+            return False
+        sig = self.fitter.sig
+        key = ("slow rival", reduced)  # per reference core, as the design's columns are
+        if key not in sig.cache:
+            sig.cache[key] = self.fitter.evaluate(reduced, slow_response_columns(sig)).cv_mse
+        return bool(sig.cache[key] <= fit.cv_mse)
+
     def why_not_judged(self, fit: Fit, name: str) -> Optional[str]:
-        """Why ``name`` in ``fit`` names nothing (at its noise limit, or an offset drift that follows the load), None
-        when it is judged: such a fit is neither judged in its step, nor re-judged, nor swapped in later."""
+        """Why ``name`` in ``fit`` names nothing (at its noise limit, an offset drift that follows the load, or one
+        that the load or temperature history predicts as well), None when it is judged: such a fit is neither
+        judged in its step, nor re-judged, nor swapped in later."""
         if self.noise_limited(fit, name):
             return "at its noise limit"
         if name == "offset_drift" and self.follows_load(fit):
             return "follows the load"
+        if name == "offset_drift" and self.driven_as_well(fit):
+            return "predicted as well by the load and temperature history"
         return None
 
     def not_judged(self, fit: Fit, name: str) -> bool:

@@ -14,12 +14,39 @@ import numpy.typing as npt
 
 from ..physics.viscoelastic import ViscoelasticModel
 
-__all__ = ["FloatArray", "BoolArray", "IntArray", "Signals", "uniform_blocks", "record_gaps", "noise_std", "MIN_GAP_S",
+__all__ = ["FloatArray", "BoolArray", "IntArray", "GapStep", "Signals", "uniform_blocks", "record_gaps", "noise_std", "MIN_GAP_S",
            "MAX_GAPS"]
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
 IntArray = npt.NDArray[np.int64]
+
+
+@dataclass(frozen=True)
+class GapStep:
+    """What the load hidden by a gap can leave in the output after it.
+
+    A flow, or a retardation slower than ``fast_s``, carries the difference between the hidden load and the
+    interpolated one as a step from the gap on (at most ``step_bound_v``); a faster retardation carries it as a
+    departure of its state that decays with its own time tau, at most ``state_bound_v`` x (1 - exp(-length_s / tau)).
+
+    Attributes
+    ----------
+    at_s, length_s : float
+        A time inside the gap and the gap's length [s].
+    step_bound_v : float
+        The largest step [V].
+    state_bound_v : float
+        The largest departure of a retardation's state [V] that a gap much longer than its time could leave.
+    fast_s : float
+        Retardations faster than this [s] decay within the record the step is fitted on; slower ones are in the step.
+    """
+
+    at_s: float
+    length_s: float
+    step_bound_v: float
+    state_bound_v: float = 0.0
+    fast_s: float = 0.0
 
 
 @dataclass
@@ -44,9 +71,10 @@ class Signals:
         The reference core behind ``x_ref``.
     f_smooth : (n,) ndarray or None
         The force behind ``x_ref`` and the force plays [N]; None: ``f`` itself.
-    gap_steps : tuple of (float, float)
-        For each gap long enough to hide load history (:func:`record_gaps`): a time inside it [s] and the largest
-        step [V] the hidden load can leave; the design gives the record after each its own offset step, so bounded.
+    gap_steps : tuple of GapStep
+        Each gap long enough to hide load history (:func:`record_gaps`), with the largest step [V] the hidden load
+        can leave and the largest departure of a fast retardation's state; the design gives the record after each
+        its own offset step and a decay of each fast retardation of the core, so bounded.
     span_f, span_x : float
         Force span [N] and span of ``x_ref`` [V] at the fit rate: the play radii scale with them (the same at every
         rate of one reference core).
@@ -69,7 +97,7 @@ class Signals:
     f_smooth: Optional[FloatArray] = None
     span_f: float = 1.0
     span_x: float = 1.0
-    gap_steps: tuple[tuple[float, float], ...] = ()
+    gap_steps: tuple[GapStep, ...] = ()
     cache: dict[Any, Any] = field(default_factory=dict, init=False, repr=False)
     record_cache: dict[Any, Any] = field(default_factory=dict, repr=False)
 

@@ -148,12 +148,11 @@ def design_columns(sig: Signals, st: Structure, extra: Sequence[Col] = ()) -> De
         cols += term_columns(sig, term)
     cols += list(extra)
     gaps = []  # the record after each gap that hid load history (Signals.gap_steps): a step, and the decay of each
-    for k, gap in enumerate(sig.gap_steps):  # retardation fast enough to forget the hidden load within the record
+    for k, gap in enumerate(sig.gap_steps):  # base retardation fast enough to forget the hidden load within the record
         after = sig.t >= gap.at_s
         if gap.step_bound_v > 0.0:
             gaps.append((f"gap{k}", np.where(after, 1.0, 0.0), gap.step_bound_v))
-        for i, tau in enumerate(st.taus[:CORE_SHAPE[st.core][0]]):
-            bound_v = gap.state_bound_v * -math.expm1(-gap.length_s / tau) if tau < gap.fast_s else 0.0
+        for i, (tau, bound_v) in enumerate(zip(gap.decay_taus_s, gap.decay_bounds_v())):
             if bound_v > 0.0:
                 decay = np.where(after, np.exp(-np.clip(sig.t - gap.at_s, 0.0, None) / tau), 0.0)
                 gaps.append((f"gap{k}_c{i}", decay, bound_v))  # named as GAP_DECAY matches

@@ -183,8 +183,8 @@ EDGE_S = 0.1
 
 def _gap_steps(data: _Record, st: Structure, base_fit: Fit, margin_s: float) -> bool:
     """Give the record after each gap that can hide load history its own offset step, and a decay of each of the
-    core's retardations faster than ``margin_s`` (:class:`.signals.GapStep`, :func:`.signals.record_gaps`), at both
-    rates; returns whether any was given.
+    base core's retardations faster than ``margin_s`` (:class:`.signals.GapStep`, :func:`.signals.record_gaps`), at
+    both rates; returns whether any was given. Every model gets the same steps and decays.
 
     A step is bounded by what the hidden load can leave: the gap's length times the force's move across it (the
     means over :data:`EDGE_S` each side; a load that moved monotonically leaves at most half of that) times the base
@@ -192,13 +192,15 @@ def _gap_steps(data: _Record, st: Structure, base_fit: Fit, margin_s: float) -> 
     Kelvin unit no faster than ``margin_s``. A faster unit forgets the hidden load within the blocks that fit the step,
     but not at once: its state leaves the gap off by at most its compliance times the force's move (the hidden load
     departs from the interpolated one by no more), and decays with its own time; the bound takes the base's static
-    compliance, which no unit of a refitted core exceeds. A gap in a hold leaves nothing and gets neither. A looser
+    compliance, which no unit of a refitted core exceeds. The decays run at the base's times, whatever core a model
+    has: nuisance columns that differ between the models compared would favour those with more fast units. A gap in a hold leaves nothing and gets neither. A looser
     step bound (the force span), or none, lets the steps take a drift's events, and the drift is not found; without
     the decays, a fast unit's transient after a gap is structure no effect explains."""
     coef = base_fit.coef_map
     rate_v_per_n_s = coef.get("phi", 0.0) + sum(coef.get(f"c{i}", 0.0) / tau for i, tau in enumerate(st.taus)
                                                 if tau >= margin_s)
     static_v_per_n = coef.get("j0", 0.0) + sum(coef.get(f"c{i}", 0.0) for i in range(len(st.taus)))
+    decay_taus_s = tuple(tau for tau in st.taus if tau < margin_s)
     t, f = data.full_rate.t, data.full_rate.f
     steps: list[GapStep] = []
     for at, length_s in record_gaps(t, margin_s):
@@ -206,7 +208,8 @@ def _gap_steps(data: _Record, st: Structure, base_fit: Fit, margin_s: float) -> 
         after = f[np.searchsorted(t, at):np.searchsorted(t, at + length_s / 2 + EDGE_S)]
         moved_n = abs(float(np.mean(after)) - float(np.mean(before))) if before.size and after.size else 0.0
         if moved_n * max(rate_v_per_n_s, static_v_per_n) > 0.0:
-            steps.append(GapStep(at, length_s, length_s * moved_n * rate_v_per_n_s, moved_n * static_v_per_n, margin_s))
+            steps.append(GapStep(at, length_s, length_s * moved_n * rate_v_per_n_s, moved_n * static_v_per_n,
+                                 decay_taus_s))
     data.fit_rate.gap_steps = data.full_rate.gap_steps = tuple(steps)
     return bool(steps)
 

@@ -26,9 +26,10 @@ IntArray = npt.NDArray[np.int64]
 class GapStep:
     """What the load hidden by a gap can leave in the output after it.
 
-    A flow, or a retardation slower than ``fast_s``, carries the difference between the hidden load and the
-    interpolated one as a step from the gap on (at most ``step_bound_v``); a faster retardation carries it as a
-    departure of its state that decays with its own time tau, at most ``state_bound_v`` x (1 - exp(-length_s / tau)).
+    A flow, or a retardation slower than two cross-validation blocks, carries the difference between the hidden
+    load and the interpolated one as a step from the gap on (at most ``step_bound_v``); a faster retardation carries
+    it as a departure of its state that decays with its own time tau, at most ``state_bound_v`` x
+    (1 - exp(-length_s / tau)).
 
     Attributes
     ----------
@@ -38,15 +39,20 @@ class GapStep:
         The largest step [V].
     state_bound_v : float
         The largest departure of a retardation's state [V] that a gap much longer than its time could leave.
-    fast_s : float
-        Retardations faster than this [s] decay within the record the step is fitted on; slower ones are in the step.
+    decay_taus_s : tuple of float
+        The fast retardation times [s] whose decays every model gets after the gap (the base core's: the same
+        nuisance columns for every model compared).
     """
 
     at_s: float
     length_s: float
     step_bound_v: float
     state_bound_v: float = 0.0
-    fast_s: float = 0.0
+    decay_taus_s: tuple[float, ...] = ()
+
+    def decay_bounds_v(self) -> list[float]:
+        """The largest amplitude [V] of the decay of each of :attr:`decay_taus_s` after the gap."""
+        return [self.state_bound_v * -math.expm1(-self.length_s / tau) for tau in self.decay_taus_s]
 
 
 @dataclass

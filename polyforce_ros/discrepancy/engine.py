@@ -193,9 +193,10 @@ def _gap_steps(data: _Record, st: Structure, base_fit: Fit, margin_s: float) -> 
     but not at once: its state leaves the gap off by at most its compliance times the force's move (the hidden load
     departs from the interpolated one by no more), and decays with its own time; the bound takes the base's static
     compliance, which no unit of a refitted core exceeds. The decays run at the base's times, whatever core a model
-    has: nuisance columns that differ between the models compared would favour those with more fast units. A gap in a hold leaves nothing and gets neither. A looser
-    step bound (the force span), or none, lets the steps take a drift's events, and the drift is not found; without
-    the decays, a fast unit's transient after a gap is structure no effect explains."""
+    has: nuisance columns that differ between the models compared would favour those with more fast units. A gap in
+    a hold leaves nothing and gets neither. A looser step bound (the force span), or none, lets the steps take a
+    drift's events, and the drift is not found; without the decays, a fast unit's transient after a gap is structure
+    no effect explains."""
     coef = base_fit.coef_map
     rate_v_per_n_s = coef.get("phi", 0.0) + sum(coef.get(f"c{i}", 0.0) / tau for i, tau in enumerate(st.taus)
                                                 if tau >= margin_s)

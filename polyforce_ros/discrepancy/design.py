@@ -133,6 +133,21 @@ def stack(columns: Sequence[FloatArray], rows: slice = _ALL_ROWS) -> FloatArray:
     return a
 
 
+def _gap_columns(sig: Signals) -> list[tuple[str, FloatArray, float]]:
+    """(name, column, bound) of the record after each gap that hid load history (:attr:`.signals.Signals.gap_steps`):
+    a step, and the decay of each base retardation fast enough to forget the hidden load within the record."""
+    gaps: list[tuple[str, FloatArray, float]] = []
+    for k, gap in enumerate(sig.gap_steps):
+        after = sig.t >= gap.at_s
+        if gap.step_bound_v > 0.0:
+            gaps.append((f"gap{k}", np.where(after, 1.0, 0.0), gap.step_bound_v))
+        for i, (tau, bound_v) in enumerate(zip(gap.decay_taus_s, gap.decay_bounds_v())):
+            if bound_v > 0.0:
+                decay = np.where(after, np.exp(-np.clip(sig.t - gap.at_s, 0.0, None) / tau), 0.0)
+                gaps.append((f"gap{k}_c{i}", decay, bound_v))  # named as GAP_DECAY matches
+    return gaps
+
+
 def design_columns(sig: Signals, st: Structure, extra: Sequence[Col] = ()) -> Design:
     """:func:`design` with the columns of A as a list of arrays (not stacked: the polish needs a few rows)."""
     shift = st.term("thermo_rheological")
@@ -147,15 +162,9 @@ def design_columns(sig: Signals, st: Structure, extra: Sequence[Col] = ()) -> De
             continue
         cols += term_columns(sig, term)
     cols += list(extra)
-    gaps = []  # the record after each gap that hid load history (Signals.gap_steps): a step, and the decay of each
-    for k, gap in enumerate(sig.gap_steps):  # base retardation fast enough to forget the hidden load within the record
-        after = sig.t >= gap.at_s
-        if gap.step_bound_v > 0.0:
-            gaps.append((f"gap{k}", np.where(after, 1.0, 0.0), gap.step_bound_v))
-        for i, (tau, bound_v) in enumerate(zip(gap.decay_taus_s, gap.decay_bounds_v())):
-            if bound_v > 0.0:
-                decay = np.where(after, np.exp(-np.clip(sig.t - gap.at_s, 0.0, None) / tau), 0.0)
-                gaps.append((f"gap{k}_c{i}", decay, bound_v))  # named as GAP_DECAY matches
+    if ("gaps", sig.gap_steps) not in sig.cache:  # the same for every structure: made once per signals
+        sig.cache[("gaps", sig.gap_steps)] = _gap_columns(sig)
+    gaps: list[tuple[str, FloatArray, float]] = sig.cache[("gaps", sig.gap_steps)]
     names = [c[0] for c in cols] + ["offset"] + [g[0] for g in gaps]
     mats = []
     for c in cols:

@@ -22,7 +22,7 @@ Procedure (:func:`diagnose`):
    polished by :func:`~polyforce_ros.physics.fitting.multistart_least_squares`.
    Each gap in the record that can hide load history gets a bounded offset
    step of its own in every model, and a bounded decay of each fast
-   retardation of the core (:func:`_gap_steps`).
+   retardation of the base core (:func:`_gap_steps`).
 4. **Forward selection.** Every effect of the registry (:mod:`.effects`) that
    applies is added in turn to the current model (each variant, each value of
    its nonlinear parameter on its grid) and scored out of sample. The best is

@@ -80,7 +80,7 @@ class Signals:
     gap_steps : tuple of GapStep
         Each gap long enough to hide load history (:func:`record_gaps`), with the largest step [V] the hidden load
         can leave and the largest departure of a fast retardation's state; the design gives the record after each
-        its own offset step and a decay of each fast retardation of the core, so bounded.
+        its own offset step and a decay of each fast retardation of the base core, so bounded.
     span_f, span_x : float
         Force span [N] and span of ``x_ref`` [V] at the fit rate: the play radii scale with them (the same at every
         rate of one reference core).

@@ -157,7 +157,7 @@ def test_a_child_that_ignores_sigint_is_killed_after_the_timeout(tmp_path):
     polite = [sys.executable, "-c", "import pathlib, sys, time\ntry:\n    pathlib.Path(sys.argv[1]).touch()\n"
               "    time.sleep(60)\nexcept KeyboardInterrupt:\n    pass", str(polite_ready)]
     runner = bringup.Bringup([bringup.ChildSpec("stubborn", stubborn, None), bringup.ChildSpec("polite", polite, None)],
-                             stop_timeout_s=1.0, log=lambda text: None)
+                             stop_timeout_s=3.0, log=lambda text: None)  # room for a loaded machine's exit
     runner.start()
     try:
         deadline = time.monotonic() + 60.0
@@ -173,4 +173,4 @@ def test_a_child_that_ignores_sigint_is_killed_after_the_timeout(tmp_path):
                 p.wait()
     assert codes == {"stubborn": -signal.SIGKILL, "polite": 0}
     assert runner.killed == ["stubborn"]
-    assert 1.0 <= time.monotonic() - start < 5.0
+    assert 3.0 <= time.monotonic() - start < 10.0

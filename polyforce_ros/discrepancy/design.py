@@ -311,6 +311,14 @@ class Fitter:
 
 def bounded_solve(g: FloatArray, h: FloatArray, lo: FloatArray, hi: FloatArray, reg: FloatArray) -> FloatArray:
     """The bounded least-squares solution of the normal equations ``(g + diag(reg)) c = h``, ``lo <= c <= hi``."""
+    pinned = ~(lo < hi)  # bounds that meet (a bound scaled below the float range): the coefficient is the bound
+    if pinned.any():
+        c = np.where(pinned, np.nan_to_num(lo, posinf=0.0, neginf=0.0), 0.0)
+        free = ~pinned
+        if free.any():
+            c[free] = bounded_solve(g[np.ix_(free, free)], h[free] - g[np.ix_(free, pinned)] @ c[pinned], lo[free],
+                                    hi[free], reg[free])
+        return cast(FloatArray, c)
     p = g.shape[0]
     g = g + np.diag(reg) + (1e-12 * float(np.trace(g)) / p + 1e-300) * np.eye(p)
     try:
@@ -321,15 +329,6 @@ def bounded_solve(g: FloatArray, h: FloatArray, lo: FloatArray, hi: FloatArray, 
     b = linalg.solve_triangular(chol, h, lower=True)
     if np.all(np.isinf(lo)) and np.all(np.isinf(hi)):
         return cast(FloatArray, linalg.solve_triangular(chol.T, b, lower=False))
-    pinned = ~(lo < hi)  # bounds that meet (a bound scaled below the float range): the coefficient is the bound
-    if pinned.any():
-        c = np.where(pinned, np.nan_to_num(lo, posinf=0.0, neginf=0.0), 0.0)
-        if pinned.all():
-            return cast(FloatArray, c)
-        free = ~pinned
-        c[free] = bounded_solve(g[np.ix_(free, free)], h[free] - g[np.ix_(free, pinned)] @ c[pinned], lo[free], hi[free],
-                                np.zeros(int(free.sum())))
-        return cast(FloatArray, c)
     return cast(FloatArray, optimize.lsq_linear(chol.T, b, bounds=(lo, hi), method="bvls").x)
 
 

@@ -630,3 +630,28 @@ def test_any_gaps_and_the_slow_rival_give_a_finite_bounded_fit(seed, kind, gaps,
     decays = [i for i, n in enumerate(fit.names) if GAP_DECAY.fullmatch(n)]
     for folded in fit.coef_folds:
         np.testing.assert_array_equal(folded[decays], fit.coef[decays])
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_a_mode_is_added_beside_a_lag_only_for_structure_the_record_shows(seed):
+    """``choose_mode``: a 20-40 Hz mode that does take the prediction to the measurement is named on top of a lag's
+    prediction when the unexplained test saw structure, and not when it saw none (``structure_seen`` False): then
+    a mode could only replace the lag, and here the lag's prediction is the better one."""
+    from polyforce_ros.discrepancy.resonance import _through_mode, choose_mode
+
+    rng = np.random.default_rng(seed)
+    rate_hz = 1000.0
+    t = np.arange(0.0, 60.0, 1.0 / rate_hz)
+    knocks = np.zeros_like(t)
+    for at in rng.uniform(1.0, 59.0, 40):
+        knocks += np.exp(-np.clip(t - at, 0.0, None) / 0.01) * (t >= at) * rng.uniform(-0.05, 0.05)
+    predicted = 0.02 * np.sin(2 * np.pi * 0.3 * t) + knocks
+    measured = _through_mode(predicted, 1.0 / rate_hz, rng.uniform(20.0, 40.0), rng.uniform(0.03, 0.1)) \
+        + rng.normal(0.0, 2e-3, t.size)
+    fold = (np.arange(t.size) * 5 // t.size).astype(int)
+    without_lag = np.roll(predicted, 50)  # a worse prediction: the model without its lag
+    seen, _ = choose_mode(t, measured, predicted, fold, 2e-3, (15.0, 60.0), 0.8, 0.3, without_lag)
+    assert seen is not None and 15.0 < seen.frequency_hz < 45.0
+    unseen, drop_lag = choose_mode(t, measured, predicted, fold, 2e-3, (15.0, 60.0), 0.8, 0.3, without_lag,
+                                   structure_seen=False)
+    assert unseen is None and not drop_lag

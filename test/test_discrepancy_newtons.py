@@ -533,3 +533,24 @@ def test_creep_spread_over_many_time_scales_is_named_delayed_elasticity_without_
     diag = diagnose(rec, base="burgers")
     assert diag.missing_effects == ["delayed_elasticity"], (diag.missing_effects, diag.unexplained["partial_fits"])
     assert _needle_rmse_fraction(diag.chain, volts, 400.0, seed) <= 0.01
+
+
+
+
+@pytest.mark.parametrize("split, index, named", [
+    ("independent_split_g", 4, ["delayed_elasticity"]),  # creep over a log-normal spectrum at 160 Hz (+ sensor_lag)
+    ("independent_split_i", 29, ["offset_drift"]),  # an offset that ramps to a plateau (+ delayed_elasticity)
+    ("independent_split_i", 39, ["friction"]),  # a LuGre friction at 1 kHz (+ resonance on top of nothing seen)
+])
+def test_no_second_name_for_a_misfit_the_record_does_not_show(split, index, named):
+    """Records of two spent independent splits on which a second effect was named beside the right one for a
+    misfit of its shape, far below what the record can show at its own rate: the right effect alone is named."""
+    import importlib
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+    module = importlib.import_module(split)
+    hidden, magnitude = list(module.SPLIT.cases())[index]
+    rec, _, base, _ = module.SPLIT.simulate(hidden, magnitude, index)
+    diag = diagnose(rec, base=base)
+    assert diag.missing_effects == named, (diag.missing_effects, diag.unexplained["partial_fits"])

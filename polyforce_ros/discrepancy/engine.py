@@ -42,7 +42,9 @@ Procedure (:func:`diagnose`):
    with it included; an effect that the newer ones make redundant (the
    others re-chosen in their best shape without it) is dropped again, and
    one that a rival of its own step now describes as well is swapped for it,
-   until nothing more is justified or a set of effects recurs.
+   until nothing more is justified or a set of effects recurs. Of two or more
+   effects named, one without which the record still shows no structure at its
+   own rate is dropped (:func:`_drop_unseen`).
 5. **Unexplained residual.** The out-of-sample residual of the final model
    at the record's rate (its nonlinear columns driven by the reference force
    as smooth as they were fitted on: a centred mean over a fit bin) is averaged
@@ -56,7 +58,8 @@ Procedure (:func:`diagnose`):
    base's error above the floor (partial fits of something outside the
    catalogue, listed under ``unexplained.partial_fits``). Before that judgement, structure in the residual, or
    a named sensor lag, is offered to a mechanical mode fitted at the record's rate (:mod:`.resonance`), named
-   ``resonance`` when it passes the forward step's test; a sensor lag it makes redundant is dropped.
+   ``resonance`` when it passes the forward step's test; a sensor lag it makes redundant is dropped. With no
+   structure left, a mode may replace a named lag but not join it.
 6. **Judged in newtons** (:mod:`.newtons`). Each left-out block is
    compensated by the model fitted without it and compared with the
    reference force; a sensor lag's inverse gets an explicit bandwidth, a
@@ -286,6 +289,38 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     return judged
 
 
+def _drop_unseen(selection: Selection, data: _Record, bin_of_sample: IntArray, floor_v: float, ratio: float,
+                 say: Callable[[str], None]) -> None:
+    """Stage 4b: of two or more effects named, drop one without which the record still shows nothing at its own rate
+    (:func:`.residual.unexplained_test`, out of sample), the one whose absence costs least first, while two or more
+    are named and the model leaves no structure.
+
+    The acceptance test's least gain (a quarter of the floor's mean square at the fit rate) lies far below what the
+    record can show at its own rate; an effect named beside another for less than that describes the model's misfit
+    of the other's shape (a thermal zero that saturates, a lag of another order), not an effect of its own."""
+    fitter, t = selection.fitter, data.t
+    while len(selection.accepted) >= 2:
+        sig_full = refresh_ref(data.full_rate, fitter.sig.reference_core, fitter.sig.span_x)
+        if unexplained_test(t, out_of_sample(sig_full, selection.current, fitter, bin_of_sample)[1], floor_v,
+                            ratio).present:
+            return
+        unseen: list[tuple[float, str, Fit]] = []
+        for name in selection.accepted:
+            fit = selection.without(selection.current, name)
+            if fit is None:
+                continue
+            rmse_v, resid_v, _ = out_of_sample(sig_full, fit, fitter, bin_of_sample)
+            if not unexplained_test(t, resid_v, floor_v, ratio).present:
+                unseen.append((rmse_v, name, fit))
+        if not unseen:
+            return
+        _, name, fit = min(unseen, key=lambda u: u[0])
+        say(f"drop {name}: the record shows nothing without it")
+        selection.drop(name)
+        selection.current = fit
+        selection.settle_variants()
+
+
 #: Damping of the mode a named lag's delay starts the mode search from: the middle of what a lag can hide (a mode
 #: damped below ~0.2 rings, and leaves structure of its own).
 LAG_MODE_ZETA = 0.3
@@ -311,7 +346,7 @@ def _mode_stage(rec: Record, fitter: Fitter, sig_full: Signals, bin_of_sample: I
     fold = fitter.fold[bin_of_sample]
     without_lag = None if reduced_fit is None else out_of_sample(sig_full, reduced_fit, fitter, bin_of_sample)[2]
     mode, drop_lag = choose_mode(rec.t_s, rec.voltage_v, predicted_v, fold, floor_v, band, min_confidence,
-                                 min_excess_share, without_lag)
+                                 min_excess_share, without_lag, structure_seen=bool(test.present))
     if drop_lag and reduced_fit is not None:
         say("drop sensor_lag: the mode holds it")
         selection.drop("sensor_lag")
@@ -351,6 +386,7 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     # 4. forward selection, backward check and swap
     selection = Selection(fitter, base_fit, noise.fit_mse, has_temp, min_confidence, min_excess_share, say)
     selection.run(catalogue, list(skipped), max_effects)
+    _drop_unseen(selection, data, bin_of_sample, floor, unexplained_ratio, say)
     current = selection.current
     say("unexplained residual")
     # 5. out-of-sample residual at the record's rate, whiteness of the slow part

@@ -150,13 +150,17 @@ def fold_gain(measured_v: FloatArray, better_v: FloatArray, than_v: FloatArray, 
 
 def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.ArrayLike, fold: IntArray,
                 floor_v: float, band_hz: Optional[Sequence[float]], min_confidence: float, min_excess_share: float,
-                predicted_without_lag_v: Optional[FloatArray] = None) -> tuple[Optional[ModeFit], bool]:
+                predicted_without_lag_v: Optional[FloatArray] = None, structure_seen: bool = True
+                ) -> tuple[Optional[ModeFit], bool]:
     """The mode to name, if any, and whether the sensor lag named at the fit rate goes (module docstring).
 
     With a lag named (``predicted_without_lag_v``: the prediction of the model without it), three models compete:
     the lag (``predicted_v``), the lag and a mode, the mode alone. A mode on top of the lag is named when it passes
     the test against the lag; the lag then stays only when it passes the test against the mode alone. A mode that
     does not pass on top of the lag may still replace it: when the mode alone passes the test against the lag.
+    When the model leaves no structure the unexplained test sees (``structure_seen`` False), no mode is added on top
+    of it: the gain would be a misfit of the lag's shape that the record does not show; the mode may still replace
+    the lag.
 
     Returns
     -------
@@ -166,7 +170,8 @@ def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.
         Whether the lag is dropped (the mode holds it).
     """
     v = np.asarray(measured_v, dtype=float)
-    on_top = fit_mode(t_s, v, predicted_v, fold, floor_v, band_hz, min_confidence, min_excess_share)
+    on_top = (fit_mode(t_s, v, predicted_v, fold, floor_v, band_hz, min_confidence, min_excess_share)
+              if structure_seen else None)
     if predicted_without_lag_v is None:
         return on_top, False
     alone = fit_mode(t_s, v, predicted_without_lag_v, fold, floor_v, band_hz, 0.0, -math.inf)

@@ -494,8 +494,7 @@ class Selection:
 
     def run(self, catalogue: Sequence[str], skipped: Sequence[str], max_effects: int) -> None:
         """Rounds of forward step, backward check and swap check until nothing more is justified, ``max_effects``
-        are named or a set of named effects recurs (add one, drop another); then the variants and the candidates
-        that named them take the shapes of the final fit (a backward check or a swap may have re-chosen them)."""
+        are named or a set of named effects recurs (add one, drop another); then :meth:`settle_variants`."""
         seen: set[frozenset[str]] = {frozenset()}
         while len(self.accepted) < max_effects:
             best = self.forward_step(catalogue, skipped)
@@ -507,6 +506,11 @@ class Selection:
             if frozenset(self.accepted) in seen:
                 break
             seen.add(frozenset(self.accepted))
+        self.settle_variants()
+
+    def settle_variants(self) -> None:
+        """The variants named, and the candidates that named them, take the shapes of the current fit (a backward
+        check, a swap or a drop may have re-chosen them)."""
         self.variants = {e: getattr(self.current.structure.term(e), "variant", "") for e in self.accepted}
         for c in self.candidates:
             if c.accepted and c.effect in self.variants:

@@ -42,15 +42,16 @@ def test_sim_backend_contract_values_and_rate():
         node, lis = start_driver(h, profile="step", seed=3, diagnostics_period_s=0.2)
         assert h.spin_until(lambda: len(lis.raw) > 0, 5.0)
         t_start, n_start = time.monotonic(), len(lis.raw)
-        h.spin_for(1.5)
+        # waits for 1.5 s of acquisition to arrive, however long a loaded machine takes to deliver it
+        assert h.spin_until(lambda: len(lis.raw) > n_start and span_s_of(lis.raw, n_start) >= 1.5, 30.0)
         wall_s = time.monotonic() - t_start
         raw, ref = list(lis.raw), list(lis.ref)
-        assert any(d.status[0].level == DiagnosticStatus.OK for d in lis.diags)
-    # The rate is in the stamps (exactly 1 kHz, below, and none missing); that the driver keeps real
-    # time is checked with room for a loaded machine's stalls and delivery lag on both ends of the
-    # window (a receive-rate count over 1.5 s was not).
-    span_s = (stamp_to_ns(raw[-1].header.stamp) - stamp_to_ns(raw[n_start].header.stamp)) * 1e-9
-    assert abs(span_s - wall_s) < 0.75
+        assert h.spin_until(lambda: any(d.status[0].level == DiagnosticStatus.OK for d in lis.diags), 5.0)
+    # The rate is in the stamps (exactly 1 kHz, below, and none missing). The acquisition never runs ahead of
+    # real time: the stamps that arrived over the window span no more than its wall time, with room for the
+    # delivery lag of the window's first sample (a stall makes the span shorter, never longer); and the last
+    # stamp is now (below).
+    assert span_s_of(raw, n_start) <= wall_s + 1.0
     assert {tuple(m.name) for m in raw} == {("sarrus_axial",)}
     assert {m.header.frame_id for m in raw} == {"polyforce_sensor"}
     stamps = np.array([stamp_to_ns(m.header.stamp) for m in raw])
@@ -65,6 +66,11 @@ def test_sim_backend_contract_values_and_rate():
     np.testing.assert_array_equal([ref_by_stamp[s] for s in stamps if s in ref_by_stamp],
                                   f[:n][np.isin(stamps, list(ref_by_stamp))])
     assert len(ref_by_stamp) >= n - 5
+
+
+def span_s_of(raw, n_start):
+    """Seconds of acquisition stamps from sample ``n_start`` to the last of ``raw``."""
+    return (stamp_to_ns(raw[-1].header.stamp) - stamp_to_ns(raw[n_start].header.stamp)) * 1e-9
 
 
 class FakeDevice:

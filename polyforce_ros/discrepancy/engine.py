@@ -44,7 +44,7 @@ Procedure (:func:`diagnose`):
    one that a rival of its own step now describes as well is swapped for it,
    until nothing more is justified or a set of effects recurs. Of two or more
    effects named, one without which the record still shows no structure at its
-   own rate is dropped (:func:`_drop_unseen`).
+   own rate, and which adds less than it can show, is dropped (:func:`_drop_unseen`).
 5. **Unexplained residual.** The out-of-sample residual of the final model
    at the record's rate (its nonlinear columns driven by the reference force
    as smooth as they were fitted on: a centred mean over a fit bin) is averaged
@@ -90,7 +90,7 @@ from scipy import ndimage
 from ..physics.chain import FrictionElement, SensorChain
 from ..record import Record  # the record type diagnose takes (re-exported)
 from ..runtime import CompensatorConfig
-from .design import (BASES, BLOCKS_PER_FOLD, Fit, Fitter, Structure, Term, build_chain, core_model, fold_of,
+from .design import (BASES, BLOCKS_PER_FOLD, Fit, Fitter, Structure, Term, build_chain, core_model, design, fold_of,
                      refresh_ref)
 from .effects import EFFECTS as REGISTRY, NAMES
 from .localise import describe, localise
@@ -289,36 +289,59 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     return judged
 
 
+def _own_part_v(sig_full: Signals, fit: Fit, name: str) -> Optional[FloatArray]:
+    """What ``name`` adds to ``fit``'s prediction at the record's rate [V]: the prediction less that of the structure
+    without it, every other coefficient as fitted (None when it cannot be removed)."""
+    reduced = _without(fit.structure, name)
+    if reduced is None:
+        return None
+    coef = fit.coef_map
+
+    def predicted(st: Structure) -> FloatArray:
+        names, a, *_ = design(sig_full, st)
+        out: FloatArray = a @ np.array([coef.get(n, 0.0) for n in names])
+        return out
+
+    return predicted(fit.structure) - predicted(reduced)
+
+
 def _drop_unseen(selection: Selection, data: _Record, bin_of_sample: IntArray, floor_v: float, ratio: float,
                  say: Callable[[str], None]) -> None:
-    """Stage 4b: of two or more effects named, drop one without which the record still shows nothing at its own rate
-    (:func:`.residual.unexplained_test`, out of sample), the one whose absence costs least first, while two or more
-    are named and the model leaves no structure.
+    """Stage 4b: of two or more effects named, drop one that the record cannot show, while two or more are named
+    and the model leaves no structure (:func:`.residual.unexplained_test`, out of sample, at the record's rate).
+    An effect the record cannot show adds less to the prediction than the test sees (:func:`_own_part_v`), and
+    without it (the others re-chosen) the residual still holds no structure; the smallest goes first.
 
     The acceptance test's least gain (a quarter of the floor's mean square at the fit rate) lies far below what the
     record can show at its own rate; an effect named beside another for less than that describes the model's misfit
-    of the other's shape (a thermal zero that saturates, a lag of another order), not an effect of its own."""
+    of the other's shape (a lag beside creep of another spectrum at a low rate), not an effect of its own. An
+    effect that adds more is kept even when the others, re-chosen, could take it: a drift beside a flow."""
     fitter, t = selection.fitter, data.t
     while len(selection.accepted) >= 2:
         sig_full = refresh_ref(data.full_rate, fitter.sig.reference_core, fitter.sig.span_x)
         if unexplained_test(t, out_of_sample(sig_full, selection.current, fitter, bin_of_sample)[1], floor_v,
                             ratio).present:
             return
-        unseen: list[tuple[float, str, Fit]] = []
+        small: list[tuple[float, str]] = []
         for name in selection.accepted:
-            fit = selection.without(selection.current, name)
-            if fit is None:
+            own = _own_part_v(sig_full, selection.current, name)
+            if own is None:
                 continue
-            rmse_v, resid_v, _ = out_of_sample(sig_full, fit, fitter, bin_of_sample)
-            if not unexplained_test(t, resid_v, floor_v, ratio).present:
-                unseen.append((rmse_v, name, fit))
-        if not unseen:
+            seen = unexplained_test(t, own - float(np.mean(own)), floor_v, ratio)
+            if not seen.present:
+                small.append((seen.rms_v, name))
+        for _, name in sorted(small):
+            fit = selection.without(selection.current, name)
+            if fit is None or unexplained_test(t, out_of_sample(sig_full, fit, fitter, bin_of_sample)[1], floor_v,
+                                               ratio).present:
+                continue
+            say(f"drop {name}: the record cannot show it")
+            selection.drop(name)
+            selection.current = fit
+            selection.settle_variants()
+            break
+        else:
             return
-        _, name, fit = min(unseen, key=lambda u: u[0])
-        say(f"drop {name}: the record shows nothing without it")
-        selection.drop(name)
-        selection.current = fit
-        selection.settle_variants()
 
 
 #: Damping of the mode a named lag's delay starts the mode search from: the middle of what a lag can hide (a mode

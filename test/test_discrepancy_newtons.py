@@ -535,8 +535,6 @@ def test_creep_spread_over_many_time_scales_is_named_delayed_elasticity_without_
     assert _needle_rmse_fraction(diag.chain, volts, 400.0, seed) <= 0.01
 
 
-
-
 @pytest.mark.parametrize("split, index, named", [
     ("independent_split_g", 4, ["delayed_elasticity"]),  # creep over a log-normal spectrum at 160 Hz (+ sensor_lag)
     ("independent_split_g", 16, ["nonlinear_gain"]),  # an odd cubic gain at 160 Hz (+ sensor_lag)

@@ -312,10 +312,11 @@ def _drop_unseen(selection: Selection, data: _Record, bin_of_sample: IntArray, f
     An effect the record cannot show adds less to the prediction than the test sees (:func:`_own_part_v`), and
     without it (the others re-chosen) the residual still holds no structure; the smallest goes first.
 
-    The acceptance test's least gain (a quarter of the floor's mean square at the fit rate) lies far below what the
-    record can show at its own rate; an effect named beside another for less than that describes the model's misfit
-    of the other's shape (a lag beside creep of another spectrum at a low rate), not an effect of its own. An
-    effect that adds more is kept even when the others, re-chosen, could take it: a drift beside a flow."""
+    The acceptance test's least gain (``min_excess_share`` of a quarter of the floor's mean square at the fit rate)
+    lies far below what the record can show at its own rate; an effect named beside another for less than that
+    describes the model's misfit of the other's shape (a lag beside creep of another spectrum at a low rate), not an
+    effect of its own. An effect that adds more is kept even when the others, re-chosen, could take it: a drift
+    beside a flow."""
     fitter, t = selection.fitter, data.t
     while len(selection.accepted) >= 2:
         sig_full = refresh_ref(data.full_rate, fitter.sig.reference_core, fitter.sig.span_x)

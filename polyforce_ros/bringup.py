@@ -157,7 +157,12 @@ def describe(specs: Iterable[ChildSpec]) -> str:
     return "\n".join(lines)
 
 
-def _die_with_parent() -> None:  # runs in the child between fork and exec
+def _child_setup() -> None:
+    """Runs in each child between fork and exec. SIGINT is the polite stop (:meth:`Bringup.stop`): a bringup started
+    where SIGINT is ignored (a background job of a script, nohup) would pass the ignoring on through exec, and every
+    node would be killed after the timeout without its last zero wrench; so it is reset to the default. The child also
+    dies with its parent."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
     try:
         import ctypes
 
@@ -194,7 +199,7 @@ class Bringup:
     def start(self) -> None:
         env = child_env()
         for spec in self.specs:
-            proc = subprocess.Popen(spec.argv, env=env, process_group=0, preexec_fn=_die_with_parent)
+            proc = subprocess.Popen(spec.argv, env=env, process_group=0, preexec_fn=_child_setup)
             self.procs.append((spec.name, proc))
             self.log(f"started {spec.name} (pid {proc.pid})")
 

@@ -158,7 +158,12 @@ def test_a_child_that_ignores_sigint_is_killed_after_the_timeout(tmp_path):
               "    time.sleep(60)\nexcept KeyboardInterrupt:\n    pass", str(polite_ready)]
     runner = bringup.Bringup([bringup.ChildSpec("stubborn", stubborn, None), bringup.ChildSpec("polite", polite, None)],
                              stop_timeout_s=3.0, log=lambda text: None)  # room for a loaded machine's exit
-    runner.start()
+    # started where SIGINT is ignored (a background job of a script): the children must not inherit the ignoring
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        runner.start()
+    finally:
+        signal.signal(signal.SIGINT, previous)
     try:
         deadline = time.monotonic() + 60.0
         while not (ready.exists() and polite_ready.exists()) and time.monotonic() < deadline:

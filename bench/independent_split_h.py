@@ -36,8 +36,8 @@ from scipy import integrate, interpolate
 
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin, ramp_and_hold,
-                       relaxing_play, repeated_insertions)
+from split_kit import (ForcePath, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin,
+                       ramp_and_hold, relaxing_play, repeated_insertions)
 
 SEED0 = 540_000  # never a seed of the registry's splits nor of splits A (90000..) to G (470000..)
 FORCE_MAX_N = 9.0
@@ -122,16 +122,6 @@ class SofteningFlowZener(SimOnly):
         t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         impulse = integrate.cumulative_trapezoid(f, t, initial=0.0)
         return simulate_deformation(self.zener, t, f) + self.u0 * np.expm1(self.phi * impulse / self.u0)
-
-
-class ForcePath(SimOnly):
-    """A map of the force history before the core: ``fn(t, F)``."""
-
-    def __init__(self, fn):
-        self.fn = fn
-
-    def forward(self, t_s, x, aux=None, state=None):
-        return self.fn(np.asarray(t_s, dtype=float), np.asarray(x, dtype=float))
 
 
 class FractionalLag(SimOnly):

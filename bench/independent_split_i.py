@@ -35,8 +35,8 @@ from scipy import integrate
 
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, kelvin,
-                       ramp_and_hold, repeated_insertions)
+from split_kit import (ForcePath, LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output,
+                       kelvin, ramp_and_hold, repeated_insertions)
 
 SEED0 = 610_000  # never a seed of the registry's splits nor of splits A (90000..) to H (540000..)
 FORCE_MAX_N = 9.0
@@ -114,16 +114,6 @@ class RateFlowZener(SimOnly):
     def forward(self, t_s, x, aux=None, state=None):
         t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         return simulate_deformation(self.zener, t, f) + integrate.cumulative_trapezoid(self.rate_of(f), t, initial=0.0)
-
-
-class ForcePath(SimOnly):
-    """A map of the force history before the core: ``fn(t, F)``."""
-
-    def __init__(self, fn):
-        self.fn = fn
-
-    def forward(self, t_s, x, aux=None, state=None):
-        return self.fn(np.asarray(t_s, dtype=float), np.asarray(x, dtype=float))
 
 
 class TriangularWindow(SimOnly):

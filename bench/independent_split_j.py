@@ -46,8 +46,8 @@ from scipy import integrate, interpolate, signal, special
 
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, kelvin, ramp_and_hold,
-                       repeated_insertions)
+from split_kit import (ForcePath, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, kelvin,
+                       ramp_and_hold, repeated_insertions)
 
 SEED0 = 680_000  # never a seed of the registry's splits nor of splits A (90000..) to I (610000..)
 FORCE_MAX_N = 9.0
@@ -156,16 +156,6 @@ class ThixotropicFlowZener(SimOnly):
             s = min(max(s, 0.0), 1.0)
             rate[i] = self.phi * (1.0 + self.b * s) * fi
         return simulate_deformation(self.zener, t, f) + integrate.cumulative_trapezoid(rate, t, initial=0.0)
-
-
-class ForcePath(SimOnly):
-    """A map of the force history before the core: ``fn(t, F)``."""
-
-    def __init__(self, fn):
-        self.fn = fn
-
-    def forward(self, t_s, x, aux=None, state=None):
-        return self.fn(np.asarray(t_s, dtype=float), np.asarray(x, dtype=float))
 
 
 class LensPlay(SimOnly):

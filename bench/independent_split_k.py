@@ -49,8 +49,8 @@ from scipy import integrate, interpolate, optimize, signal
 from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, dead_time,
-                       kelvin, repeated_insertions)
+from split_kit import (ForcePath, LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output,
+                       dead_time, kelvin, repeated_insertions)
 
 SEED0 = 750_000  # never a seed of the registry's splits nor of splits A (90000..) to J (680000..)
 FORCE_MAX_N = 9.0
@@ -142,16 +142,6 @@ class FlowZener(SimOnly):
     def forward(self, t_s, x, aux=None, state=None):
         t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         return simulate_deformation(self.zener, t, f) + integrate.cumulative_trapezoid(self.rate_of(f), t, initial=0.0)
-
-
-class ForcePath(SimOnly):
-    """A map of the force history before the core: ``fn(t, F)``."""
-
-    def __init__(self, fn):
-        self.fn = fn
-
-    def forward(self, t_s, x, aux=None, state=None):
-        return self.fn(np.asarray(t_s, dtype=float), np.asarray(x, dtype=float))
 
 
 def langevin(s):

@@ -150,6 +150,16 @@ def relaxing_play(t, x, r, tau_s):
     return out
 
 
+class ForcePath(SimOnly):
+    """A map of the force history before the core: ``fn(t, F)``."""
+
+    def __init__(self, fn):
+        self.fn = fn
+
+    def forward(self, t_s, x, aux=None, state=None):
+        return self.fn(np.asarray(t_s, dtype=float), np.asarray(x, dtype=float))
+
+
 class LinearFilter(SimOnly):
     """A continuous-time filter (numerator, denominator in s), from rest, on a uniform grid at the median step."""
 

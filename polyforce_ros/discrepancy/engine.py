@@ -305,36 +305,38 @@ def _own_part_v(sig_full: Signals, fit: Fit, name: str) -> Optional[FloatArray]:
     return predicted(fit.structure) - predicted(reduced)
 
 
-def _drop_unseen(selection: Selection, data: _Record, bin_of_sample: IntArray, floor_v: float, ratio: float,
-                 say: Callable[[str], None]) -> None:
+def _drop_unseen(selection: Selection, sig_full: Signals, t_s: FloatArray, bin_of_sample: IntArray, floor_v: float,
+                 ratio: float, say: Callable[[str], None]) -> None:
     """Stage 4b: of two or more effects named, drop one that the record cannot show, while two or more are named
     and the model leaves no structure (:func:`.residual.unexplained_test`, out of sample, at the record's rate).
     An effect the record cannot show adds less to the prediction than the test sees (:func:`_own_part_v`), and
-    without it (the others re-chosen) the residual still holds no structure; the smallest goes first.
+    without it (the others re-chosen) the residual still holds no structure; the smallest goes first. ``sig_full``:
+    the record at its own rate on the selection's reference core (a drop re-chooses shapes on that core and keeps
+    it); ``t_s``: its stamps [s].
 
     The acceptance test's least gain (``min_excess_share`` of a quarter of the floor's mean square at the fit rate)
     lies far below what the record can show at its own rate; an effect named beside another for less than that
     describes the model's misfit of the other's shape (a lag beside creep of another spectrum at a low rate), not an
     effect of its own. An effect that adds more is kept even when the others, re-chosen, could take it: a drift
     beside a flow."""
-    fitter, t = selection.fitter, data.t
+    def leaves_structure(fit: Fit) -> bool:
+        resid_v = out_of_sample(sig_full, fit, selection.fitter, bin_of_sample)[1]
+        return unexplained_test(t_s, resid_v, floor_v, ratio).present
+
     while len(selection.accepted) >= 2:
-        sig_full = refresh_ref(data.full_rate, fitter.sig.reference_core, fitter.sig.span_x)
-        if unexplained_test(t, out_of_sample(sig_full, selection.current, fitter, bin_of_sample)[1], floor_v,
-                            ratio).present:
+        if leaves_structure(selection.current):
             return
         small: list[tuple[float, str]] = []
         for name in selection.accepted:
             own = _own_part_v(sig_full, selection.current, name)
             if own is None:
                 continue
-            seen = unexplained_test(t, own - float(np.mean(own)), floor_v, ratio)
+            seen = unexplained_test(t_s, own - float(np.mean(own)), floor_v, ratio)
             if not seen.present:
                 small.append((seen.rms_v, name))
         for _, name in sorted(small):
             fit = selection.without(selection.current, name)
-            if fit is None or unexplained_test(t, out_of_sample(sig_full, fit, fitter, bin_of_sample)[1], floor_v,
-                                               ratio).present:
+            if fit is None or leaves_structure(fit):
                 continue
             say(f"drop {name}: the record cannot show it")
             selection.drop(name)
@@ -410,14 +412,14 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     # 4. forward selection, backward check and swap
     selection = Selection(fitter, base_fit, noise.fit_mse, has_temp, min_confidence, min_excess_share, say)
     selection.run(catalogue, list(skipped), max_effects)
-    _drop_unseen(selection, data, bin_of_sample, floor, unexplained_ratio, say)
+    sig = fitter.sig  # a drop re-chooses shapes on this reference core, and keeps it
+    sig_full = refresh_ref(data.full_rate, sig.reference_core, sig.span_x)  # the core the columns of the fit were made with
+    _drop_unseen(selection, sig_full, data.t, bin_of_sample, floor, unexplained_ratio, say)
     current = selection.current
     say("unexplained residual")
     # 5. out-of-sample residual at the record's rate, whiteness of the slow part
     sig_full_base = refresh_ref(data.full_rate, base_core, fitter.sig.span_x)
     rmse_before, _, sim_before = out_of_sample(sig_full_base, base_fit, fitter, bin_of_sample)
-    sig = fitter.sig
-    sig_full = refresh_ref(data.full_rate, sig.reference_core, sig.span_x)  # the core the columns of the fit were made with
     rmse_after, resid_after, sim_after = out_of_sample(sig_full, current, fitter, bin_of_sample)
     test = unexplained_test(t, resid_after, floor, unexplained_ratio)
     # 5b. a mechanical mode, at the record's rate, on what the selection predicts

@@ -54,11 +54,11 @@ def test_sim_backend_contract_values_and_rate():
     # The rate is in the stamps (exactly 1 kHz, below, and none missing). The acquisition never runs ahead of
     # real time: no sample arrives before the time it is stamped with (2 ms for the clocks' rounding); and the
     # last stamp is now (below).
-    ahead_ns = np.array([stamp_to_ns(m.header.stamp) for m in raw]) - np.array(received_ns[:len(raw)])
+    stamps = np.array([stamp_to_ns(m.header.stamp) for m in raw])
+    ahead_ns = stamps - np.array(received_ns[:len(raw)])
     assert ahead_ns.max() <= 2_000_000, f"a sample arrived {ahead_ns.max() * 1e-6:.1f} ms before its stamp"
     assert {tuple(m.name) for m in raw} == {("sarrus_axial",)}
     assert {m.header.frame_id for m in raw} == {"polyforce_sensor"}
-    stamps = np.array([stamp_to_ns(m.header.stamp) for m in raw])
     assert set(np.diff(stamps)) <= {999_999, 1_000_000, 1_000_001}  # exactly 1 kHz acquisition stamps
     assert abs(stamps[-1] * 1e-9 - time.time()) < 2.0  # acquisition time is now, not a made-up epoch
     # The samples are exactly the simulator's output for the profile (same seed), in order.

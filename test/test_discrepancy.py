@@ -636,7 +636,8 @@ def test_any_gaps_and_the_slow_rival_give_a_finite_bounded_fit(seed, kind, gaps,
 def test_a_mode_is_added_beside_a_lag_only_for_structure_the_record_shows(seed):
     """``choose_mode``: a 20-40 Hz mode that does take the prediction to the measurement is named on top of a lag's
     prediction when the unexplained test saw structure, and not when it saw none (``structure_seen`` False): then
-    a mode could only replace the lag, and here the lag's prediction is the better one."""
+    a mode could only replace the lag, and here the lag's prediction is the better one. Where the mode alone
+    predicts better than the lag, it replaces the lag either way."""
     from polyforce_ros.discrepancy.resonance import _through_mode, choose_mode
 
     rng = np.random.default_rng(seed)
@@ -655,3 +656,11 @@ def test_a_mode_is_added_beside_a_lag_only_for_structure_the_record_shows(seed):
     unseen, drop_lag = choose_mode(t, measured, predicted, fold, 2e-3, (15.0, 60.0), 0.8, 0.3, without_lag,
                                    structure_seen=False)
     assert unseen is None and not drop_lag
+    # the record rings through the mode of what the model without its lag predicts, and the lag's prediction (a
+    # delay of it) is the worse one: the mode replaces the lag, structure seen or not
+    rings = _through_mode(without_lag, 1.0 / rate_hz, rng.uniform(20.0, 40.0), rng.uniform(0.03, 0.1)) \
+        + rng.normal(0.0, 2e-3, t.size)
+    for seen_there in (True, False):
+        alone, drop_lag = choose_mode(t, rings, np.roll(without_lag, 8), fold, 2e-3, (15.0, 60.0), 0.8, 0.3,
+                                      without_lag, structure_seen=seen_there)
+        assert alone is not None and drop_lag and 15.0 < alone.frequency_hz < 45.0

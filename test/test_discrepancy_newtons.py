@@ -554,3 +554,43 @@ def test_no_second_name_for_a_misfit_the_record_cannot_show(split, index, named)
     rec, _, base, _ = module.SPLIT.simulate(hidden, magnitude, index)
     diag = diagnose(rec, base=base)
     assert diag.missing_effects == named, (diag.missing_effects, diag.unexplained["partial_fits"])
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_delayed_elasticitys_own_part_is_its_own_retardation_time(seed):
+    """What a delayed elasticity adds to a prediction is its own Kelvin unit's response, whichever of the core's
+    retardation times it names: without the faster of two times the slower one is renumbered, and must keep its own
+    coefficient (a unit fitted at zero adds nothing)."""
+    from types import SimpleNamespace
+
+    from polyforce_ros.discrepancy.design import Structure, Term, design
+    from polyforce_ros.discrepancy.engine import _own_part_v
+    from polyforce_ros.discrepancy.signals import Signals
+    from polyforce_ros.sim.bench import random_load
+
+    rng = np.random.default_rng(seed)
+    t, f = random_load(300.0, 20.0, seed)
+    sig = Signals(t, f, np.zeros_like(t), None, t0=0.0, duration_s=300.0, temp_ref=0.0)
+    fast_s, slow_s = rng.uniform(0.5, 3.0), rng.uniform(15.0, 60.0)
+    structure = Structure("zener2", (fast_s, slow_s), (Term("delayed_elasticity", "", fast_s),))
+    names, columns, *_ = design(sig, structure)
+    for fast_v_per_n in (0.0, rng.uniform(0.005, 0.03)):
+        coef = {"j0": rng.uniform(0.02, 0.1), "c0": fast_v_per_n, "c1": rng.uniform(0.01, 0.05), "offset": 0.01}
+        fit = SimpleNamespace(structure=structure, coef_map=coef)
+        own = _own_part_v(sig, fit, "delayed_elasticity")
+        assert own is not None
+        np.testing.assert_allclose(own, fast_v_per_n * columns[:, names.index("c0")], atol=1e-12)
+
+
+@pytest.mark.parametrize("frequency_hz", [0.2, 3.0, 45.0, 70.0])
+def test_what_the_record_can_show_of_a_noise_free_part_is_its_rms(frequency_hz):
+    """A noise-free contribution is seen by the unexplained test as it would be on top of the record's noise: its
+    RMS in 1 s averages or in its octave band, with nothing subtracted for a floor it does not hold (a fast part of
+    0.8 times the floor passed as unseen when the floor's power was subtracted from it)."""
+    from polyforce_ros.discrepancy.engine import _shown
+
+    rate_hz, floor_v = 160.0, 2e-3
+    t = np.arange(0.0, 120.0, 1.0 / rate_hz)
+    for share in (0.3, 0.8):
+        part = share * floor_v * np.sqrt(2.0) * np.sin(2 * np.pi * frequency_hz * t)
+        assert _shown(t, part, floor_v, 0.5) == pytest.approx(share, rel=0.15)

@@ -80,6 +80,7 @@ module runs them in order.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from functools import partial
 from typing import Any, Callable, Collection, Optional, Sequence
@@ -96,7 +97,7 @@ from .effects import EFFECTS as REGISTRY, NAMES
 from .localise import describe, localise
 from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, rate_of, runtime_guard, with_filter,
                       with_friction_deadband, with_friction_share, with_safe_bandwidth)
-from .refit import base_structure
+from .refit import base_structure, refine
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
 from .residual import excess, noise_floor, out_of_sample, unexplained_test, where
 from .resonance import ModeFit, choose_mode, with_mode
@@ -289,24 +290,46 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     return judged
 
 
+#: The column of the structure's i-th core retardation time (a gap's decays, ``gap<k>_c<i>``, follow the base
+#: core's times, the same with or without a term).
+_CORE_TIME_COLUMN = re.compile(r"c(\d+)")
+
+
 def _own_part_v(sig_full: Signals, fit: Fit, name: str) -> Optional[FloatArray]:
     """What ``name`` adds to ``fit``'s prediction at the record's rate [V]: the prediction less that of the structure
-    without it, every other coefficient as fitted (None when it cannot be removed)."""
+    without it, every other coefficient as fitted (None when it cannot be removed).
+
+    The core's columns are numbered by position: without a retardation time that is not the last, the later ones
+    are renumbered, so the structure without it takes each time's coefficient by the time, not by the number."""
     reduced = _without(fit.structure, name)
     if reduced is None:
         return None
-    coef = fit.coef_map
+    coef, full_taus = fit.coef_map, list(fit.structure.taus)
+    number = {i: full_taus.index(tau) if tau in full_taus else i for i, tau in enumerate(reduced.taus)}
 
-    def predicted(st: Structure) -> FloatArray:
+    def as_fitted(column: str) -> str:
+        core_time = _CORE_TIME_COLUMN.fullmatch(column)
+        return f"c{number.get(int(core_time.group(1)), int(core_time.group(1)))}" if core_time else column
+
+    def predicted(st: Structure, rename: Callable[[str], str]) -> FloatArray:
         names, a, *_ = design(sig_full, st)
-        out: FloatArray = a @ np.array([coef.get(n, 0.0) for n in names])
+        out: FloatArray = a @ np.array([coef.get(rename(n), 0.0) for n in names])
         return out
 
-    return predicted(fit.structure) - predicted(reduced)
+    return predicted(fit.structure, str) - predicted(reduced, as_fitted)
 
 
-def _drop_unseen(selection: Selection, sig_full: Signals, t_s: FloatArray, bin_of_sample: IntArray, floor_v: float,
-                 ratio: float, say: Callable[[str], None]) -> None:
+def _shown(t_s: FloatArray, part_v: FloatArray, floor_v: float, ratio: float) -> float:
+    """How much of a noise-free signal the unexplained test would see, as a share of ``floor_v``: its larger RMS
+    in 1 s averages or in an octave band (:func:`.residual.unexplained_test` over a zero floor, which subtracts
+    nothing; the test proper subtracts the floor's own power in each band, which a noise-free part does not hold).
+    The 1 s averages count without the test's whiteness gate: a part is counted as shown when in doubt, and kept."""
+    seen = unexplained_test(t_s, part_v - float(np.mean(part_v)), 0.0, ratio)
+    return seen.rms_v / floor_v if floor_v > 0.0 else float("inf")
+
+
+def _drop_unseen(selection: Selection, full_rate: Signals, sig_full: Signals, t_s: FloatArray, bin_of_sample: IntArray,
+                 floor_v: float, ratio: float, say: Callable[[str], None]) -> Signals:
     """Stage 4b: of two or more effects named, drop one that the record cannot show, while two or more are named
     and the model leaves no structure (:func:`.residual.unexplained_test`, out of sample, at the record's rate).
     An effect the record cannot show adds less to the prediction than the test sees (:func:`_own_part_v`), and
@@ -318,33 +341,48 @@ def _drop_unseen(selection: Selection, sig_full: Signals, t_s: FloatArray, bin_o
     lies far below what the record can show at its own rate; an effect named beside another for less than that
     describes the model's misfit of the other's shape (a lag beside creep of another spectrum at a low rate), not an
     effect of its own. An effect that adds more is kept even when the others, re-chosen, could take it: a drift
-    beside a flow."""
-    def leaves_structure(fit: Fit) -> bool:
-        resid_v = out_of_sample(sig_full, fit, selection.fitter, bin_of_sample)[1]
+    beside a flow.
+
+    After a drop the model is refined on its own core and kept when it predicts the left-out blocks better (as the
+    backward check does) and still leaves no structure; the record at its own rate follows its reference core.
+    ``full_rate``: the record at its own rate (any reference core). Returns the record at its own rate on the
+    reference core kept."""
+    fitter = selection.fitter
+
+    def leaves_structure(fit: Fit, at_full_rate: Signals) -> bool:
+        resid_v = out_of_sample(at_full_rate, fit, fitter, bin_of_sample)[1]
         return unexplained_test(t_s, resid_v, floor_v, ratio).present
 
     while len(selection.accepted) >= 2:
-        if leaves_structure(selection.current):
-            return
+        if leaves_structure(selection.current, sig_full):
+            break
         small: list[tuple[float, str]] = []
         for name in selection.accepted:
             own = _own_part_v(sig_full, selection.current, name)
             if own is None:
                 continue
-            seen = unexplained_test(t_s, own - float(np.mean(own)), floor_v, ratio)
-            if not seen.present:
-                small.append((seen.rms_v, name))
+            shown = _shown(t_s, own, floor_v, ratio)
+            if shown < ratio:
+                small.append((shown, name))
         for _, name in sorted(small):
             fit = selection.without(selection.current, name)
-            if fit is None or leaves_structure(fit):
+            if fit is None or leaves_structure(fit, sig_full):
                 continue
             say(f"drop {name}: the record cannot show it")
             selection.drop(name)
-            selection.current = fit
+            judged_sig, selection.current = fitter.sig, fit
+            refined = refine(fitter, fit.structure, rounds=1)
+            refined_full = (sig_full if fitter.sig is judged_sig
+                            else refresh_ref(full_rate, fitter.sig.reference_core, fitter.sig.span_x))
+            if refined.cv_mse <= fit.cv_mse and not leaves_structure(refined, refined_full):
+                selection.current, sig_full = refined, refined_full
+            else:
+                fitter.sig = judged_sig
             selection.settle_variants()
             break
         else:
-            return
+            break
+    return sig_full
 
 
 #: Damping of the mode a named lag's delay starts the mode search from: the middle of what a lag can hide (a mode
@@ -412,9 +450,10 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     # 4. forward selection, backward check and swap
     selection = Selection(fitter, base_fit, noise.fit_mse, has_temp, min_confidence, min_excess_share, say)
     selection.run(catalogue, list(skipped), max_effects)
-    sig = fitter.sig  # a drop re-chooses shapes on this reference core, and keeps it
-    sig_full = refresh_ref(data.full_rate, sig.reference_core, sig.span_x)  # the core the columns of the fit were made with
-    _drop_unseen(selection, sig_full, data.t, bin_of_sample, floor, unexplained_ratio, say)
+    # the record at its own rate on the core the columns of the fit were made with
+    sig_full = refresh_ref(data.full_rate, fitter.sig.reference_core, fitter.sig.span_x)
+    sig_full = _drop_unseen(selection, data.full_rate, sig_full, data.t, bin_of_sample, floor, unexplained_ratio, say)
+    sig = fitter.sig
     current = selection.current
     say("unexplained residual")
     # 5. out-of-sample residual at the record's rate, whiteness of the slow part

@@ -519,6 +519,7 @@ class Selection:
     def drop(self, name: str) -> None:
         """``name`` no longer names an effect (another stands in for it)."""
         self.accepted.remove(name)
+        self.accepted_at.pop(name, None)
         self._unname(name)
 
     def name_at_record_rate(self, name: str, confidence: float, excess_share: float) -> None:

@@ -2,6 +2,7 @@
 and drift. Forward, batch backward and streaming agree; model files carry them; random parameters."""
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 from polyforce_ros.model_file import SensorModel, load_model, save_model
 from polyforce_ros.physics.chain import (
@@ -194,3 +195,30 @@ def test_a_stiction_band_at_the_narrowest_searched_is_at_its_noise_limit(sigma_n
     assert at_noise_limit("friction", low, sig) and at_noise_limit("friction", 0.5 * low, sig)
     assert not at_noise_limit("friction", 1.5 * low, sig)
     assert not at_noise_limit("hysteresis", low, sig) and not at_noise_limit("friction", None, sig)
+
+
+@settings(max_examples=200, deadline=None)
+@given(q=st.floats(-30.0, 30.0), c=st.floats(-100.0, 100.0), d=st.floats(-100.0, 100.0),
+       share=st.floats(0.0, 1.0), beyond=st.floats(0.0, 5.0))
+def test_a_polynomial_gain_is_inverted_on_its_rising_branch_and_saturates_beyond_it(q, c, d, share, beyond):
+    """Any curve: a reading made on the rising branch through zero comes back exactly (to the input), in batch
+    and per sample; a reading beyond the branch (a fitted curve that turns over near the top of its range) comes
+    back as the branch's end, never as a point of another branch or a jump."""
+    gain = PolynomialGainElement(quadratic_per_v=q, cubic_per_v2=c, quartic_per_v3=d)
+    low, high = gain.branch_v
+    assert low < 0.0 < high
+    x = np.clip(np.linspace(-2.0, 2.0, 101), low, high)
+    slope = 1 + 2 * q * x + 3 * c * x ** 2 + 4 * d * x ** 3
+    assert np.all(slope >= -1e-9)  # the branch rises
+    y = gain.forward(None, x)
+    np.testing.assert_allclose(gain.backward(None, y), x, atol=1e-9 * (1 + np.abs(y)).max())
+    stream = gain.streaming()
+    probe = float(y[int(share * 100)])
+    assert stream.step(0.0, probe) == pytest.approx(float(gain.backward(None, np.array([probe]))[0]), abs=1e-12)
+    for end in (low, high):
+        if abs(end) < 100.0:  # the branch ends where the curve turns down, not where it only flattens
+            past = end + np.sign(end) * 1e-6 * max(1.0, abs(end))
+            assert 1 + 2 * q * past + 3 * c * past ** 2 + 4 * d * past ** 3 < 0.0
+        if abs(end) < 100.0:  # past the turn (within any bridge's reach): the reading of the end, or more, is the end
+            past = float(gain.forward(None, np.array([end]))[0]) + np.sign(end) * beyond
+            assert gain.backward(None, np.array([past]))[0] == pytest.approx(end, abs=1e-9 * (1 + abs(end)))

@@ -556,6 +556,57 @@ def test_no_second_name_for_a_misfit_the_record_cannot_show(split, index, named)
     assert diag.missing_effects == named, (diag.missing_effects, diag.unexplained["partial_fits"])
 
 
+@pytest.mark.parametrize("index", [
+    17,  # an s-shaped cubic non-linearity at 520 Hz: the curve fitted turns over near the top of the range
+    18,  # a smooth random integral non-linearity at 780 Hz: the settled fit's core was not its reference core
+])
+def test_a_named_gain_is_saved_as_it_was_scored(index):
+    """Records of the spent split J on which a correct ``nonlinear_gain`` was refused in newtons (the saved model
+    compensated worse than the base): the fit scored and the chain saved must be one model (the gain's reference
+    core is its fitted core), and the chain's inverse must stay on the curve's rising branch. Then the saved model
+    compensates the left-out blocks better than the base."""
+    import importlib
+    import sys
+
+    if str(REPO / "bench") not in sys.path:
+        sys.path.insert(0, str(REPO / "bench"))
+    module = importlib.import_module("independent_split_j")
+    hidden, magnitude = list(module.SPLIT.cases())[index]
+    rec, _, base, _ = module.SPLIT.simulate(hidden, magnitude, index)
+    diag = diagnose(rec, base=base)
+    assert diag.missing_effects == ["nonlinear_gain"], (diag.missing_effects, diag.newtons.get("rejected"))
+    assert diag.newtons["saved"]["rmse_n"] < 0.5 * diag.newtons["base"]["rmse_n"]
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_gains_fit_is_settled_where_its_fitted_core_is_its_reference_core(seed, monkeypatch):
+    """A burgers core behind a random quartic gain: after settling, the core the gain's columns were made from
+    (the reference core) is the core the fit returns, so the chain saved (the curve on the fitted core's output)
+    is the model scored. Where no such point is found, the settled fit is returned with its own reference core."""
+    from polyforce_ros.discrepancy import refit
+    from polyforce_ros.discrepancy.design import Fitter, Structure, Term, core_model, refresh_ref
+    from polyforce_ros.discrepancy.signals import Signals
+    from polyforce_ros.physics.viscoelastic import Burgers, simulate_deformation
+    from polyforce_ros.sim.bench import random_load
+
+    rng = np.random.default_rng(seed)
+    t, f = random_load(300.0, 20.0, seed)
+    core = Burgers(rng.uniform(10.0, 40.0), rng.uniform(30.0, 120.0), rng.uniform(5e3, 5e4), rng.uniform(100.0, 800.0))
+    x = simulate_deformation(core, t, f)
+    u = x / np.ptp(x)
+    v = x + np.ptp(x) * (rng.uniform(-0.1, 0.1) * u ** 2 + rng.uniform(-0.1, 0.1) * u ** 3
+                         + rng.uniform(-0.1, 0.1) * u ** 4) + rng.normal(0.0, 2e-3, t.size)
+    sig = Signals(t, f, v, None, t0=0.0, duration_s=300.0, temp_ref=0.0)
+    structure = Structure("burgers", (rng.uniform(3.0, 30.0),), (Term("nonlinear_gain", "", None),))
+    fitter = Fitter(refresh_ref(sig, core_model(structure, {"j0": 1.5 / core.k1_n_per_v, "c0": 0.5 / core.k2_n_per_v})), 5)
+    fit = refit.settle(fitter, structure)
+    fitted = simulate_deformation(core_model(structure, fit.coef_map), t, f)
+    assert np.sqrt(np.mean((fitted - fitter.sig.x_ref) ** 2)) <= 1e-5 * np.sqrt(np.mean(fitted ** 2))
+    monkeypatch.setattr(refit, "GAIN_CORE_TOLERANCE", -1.0)  # no point is ever close enough
+    before = fitter.sig
+    assert refit._gain_on_its_own_core(fitter, structure, fit) is fit and fitter.sig is before
+
+
 @pytest.mark.parametrize("seed", range(3))
 def test_a_delayed_elasticitys_own_part_is_its_own_retardation_time(seed):
     """What a delayed elasticity adds to a prediction is its own Kelvin unit's response, whichever of the core's

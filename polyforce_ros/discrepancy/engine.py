@@ -97,7 +97,7 @@ from .effects import EFFECTS as REGISTRY, NAMES
 from .localise import describe, localise
 from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, rate_of, runtime_guard, with_filter,
                       with_friction_deadband, with_friction_share, with_safe_bandwidth)
-from .refit import base_structure, refine
+from .refit import base_structure, refine, settle
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
 from .residual import excess, noise_floor, out_of_sample, unexplained_test, where
 from .resonance import ModeFit, choose_mode, with_mode
@@ -453,6 +453,13 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     # the record at its own rate on the core the columns of the fit were made with
     sig_full = refresh_ref(data.full_rate, fitter.sig.reference_core, fitter.sig.span_x)
     sig_full = _drop_unseen(selection, data.full_rate, sig_full, data.t, bin_of_sample, floor, unexplained_ratio, say)
+    if selection.current.structure.term("nonlinear_gain") is not None:
+        # the model saved is the model scored: a fit kept from before a refit (a drop, a re-choice) has its gain's
+        # columns on another core than its own
+        judged_sig = fitter.sig
+        selection.current = settle(fitter, selection.current.structure, rounds=0)
+        if fitter.sig is not judged_sig:
+            sig_full = refresh_ref(data.full_rate, fitter.sig.reference_core, fitter.sig.span_x)
     sig = fitter.sig
     current = selection.current
     say("unexplained residual")

@@ -13,6 +13,7 @@ from dataclasses import replace
 from typing import Optional
 
 import numpy as np
+from scipy import optimize
 
 from ..physics.fitting import multistart_least_squares
 from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, Term, bounded_solve, core_model,
@@ -104,12 +105,59 @@ def param_log_bounds(term: Term, sig: Signals) -> tuple[float, float]:
 def settle(fitter: Fitter, st: Structure, rounds: int = 2) -> Fit:
     """Fit ``st`` with the columns that follow the core (hysteresis, gain) made from the core it fits, so that the
     model scored is the model saved (:func:`.design.build_chain` places them after/before that core); ``rounds``
-    refreshes."""
+    refreshes, and a gain's fit is then taken to the point where the two cores are one
+    (:func:`_gain_on_its_own_core`)."""
     fit = fitter.evaluate(st)
     for _ in range(rounds):
         fitter.sig = refresh_ref(fitter.sig, core_model(st, fit.coef_map))
         fit = fitter.evaluate(st)
+    if st.term("nonlinear_gain") is not None:
+        fit = _gain_on_its_own_core(fitter, st, fit)
     return fit
+
+
+#: The core's compliances a reference core is made of (:func:`.design.core_model`), besides one per retardation time.
+_CORE_COMPLIANCES = ("j0", "phi")
+
+
+def _gain_on_its_own_core(fitter: Fitter, st: Structure, fit: Fit) -> Fit:
+    """``fit`` with its reference core equal to its fitted core, when such a fit exists (else ``fit`` as given).
+
+    The gain's columns are powers of the reference core's output, and the chain saved applies the fitted curve to
+    the fitted core's output: the two are one model only where the fitted core is the reference core. Settling
+    rounds need not reach that fixed point: powers of a one-signed output are nearly collinear, so the fit trades
+    the core's compliances against large alternating coefficients and each round moves the core (the curve saved
+    then predicts several times worse than the one scored). The fixed point is solved for directly: the compliances
+    whose reference core the fit returns (:func:`scipy.optimize.root`, steps scaled to the settled values)."""
+    keys = [k for k in (*_CORE_COMPLIANCES, *(f"c{i}" for i in range(len(st.taus)))) if k in fit.coef_map]
+    start = np.array([fit.coef_map[k] for k in keys])
+    if not keys or not np.all(np.isfinite(start)) or not np.max(np.abs(start)) > 0.0:
+        return fit
+    scale = np.maximum(np.abs(start), 1e-3 * float(np.max(np.abs(start))))
+    sig0 = fitter.sig
+
+    def fitted_less_reference(step: FloatArray) -> FloatArray:
+        reference = start + scale * step
+        fitter.sig = refresh_ref(sig0, core_model(st, {**fit.coef_map, **dict(zip(keys, reference))}))
+        fitted = fitter.evaluate(st).coef_map
+        out: FloatArray = (np.array([fitted.get(k, 0.0) for k in keys]) - reference) / scale
+        return out
+
+    found = False
+    try:  # hybr's own verdict is not asked: "no good progress" near a fixed point is judged by the tolerance
+        solution = optimize.root(fitted_less_reference, np.zeros(len(keys)), method="hybr",
+                                 options={"maxfev": GAIN_CORE_EVALUATIONS * (len(keys) + 1)})
+        found = float(np.max(np.abs(fitted_less_reference(solution.x)))) < GAIN_CORE_TOLERANCE
+    finally:
+        if not found:
+            fitter.sig = sig0
+    return fitter.evaluate(st) if found else fit
+
+
+#: How far (a share of each compliance) the fitted core of a gain's fit may be from its reference core, and the
+#: fits the search may make per compliance (it converges in about five; a search that does not gives up).
+GAIN_CORE_TOLERANCE = 1e-6
+GAIN_CORE_EVALUATIONS = 20
 
 
 def refine(fitter: Fitter, st: Structure, rounds: int = 2) -> Fit:

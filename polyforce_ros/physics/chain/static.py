@@ -205,14 +205,23 @@ class ThermalSensitivityElement(SimpleElement):
         return FunctionStream(step, lag.reset if lag is not None else lambda: None)
 
 
+#: The farthest input [V] the polynomial gain's inverse looks for on a branch without an end (far beyond any bridge
+#: output), and its most iterations (Newton's converge in a few; a bisection of the whole reach in 64).
+_REACH_V = 1e3
+_INVERSE_STEPS = 64
+
+
 class PolynomialGainElement(SimpleElement):
     """Static nonlinearity of the bridge gain up to the fourth power (V in, V out):
     y = x + quadratic_per_v x**2 + cubic_per_v2 x**3 + quartic_per_v3 x**4.
 
     Describes polynomial and saturating (tanh, exponential-approach) gain curves
-    over a sensor's range. Inverted per sample by Newton's method from x = y
-    (16 iterations, the slope kept away from zero); where the curve is not
-    monotone the last iterate is returned.
+    over a sensor's range. Inverted per sample on the curve's rising branch
+    through zero, between the stationary points nearest zero on either side
+    (``branch_v``): Newton's method from x = y, safeguarded by bisection so that
+    each iterate stays on the branch and brackets the root. A reading beyond the branch
+    is inverted to the branch's end: a fitted curve that turns over near the top
+    of its range saturates the force there instead of jumping to another branch.
     """
 
     kind = "polynomial_gain"
@@ -220,6 +229,34 @@ class PolynomialGainElement(SimpleElement):
     quadratic_per_v: float
     cubic_per_v2: float
     quartic_per_v3: float
+    branch_v: tuple[float, float]
+
+    def __init__(self, **values: float) -> None:
+        super().__init__(**values)
+        self._freeze(branch_v=self._rising_branch())
+
+    def _rising_branch(self) -> tuple[float, float]:
+        """The input range [V] around zero on which the curve rises: between the real roots of its slope
+        1 + 2 q x + 3 c x**2 + 4 d x**3 nearest zero where the slope turns negative (the slope is 1 at zero; at a
+        root where it only touches zero the curve rises on)."""
+        q, c, d = self.quadratic_per_v, self.cubic_per_v2, self.quartic_per_v3
+        slope = np.array([4.0 * d, 3.0 * c, 2.0 * q, 1.0])
+        # a leading power that stays negligible within the inverse's reach only puts far roots (and rounding) there
+        size = np.abs(slope) * _REACH_V ** np.arange(3, -1, -1)
+        while slope.size > 1 and size[0] < 1e-12 * size.max():
+            slope, size = slope[1:], size[1:]
+        roots = np.roots(slope)
+        real = np.sort(roots.real[np.abs(roots.imag) <= 1e-6 * np.maximum(1.0, np.abs(roots.real))])
+        ends = []
+        for side in (real[real < 0.0][::-1], real[real > 0.0]):  # outward from zero
+            end = math.inf
+            for i, root in enumerate(side):
+                beyond = 0.5 * (root + side[i + 1]) if i + 1 < side.size else root + math.copysign(max(1.0, abs(root)), root)
+                if np.polyval(slope, beyond) < 0.0:
+                    end = abs(float(root))
+                    break
+            ends.append(end)
+        return -ends[0], ends[1]
 
     def _poly(self, x: FloatArray) -> tuple[FloatArray, FloatArray]:
         q, c, d = self.quadratic_per_v, self.cubic_per_v2, self.quartic_per_v3
@@ -231,16 +268,41 @@ class PolynomialGainElement(SimpleElement):
         return self._poly(np.asarray(x, dtype=float))[0]
 
     def _invert(self, y: FloatArray) -> FloatArray:
-        x = np.array(y, dtype=float, copy=True)
+        # Newton's method safeguarded by bisection on a bracket of the root (the branch's ends, or +-_REACH_V where
+        # it has none): a step that leaves the bracket, or a slope that is not rising, bisects instead. A reading
+        # beyond the branch is its end; an infinite one on a side without an end stays infinite.
+        shape, y = np.shape(y), np.atleast_1d(y)
+        low, high = max(self.branch_v[0], -_REACH_V), min(self.branch_v[1], _REACH_V)
+        y_low, y_high = self._poly(np.array([low, high]))[0]
+        x = np.where(y >= y_high, high, np.where(y <= y_low, low, y))
+        x[np.isposinf(y) & math.isinf(self.branch_v[1])] = np.inf
+        x[np.isneginf(y) & math.isinf(self.branch_v[0])] = -np.inf
+        inside = (y > y_low) & (y < y_high)
+        if inside.any():
+            x[inside] = self._on_branch(y[inside], low, high)
+        return np.where(np.isnan(y), y, x).reshape(shape)  # no reading, no input
+
+    def _on_branch(self, y: FloatArray, low: float, high: float) -> FloatArray:
+        a, b = np.full(y.shape, low), np.full(y.shape, high)
+        x = np.clip(y, low, high)
+        last_step = b - a
         with np.errstate(all="ignore"):
-            for _ in range(16):
+            for _ in range(_INVERSE_STEPS):
                 fx, slope = self._poly(x)
-                slope = np.where(np.abs(slope) < 0.05, np.copysign(0.05, slope + 0.0), slope)
-                x = x - (fx - y) / slope
-        return np.where(np.isfinite(x), x, y)
+                a, b = np.where(fx < y, x, a), np.where(fx > y, x, b)
+                newton = x - (fx - y) / np.where(slope > 0.0, slope, np.nan)
+                # Newton's step is taken inside the bracket and when it at least halves the one before (else it
+                # may cycle about an inflection); otherwise the bracket is halved
+                take = (newton > a) & (newton < b) & (np.abs(newton - x) <= 0.5 * np.abs(last_step))
+                stepped = np.where(take, newton, 0.5 * (a + b))
+                last_step = stepped - x
+                x = stepped
+                if bool(np.all(np.abs(last_step) <= 1e-12 * (1.0 + np.abs(x)))):
+                    break
+        return x
 
     def backward(self, t_s: npt.ArrayLike, y: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
-        """The input for each ``y`` by 16 Newton steps from ``x = y``."""
+        """The input for each ``y`` on the rising branch through zero (its end for a ``y`` beyond it)."""
         return self._invert(np.asarray(y, dtype=float))
 
     def streaming(self) -> ElementStream:

@@ -536,14 +536,8 @@ def test_creep_spread_over_many_time_scales_is_named_delayed_elasticity_without_
     assert _needle_rmse_fraction(diag.chain, volts, 400.0, seed) <= 0.01
 
 
-@pytest.mark.parametrize("split, index, named", [
-    ("independent_split_g", 4, ["delayed_elasticity"]),  # creep over a log-normal spectrum at 160 Hz (+ sensor_lag)
-    ("independent_split_g", 16, ["nonlinear_gain"]),  # an odd cubic gain at 160 Hz (+ sensor_lag)
-])
-def test_no_second_name_for_a_misfit_the_record_cannot_show(split, index, named):
-    """Records of a spent independent split on which a sensor lag was named beside the right effect for a misfit of
-    its shape: the lag adds less to the prediction than the record can show at its own rate, and without it the
-    residual holds no structure, so the right effect alone is named."""
+def _diagnose_spent_case(split, index):
+    """The diagnosis of case ``index`` of a spent independent split (a module of bench/)."""
     import importlib
     import sys
 
@@ -552,7 +546,18 @@ def test_no_second_name_for_a_misfit_the_record_cannot_show(split, index, named)
     module = importlib.import_module(split)
     hidden, magnitude = list(module.SPLIT.cases())[index]
     rec, _, base, _ = module.SPLIT.simulate(hidden, magnitude, index)
-    diag = diagnose(rec, base=base)
+    return diagnose(rec, base=base)
+
+
+@pytest.mark.parametrize("split, index, named", [
+    ("independent_split_g", 4, ["delayed_elasticity"]),  # creep over a log-normal spectrum at 160 Hz (+ sensor_lag)
+    ("independent_split_g", 16, ["nonlinear_gain"]),  # an odd cubic gain at 160 Hz (+ sensor_lag)
+])
+def test_no_second_name_for_a_misfit_the_record_cannot_show(split, index, named):
+    """Records of a spent independent split on which a sensor lag was named beside the right effect for a misfit of
+    its shape: the lag adds less to the prediction than the record can show at its own rate, and without it the
+    residual holds no structure, so the right effect alone is named."""
+    diag = _diagnose_spent_case(split, index)
     assert diag.missing_effects == named, (diag.missing_effects, diag.unexplained["partial_fits"])
 
 
@@ -567,15 +572,7 @@ def test_a_named_gain_is_saved_as_it_was_scored(index):
     named and saved, and the saved model compensates the left-out blocks better than the base. (On record 18 a
     delayed elasticity is named beside the gain with BLAS on two threads, not on one: the answer beside the gain
     is not what this test checks.)"""
-    import importlib
-    import sys
-
-    if str(REPO / "bench") not in sys.path:
-        sys.path.insert(0, str(REPO / "bench"))
-    module = importlib.import_module("independent_split_j")
-    hidden, magnitude = list(module.SPLIT.cases())[index]
-    rec, _, base, _ = module.SPLIT.simulate(hidden, magnitude, index)
-    diag = diagnose(rec, base=base)
+    diag = _diagnose_spent_case("independent_split_j", index)
     assert "nonlinear_gain" in diag.missing_effects, (diag.missing_effects, diag.newtons.get("rejected"))
     assert "rejected" not in diag.newtons
     assert diag.newtons["saved"]["rmse_n"] < 0.5 * diag.newtons["base"]["rmse_n"]

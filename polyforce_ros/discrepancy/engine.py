@@ -80,10 +80,9 @@ module runs them in order.
 """
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from functools import partial
-from typing import Any, Callable, Collection, Optional, Sequence
+from typing import Any, Callable, Collection, Mapping, Optional, Sequence
 
 import numpy as np
 from scipy import ndimage
@@ -290,9 +289,10 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     return judged
 
 
-#: The column of the structure's i-th core retardation time (a gap's decays, ``gap<k>_c<i>``, follow the base
-#: core's times, the same with or without a term).
-_CORE_TIME_COLUMN = re.compile(r"c(\d+)")
+def _at_full_rate(full_rate: Signals, sig: Signals) -> Signals:
+    """The record at its own rate on the reference core of ``sig`` (the fit rate's), with its plays' span: the core
+    the columns of a fit on ``sig`` were made with."""
+    return refresh_ref(full_rate, sig.reference_core, sig.span_x)
 
 
 def _own_part_v(sig_full: Signals, fit: Fit, name: str) -> Optional[FloatArray]:
@@ -305,18 +305,15 @@ def _own_part_v(sig_full: Signals, fit: Fit, name: str) -> Optional[FloatArray]:
     if reduced is None:
         return None
     coef, full_taus = fit.coef_map, list(fit.structure.taus)
-    number = {i: full_taus.index(tau) if tau in full_taus else i for i, tau in enumerate(reduced.taus)}
+    # column c<i> holds the i-th retardation time (a gap's decays, gap<k>_c<i>, follow the base core's times)
+    as_fitted = {f"c{i}": f"c{full_taus.index(tau)}" for i, tau in enumerate(reduced.taus) if tau in full_taus}
 
-    def as_fitted(column: str) -> str:
-        core_time = _CORE_TIME_COLUMN.fullmatch(column)
-        return f"c{number.get(int(core_time.group(1)), int(core_time.group(1)))}" if core_time else column
-
-    def predicted(st: Structure, rename: Callable[[str], str]) -> FloatArray:
+    def predicted(st: Structure, rename: Mapping[str, str]) -> FloatArray:
         names, a, *_ = design(sig_full, st)
-        out: FloatArray = a @ np.array([coef.get(rename(n), 0.0) for n in names])
+        out: FloatArray = a @ np.array([coef.get(rename.get(n, n), 0.0) for n in names])
         return out
 
-    return predicted(fit.structure, str) - predicted(reduced, as_fitted)
+    return predicted(fit.structure, {}) - predicted(reduced, as_fitted)
 
 
 def _shown(t_s: FloatArray, part_v: FloatArray, floor_v: float, ratio: float) -> float:
@@ -328,14 +325,13 @@ def _shown(t_s: FloatArray, part_v: FloatArray, floor_v: float, ratio: float) ->
     return seen.rms_v / floor_v if floor_v > 0.0 else float("inf")
 
 
-def _drop_unseen(selection: Selection, full_rate: Signals, sig_full: Signals, t_s: FloatArray, bin_of_sample: IntArray,
-                 floor_v: float, ratio: float, say: Callable[[str], None]) -> Signals:
+def _drop_unseen(selection: Selection, full_rate: Signals, bin_of_sample: IntArray, floor_v: float, ratio: float,
+                 say: Callable[[str], None]) -> Signals:
     """Stage 4b: of two or more effects named, drop one that the record cannot show, while two or more are named
     and the model leaves no structure (:func:`.residual.unexplained_test`, out of sample, at the record's rate).
     An effect the record cannot show adds less to the prediction than the test sees (:func:`_own_part_v`), and
-    without it (the others re-chosen) the residual still holds no structure; the smallest goes first. ``sig_full``:
-    the record at its own rate on the selection's reference core (a drop re-chooses shapes on that core and keeps
-    it); ``t_s``: its stamps [s].
+    without it (the others re-chosen) the residual still holds no structure; the smallest goes first. A drop
+    re-chooses the others' shapes on the selection's reference core. ``full_rate``: the record at its own rate.
 
     The acceptance test's least gain (``min_excess_share`` of a quarter of the floor's mean square at the fit rate)
     lies far below what the record can show at its own rate; an effect named beside another for less than that
@@ -344,10 +340,10 @@ def _drop_unseen(selection: Selection, full_rate: Signals, sig_full: Signals, t_
     beside a flow.
 
     After a drop the model is refined on its own core and kept when it predicts the left-out blocks better (as the
-    backward check does) and still leaves no structure; the record at its own rate follows its reference core.
-    ``full_rate``: the record at its own rate (any reference core). Returns the record at its own rate on the
-    reference core kept."""
-    fitter = selection.fitter
+    backward check does) and still leaves no structure. Returns the record at its own rate on the reference core
+    of the model kept (:func:`_at_full_rate`)."""
+    fitter, t_s = selection.fitter, full_rate.t
+    sig_full = _at_full_rate(full_rate, fitter.sig)
 
     def leaves_structure(fit: Fit, at_full_rate: Signals) -> bool:
         resid_v = out_of_sample(at_full_rate, fit, fitter, bin_of_sample)[1]
@@ -372,8 +368,7 @@ def _drop_unseen(selection: Selection, full_rate: Signals, sig_full: Signals, t_
             selection.drop(name)
             judged_sig, selection.current = fitter.sig, fit
             refined = refine(fitter, fit.structure, rounds=1)
-            refined_full = (sig_full if fitter.sig is judged_sig
-                            else refresh_ref(full_rate, fitter.sig.reference_core, fitter.sig.span_x))
+            refined_full = sig_full if fitter.sig is judged_sig else _at_full_rate(full_rate, fitter.sig)
             if refined.cv_mse <= fit.cv_mse and not leaves_structure(refined, refined_full):
                 selection.current, sig_full = refined, refined_full
             else:
@@ -450,16 +445,14 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     # 4. forward selection, backward check and swap
     selection = Selection(fitter, base_fit, noise.fit_mse, has_temp, min_confidence, min_excess_share, say)
     selection.run(catalogue, list(skipped), max_effects)
-    # the record at its own rate on the core the columns of the fit were made with
-    sig_full = refresh_ref(data.full_rate, fitter.sig.reference_core, fitter.sig.span_x)
-    sig_full = _drop_unseen(selection, data.full_rate, sig_full, data.t, bin_of_sample, floor, unexplained_ratio, say)
+    sig_full = _drop_unseen(selection, data.full_rate, bin_of_sample, floor, unexplained_ratio, say)
     if selection.current.structure.term("nonlinear_gain") is not None:
         # the model saved is the model scored: a fit kept from before a refit (a drop, a re-choice) has its gain's
         # columns on another core than its own
         judged_sig = fitter.sig
         selection.current = settle(fitter, selection.current.structure, rounds=0)
         if fitter.sig is not judged_sig:
-            sig_full = refresh_ref(data.full_rate, fitter.sig.reference_core, fitter.sig.span_x)
+            sig_full = _at_full_rate(data.full_rate, fitter.sig)
     sig = fitter.sig
     current = selection.current
     say("unexplained residual")

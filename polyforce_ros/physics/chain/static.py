@@ -230,10 +230,16 @@ class PolynomialGainElement(SimpleElement):
     cubic_per_v2: float
     quartic_per_v3: float
     branch_v: tuple[float, float]
+    _bracket_v: tuple[float, float, float, float]
 
     def __init__(self, **values: float) -> None:
         super().__init__(**values)
         self._freeze(branch_v=self._rising_branch())
+        # the inverse's search bracket (the branch within +-_REACH_V) and the readings at its ends, made once: the
+        # inverse runs per sample
+        low, high = max(self.branch_v[0], -_REACH_V), min(self.branch_v[1], _REACH_V)
+        y_low, y_high = self._poly(np.array([low, high]))[0]
+        self._freeze(_bracket_v=(low, high, float(y_low), float(y_high)))
 
     def _rising_branch(self) -> tuple[float, float]:
         """The input range [V] around zero on which the curve rises: between the real roots of its slope
@@ -272,8 +278,7 @@ class PolynomialGainElement(SimpleElement):
         # it has none): a step that leaves the bracket, or a slope that is not rising, bisects instead. A reading
         # beyond the branch is its end; an infinite one on a side without an end stays infinite.
         shape, y = np.shape(y), np.atleast_1d(y)
-        low, high = max(self.branch_v[0], -_REACH_V), min(self.branch_v[1], _REACH_V)
-        y_low, y_high = self._poly(np.array([low, high]))[0]
+        low, high, y_low, y_high = self._bracket_v
         x = np.where(y >= y_high, high, np.where(y <= y_low, low, y))
         x[np.isposinf(y) & math.isinf(self.branch_v[1])] = np.inf
         x[np.isneginf(y) & math.isinf(self.branch_v[0])] = -np.inf

@@ -560,8 +560,8 @@ def test_a_thermo_rheological_element_outside_its_ranges_is_a_model_error(bad):
 
 @settings(max_examples=40, deadline=None)
 @given(c=st.floats(-0.05, 0.05), q=st.floats(-0.01, 0.01), tau=st.one_of(st.just(0.0), st.floats(0.5, 200.0)),
-       ref=st.floats(15.0, 35.0), seed=st.integers(0, 2 ** 16))
-def test_a_curved_zero_and_a_lagged_span_follow_their_formulas_in_blocks_and_round_trip(c, q, tau, ref, seed):
+       ref=st.floats(15.0, 35.0), seed=st.integers(0, 2 ** 16), direct=st.floats(-0.05, 0.05))
+def test_a_curved_zero_and_a_lagged_span_follow_their_formulas_in_blocks_and_round_trip(c, q, tau, ref, seed, direct):
     from scipy.signal import lfilter
 
     rng = np.random.default_rng(seed)
@@ -572,7 +572,7 @@ def test_a_curved_zero_and_a_lagged_span_follow_their_formulas_in_blocks_and_rou
     zero = (ThermalLagElement(coefficient_v_per_c=c, reference_c=ref, tau_s=tau, curvature_v_per_c2=q) if tau
             else ThermalDriftElement(coefficient_v_per_c=c, reference_c=ref, curvature_v_per_c2=q))
     span = ThermalSensitivityElement(span_coefficient_per_c=c / 10, reference_c=ref, thermal_tau_s=tau,
-                                     span_curvature_per_c2=q / 10)
+                                     span_curvature_per_c2=q / 10, direct_span_coefficient_per_c=direct / 10)
     # the lag by its own recursion: exact for a temperature linear between samples (a first-order hold)
     if tau:
         a = np.exp(-0.05 / tau)
@@ -582,8 +582,13 @@ def test_a_curved_zero_and_a_lagged_span_follow_their_formulas_in_blocks_and_rou
         lagged = temp
     d = lagged - ref
     np.testing.assert_allclose(zero.forward(t, x, aux), x + c * d + q * d ** 2, atol=1e-9)
-    np.testing.assert_allclose(span.forward(t, x, aux), x * np.maximum(1 + c / 10 * d + q / 10 * d ** 2, 0.2), atol=1e-9)
+    factor = np.maximum(1 + c / 10 * d + q / 10 * d ** 2 + direct / 10 * (temp - ref), 0.2)
+    np.testing.assert_allclose(span.forward(t, x, aux), x * factor, atol=1e-9)
     np.testing.assert_allclose(span.backward(t, span.forward(t, x, aux), aux), x, atol=1e-9)
+    stream = span.streaming()  # the runtime's per-sample inverse
+    y = span.forward(t, x, aux)
+    np.testing.assert_allclose([stream.step(ti, yi, {"temperature_c": ci}) for ti, yi, ci in zip(t[:300], y[:300], temp[:300])],
+                               x[:300], atol=1e-9)
     for e in (zero, span):
         state = e.forward_state()
         blocks = np.concatenate([e.forward(t[i:j], x[i:j], {"temperature_c": temp[i:j]}, state)
@@ -594,12 +599,13 @@ def test_a_curved_zero_and_a_lagged_span_follow_their_formulas_in_blocks_and_rou
 
 def test_a_zero_curvature_and_no_span_lag_stay_out_of_the_model_file_and_bad_values_are_refused():
     assert "curvature_v_per_c2" not in ThermalDriftElement(coefficient_v_per_c=1e-3, reference_c=20.0).to_dict()
-    assert not {"thermal_tau_s", "span_curvature_per_c2"} & set(
+    assert not {"thermal_tau_s", "span_curvature_per_c2", "direct_span_coefficient_per_c"} & set(
         ThermalSensitivityElement(span_coefficient_per_c=1e-3, reference_c=20.0).to_dict())
-    for bad in (float("nan"), "x", 1e9):
-        with pytest.raises(ModelError, match="span_curvature_per_c2"):
-            ThermalSensitivityElement.from_dict({"type": "thermal_sensitivity", "span_coefficient_per_c": 1e-3,
-                                                 "reference_c": 20.0, "span_curvature_per_c2": bad})
+    for name in ("span_curvature_per_c2", "direct_span_coefficient_per_c"):
+        for bad in (float("nan"), "x", 1e9):
+            with pytest.raises(ModelError, match=name):
+                ThermalSensitivityElement.from_dict({"type": "thermal_sensitivity", "span_coefficient_per_c": 1e-3,
+                                                     "reference_c": 20.0, name: bad})
     for bad in ({"curvature_v_per_c2": 5.0}, {"curvature_v_per_c2": float("nan")}, {"curvature_v_per_c2": "x"}):
         with pytest.raises(ModelError, match="curvature_v_per_c2"):
             ThermalDriftElement.from_dict({"type": "thermal_drift", "coefficient_v_per_c": 1e-3, "reference_c": 20.0, **bad})

@@ -419,6 +419,46 @@ def test_a_span_curved_in_temperature_is_named_thermal_sensitivity_alone_and_sav
     assert _warm_needle_rmse_fraction(diag.chain, truth, 500.0, seed) <= 0.01
 
 
+@pytest.mark.parametrize("seed", [121, 122])
+def test_a_span_that_follows_the_temperatures_gradient_is_named_thermal_sensitivity_alone(seed):
+    """A span that follows the gradient between the thermometer and the gauges, x (1 + g (T - lag(T))) (the gauges
+    and the compensating resistor apart), under a temperature that swings and steps: named ``thermal_sensitivity``
+    alone, in its lead-lag shape (the zero's thermal paths are the span's too), and its saved model compensates a
+    new record within 1 % of full scale. The truth is built here by its own recursion, not by the chain element."""
+    from scipy import signal
+
+    from polyforce_ros.physics.chain import SensorChain, ThermalSensitivityElement, ViscoelasticElement
+    from polyforce_ros.record import Record
+    from polyforce_ros.sim.bench import random_core, random_load
+
+    rng = np.random.default_rng(seed)
+    rate_hz, duration_s = 500.0, 400.0
+    core = random_core("burgers", rng)
+    t, f = random_load(duration_s, rate_hz, seed)
+    temp = (23.0 + rng.uniform(2, 4) * np.sin(2 * np.pi * t / rng.uniform(120, 250) + rng.uniform(0, 2 * np.pi))
+            + rng.uniform(2, 4) * np.tanh((t - rng.uniform(0.3, 0.7) * duration_s) / rng.uniform(5, 20)))
+    tau_s, g = rng.uniform(15.0, 60.0), rng.uniform(4e-3, 1e-2) * rng.choice([-1, 1])
+    a = np.exp(-1.0 / (rate_hz * tau_s))
+    lagged = signal.lfilter([1 - a], [1, -a], temp - temp[0]) + temp[0]
+    x = SensorChain([ViscoelasticElement(core)]).forward(t, f)
+    volts = x * (1 + g * (temp - lagged)) + 0.04 + rng.normal(0, 2e-3, t.size)
+    diag = diagnose(Record(t, f + rng.normal(0, 0.005, t.size), volts, temp), base="burgers")
+    assert diag.missing_effects == ["thermal_sensitivity"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    saved = next(e for e in diag.chain.elements if isinstance(e, ThermalSensitivityElement))
+    assert saved.direct_span_coefficient_per_c == pytest.approx(g, rel=0.3)
+    assert saved.span_coefficient_per_c == pytest.approx(-g, rel=0.3)
+
+    class Truth:  # the same sensor for a new record: the span's gradient by the same recursion
+        @staticmethod
+        def forward(t_s, force_n, aux):
+            temp_c = aux["temperature_c"]
+            step = np.exp(-np.diff(t_s, prepend=t_s[0] - 1.0 / rate_hz).mean() / tau_s)
+            lag_c = signal.lfilter([1 - step], [1, -step], temp_c - temp_c[0]) + temp_c[0]
+            return SensorChain([ViscoelasticElement(core)]).forward(t_s, force_n) * (1 + g * (temp_c - lag_c)) + 0.04
+
+    assert _warm_needle_rmse_fraction(diag.chain, Truth, rate_hz, seed) <= 0.01
+
+
 def _needle_rmse_fraction(chain, volts, rate_hz, seed):
     """RMSE of ``chain`` compensating a new needle record of the sensor ``volts(t, F)`` (2 mV of noise), as a
     fraction of the force's span; inf when a sample is not used."""
@@ -645,3 +685,30 @@ def test_what_the_record_can_show_of_a_noise_free_part_is_its_rms(frequency_hz):
     for share in (0.3, 0.8):
         part = share * floor_v * np.sqrt(2.0) * np.sin(2 * np.pi * frequency_hz * t)
         assert _shown(t, part, floor_v, 0.5) == pytest.approx(share, rel=0.15)
+
+
+def test_an_effect_whose_refitted_model_predicts_no_better_is_not_named(monkeypatch):
+    """A candidate is scored with columns made from the step's reference core and kept with them made from its own
+    refitted core (the model saved). When that model predicts the left-out blocks no better than the step's, the
+    effect is not named, the model stays the step's, and the step's next choice is judged. Here every refit of a
+    hysteresis is made to score 1000 times worse (a later step, whose re-choices are scored unchanged, may still
+    name it); the same record is named ``hysteresis`` without that."""
+    import dataclasses
+
+    from polyforce_ros.discrepancy import selection
+
+    rec, _ = bench_record("hysteresis", 0.8, rate_hz=200.0, duration_s=240.0, seed=5)
+    assert diagnose(rec, base="burgers").missing_effects == ["hysteresis"]
+    real_refine = selection.refine
+
+    def refine_worse(fitter, st, rounds=2):
+        fit = real_refine(fitter, st, rounds)
+        return dataclasses.replace(fit, cv_mse=1e3 * fit.cv_mse) if st.term("hysteresis") is not None else fit
+
+    monkeypatch.setattr(selection, "refine", refine_worse)
+    said = []
+    diag = diagnose(rec, base="burgers", progress=said.append)
+    refused = said.index("hysteresis: its refitted model predicts no better, not named")
+    refits = [line for line in said[refused + 1:] if line.startswith("refit with ")]
+    assert refits and refits[0] != "refit with hysteresis"  # the step's next choice, judged against the step's model
+    assert diag.rmse_after <= diag.rmse_before

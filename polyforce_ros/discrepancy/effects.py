@@ -137,6 +137,9 @@ class Effect:
     extends : dict
         Variant -> the smaller variant it holds (its columns and more): chosen only when the columns it adds are
         significant (:data:`.selection.SIGNIFICANT_SE`).
+    also_holds : dict
+        Variant -> further smaller variants it holds (with other columns: the lead-lag holds the direct shape with
+        its lagged coefficient at zero): it must also pass the acceptance test against each one's best fit.
     core_times : dict
         Variant -> the number of retardation times it adds to the core (a core effect whose parameter is the first
         of them; any further one starts :data:`SPREAD_RATIO` times slower than the one before).
@@ -156,6 +159,7 @@ class Effect:
     rivals: tuple[str, ...] = ()
     record_rate: bool = False
     extends: Mapping[str, str] = field(default_factory=dict)
+    also_holds: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     core_times: Mapping[str, int] = field(default_factory=dict)
 
 
@@ -389,19 +393,26 @@ def _departure_c(sig: Signals, variant: str, param: Optional[float]) -> FloatArr
 
 def _span_thermal_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
     """The core output scaled by the temperature's departure, x (1 + c dT) - x = c x dT (lagged in the ``lag``
-    variants), and by its square in the ``curved`` ones: a span coefficient that itself changes with temperature."""
+    variants), by its square in the ``curved`` ones (a span coefficient that itself changes with temperature), and
+    by the departure itself beside the lagged one in ``lag_lead``: the zero's thermal paths (:func:`_thermal_columns`)
+    for the span, which a gradient across the body reaches as it reaches the zero."""
     temp = _departure_c(sig, variant, param)
     cols: list[Col] = [("span_thermal", sig.core_output * temp, -np.inf, np.inf, "sensor", None)]
     if variant.endswith("curved"):
         cols.append(("span_thermal_curvature", sig.core_output * temp ** 2, -np.inf, np.inf, "sensor", None))
+    if variant == "lag_lead":
+        cols.append(("span_thermal_direct", sig.core_output * (sig.temperature - sig.temp_ref), -np.inf, np.inf,
+                     "sensor", None))
     return cols
 
 
 def _span_thermal_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     c = float(np.clip(coef.get("span_thermal", 0.0), -0.05, 0.05))
     q = float(np.clip(coef.get("span_thermal_curvature", 0.0), -0.005, 0.005))
+    d = float(np.clip(coef.get("span_thermal_direct", 0.0), -0.05, 0.05))
     tau = float(parameter(param)) if variant.startswith("lag") else 0.0
     return [("after", ThermalSensitivityElement(span_coefficient_per_c=c, thermal_tau_s=tau, span_curvature_per_c2=q,
+                                                direct_span_coefficient_per_c=d,
                                                 reference_c=float(np.clip(sig.temp_ref, -100.0, 300.0))))]
 
 
@@ -548,12 +559,13 @@ EFFECTS: dict[str, Effect] = {
         "thermal_drift", "output following temperature (thermal_drift)", ("temperature_change",), ("temperature",),
         ("thermal_drift", "thermal_lag"),
         variants=("direct", "lag", "direct_curved", "lag_curved", "lag_lead"), grid=_thermal_grid,
-        extends={"direct_curved": "direct", "lag_curved": "lag", "lag_lead": "lag"},
+        extends={"direct_curved": "direct", "lag_curved": "lag", "lag_lead": "lag"}, also_holds={"lag_lead": ("direct",)},
         columns=_thermal_columns, to_elements=_thermal_elements, needs_temperature=True),
     "thermal_sensitivity": Effect(
         "thermal_sensitivity", "a span that follows temperature (thermal_sensitivity)", ("temperature_change", "high_load"),
-        ("temperature",), ("thermal_sensitivity",), variants=("direct", "lag", "direct_curved", "lag_curved"),
-        grid=_thermal_grid, extends={"direct_curved": "direct", "lag_curved": "lag"}, columns=_span_thermal_columns,
+        ("temperature",), ("thermal_sensitivity",), variants=("direct", "lag", "direct_curved", "lag_curved", "lag_lead"),
+        grid=_thermal_grid, extends={"direct_curved": "direct", "lag_curved": "lag", "lag_lead": "lag"},
+        also_holds={"lag_lead": ("direct",)}, columns=_span_thermal_columns,
         to_elements=_span_thermal_elements, needs_temperature=True),
     "thermo_rheological": Effect(
         "thermo_rheological", "creep that speeds up when warm (thermo_rheological)", ("temperature_change", "hold_under_load"),

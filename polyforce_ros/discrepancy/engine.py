@@ -38,8 +38,9 @@ Procedure (:func:`diagnose`):
    predicts the left-out blocks worse is not kept; a candidate that removes that
    share but not in enough folds is tried again with the shapes of the effects
    named before it re-chosen beside it, and kept if it passes the test against
-   the current model re-chosen alike). Then the next step runs
-   with it included; an effect that the newer ones make redundant (the
+   the current model re-chosen alike; an effect whose refitted model, the one
+   saved, predicts no better than the step's model is not named, and the step's
+   next choice is judged). Then the next step runs with it included; an effect that the newer ones make redundant (the
    others re-chosen in their best shape without it) is dropped again, and
    one that a rival of its own step now describes as well is swapped for it,
    until nothing more is justified or a set of effects recurs. Of two or more

@@ -141,6 +141,7 @@ class Selection:
         self.variants: dict[str, str] = {}
         self.accepted_at: dict[str, int] = {}  # effect -> the step that named it
         self.step = 0
+        self.judged_in_step: list[Candidate] = []  # the candidates the last forward step judged
 
     # ------------------------------------------------------------------------- the acceptance test
 
@@ -268,14 +269,16 @@ class Selection:
         """``fits`` without those of a variant that extends a smaller one (:attr:`.effects.Effect.extends`) whose
         added columns are not each at least :data:`SIGNIFICANT_SE` block-jackknife standard errors from zero (a
         column the folds cannot agree on describes nothing the smaller variant misses), or that does not improve on
-        the smaller variant's best fit as an added effect must improve on the current model (:meth:`justified`): a
-        column that is certain but small describes a misfit of the record, not the shape of the effect."""
-        extends = REGISTRY[name].extends
+        the smaller variant's best fit as an added effect must improve on the current model (:meth:`justified`),
+        nor on the best fit of each further variant it holds (:attr:`.effects.Effect.also_holds`): a column that is
+        certain but small describes a misfit of the record, not the shape of the effect."""
+        extends, also_holds = REGISTRY[name].extends, REGISTRY[name].also_holds
         smaller = {v: {n for f in fits if _variant(f, name) == s for n in f.names} for v, s in extends.items()}
+        held = {*extends.values(), *(s for group in also_holds.values() for s in group)}
         smallest_fit: dict[str, Fit] = {}
         for f in fits:
             v = _variant(f, name)
-            if v in extends.values() and (v not in smallest_fit or f.cv_mse < smallest_fit[v].cv_mse):
+            if v in held and (v not in smallest_fit or f.cv_mse < smallest_fit[v].cv_mse):
                 smallest_fit[v] = f
 
         def kept_beside_smaller(f: Fit) -> bool:
@@ -286,8 +289,8 @@ class Selection:
             if not all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"]
                        for n in f.names if n not in smaller[v] and n in co):
                 return False
-            rival = smallest_fit.get(extends[v])
-            return rival is None or self.justified(f, rival)
+            rivals = [smallest_fit.get(s) for s in (extends[v], *also_holds.get(v, ()))]
+            return all(rival is None or self.justified(f, rival) for rival in rivals)
 
         kept = [f for f in fits if kept_beside_smaller(f)]
         return kept or fits
@@ -382,6 +385,7 @@ class Selection:
             step_candidates.append(cand)
         if any(c.retried for c in step_candidates):
             step_candidates = [self._reshaped_too(c, current) for c in step_candidates]
+        self.judged_in_step = step_candidates
         return parsimonious(step_candidates, self.acceptable, self.justified)
 
     def _reshaped_too(self, cand: Candidate, current: Fit) -> Candidate:
@@ -403,8 +407,14 @@ class Selection:
         self.candidates[next(i for i, c in enumerate(self.candidates) if c is cand)] = out
         return out
 
-    def accept(self, best: Candidate) -> None:
-        """Name ``best``'s effect and refit the model with it (:func:`.refit.refine`)."""
+    def accept(self, best: Candidate) -> bool:
+        """Name ``best``'s effect and refit the model with it (:func:`.refit.refine`); False, with nothing named
+        and the model as before, when the refitted model predicts the left-out blocks no better than the model of
+        the step. The candidate was scored with columns made from the step's reference core; the model kept (and
+        saved) has them made from its own core (:func:`.refit.settle`), and where the two differ in shape (a
+        voltage-path hysteresis that takes part of the core's gain and creep) the effect in its saved form may
+        not help at all: every later step would be judged against a model worse than the one it replaced."""
+        before, sig_before = self.current, self.fitter.sig
         best.accepted = True
         self.accepted_at[best.effect] = self.step
         self.accepted.append(best.effect)
@@ -414,6 +424,14 @@ class Selection:
         self.current = refine(self.fitter, best.fit.structure)
         if len(self.accepted) > 1:  # the shapes named before it were chosen without it
             self.current = self.rechosen(self.current, skip=best.effect)
+        if self.current.cv_mse < before.cv_mse:
+            return True
+        self.say(f"{best.effect}: its refitted model predicts no better, not named")
+        self.accepted.remove(best.effect)
+        self.accepted_at.pop(best.effect)
+        self._unname(best.effect)
+        self.current, self.fitter.sig = before, sig_before
+        return False
 
     def _unname(self, name: str) -> None:
         """``name`` no longer names an effect of the answer."""
@@ -472,6 +490,12 @@ class Selection:
                         (size(fit) < size(self.current) and not self.justified(self.current, fit))
                         or self.justified(fit, self.current)):
                     continue
+                sig_before = fitter.sig
+                refined = refine(fitter, fit.structure)
+                if refined.cv_mse >= reduced_fit.cv_mse:  # the rival in its saved form does not help (as in accept)
+                    fitter.sig = sig_before
+                    self.say(f"{rival.effect}: its refitted model predicts no better, not swapped in")
+                    continue
                 self.say(f"swap {name} for {rival.effect}")
                 self.accepted[self.accepted.index(name)] = rival.effect
                 self.accepted_at[rival.effect] = self.accepted_at.pop(name)
@@ -489,7 +513,7 @@ class Selection:
                                                  self.confidences[rival.effect],
                                                  float((reduced_fit.cv_mse - fit.cv_mse) / share), self.step,
                                                  accepted=True))
-                self.current = refine(fitter, fit.structure)
+                self.current = refined
                 break
 
     def run(self, catalogue: Sequence[str], skipped: Sequence[str], max_effects: int) -> None:
@@ -498,9 +522,12 @@ class Selection:
         seen: set[frozenset[str]] = {frozenset()}
         while len(self.accepted) < max_effects:
             best = self.forward_step(catalogue, skipped)
-            if best is None or best.confidence < self.min_confidence or best.excess_share < self.min_excess_share:
+            while best is not None and self.acceptable(best) and not self.accept(best):
+                # the next choice of the step, without the effect whose refitted model did not help
+                self.judged_in_step = [c for c in self.judged_in_step if c.effect != best.effect]
+                best = parsimonious(self.judged_in_step, self.acceptable, self.justified)
+            if best is None or not self.acceptable(best):
                 break
-            self.accept(best)
             self.backward_check()
             self.swap_check()
             if frozenset(self.accepted) in seen:

@@ -209,6 +209,7 @@ PARAMETER_BOUNDS = {
     "span_coefficient_per_c": (-0.05, 0.05, "1/degC", "the span halves or doubles within 20 degC already"),
     # the span coefficient's own change per degC: 5e-3/degC^2 halves or doubles the span within 10 degC
     "span_curvature_per_c2": (-0.005, 0.005, "1/degC^2", "the span halves or doubles within 10 degC already"),
+    "direct_span_coefficient_per_c": (-0.05, 0.05, "1/degC", "as span_coefficient_per_c"),
     # a power-law dashpot: 10 V/s fills any range within a second; exponents beyond 5 are a step, below 0.2 a constant
     "flow_rate_v_per_s": (0.0, 10.0, "V/s", "a range filled within a second already"),
     "flow_exponent": (0.2, 5.0, "", "a flow rate steeper than F^5 is a yield step, flatter than F^0.2 a constant"),

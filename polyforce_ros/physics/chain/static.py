@@ -150,29 +150,37 @@ class ThermalSensitivityElement(SimpleElement):
     (:class:`ThermalDriftElement`). T comes from ``aux['temperature_c']``; without it T is
     taken as the reference (no correction). With ``thermal_tau_s`` > 0 the span follows the
     temperature through a first-order lag of that time constant (the gauges warm after the
-    thermometer), settled at the first temperature. The inverse divides by the span factor, held at
+    thermometer), settled at the first temperature; ``direct_span_coefficient_per_c`` (optional, 0) then adds
+    d (T - reference_c) with the temperature as measured, beside the lagged terms: a span that answers the
+    temperature's rate as well as its level (c dT_lag + d dT, with d = -c, is c times the gradient T - lag(T)
+    between the thermometer and the gauges). The inverse divides by the span factor, held at
     least ``_MIN_SPAN_FACTOR`` (0.2) so a temperature far outside the calibration never
     multiplies the force by more than 5.
     """
 
     kind = "thermal_sensitivity"
     PARAMS = (("span_coefficient_per_c", False), ("reference_c", False))
-    OPTIONAL = {"thermal_tau_s": 0.0, "span_curvature_per_c2": 0.0}
-    SIGNED = frozenset({"span_curvature_per_c2"})
+    OPTIONAL = {"thermal_tau_s": 0.0, "span_curvature_per_c2": 0.0, "direct_span_coefficient_per_c": 0.0}
+    SIGNED = frozenset({"span_curvature_per_c2", "direct_span_coefficient_per_c"})
     span_coefficient_per_c: float
     reference_c: float
     thermal_tau_s: float
     span_curvature_per_c2: float
+    direct_span_coefficient_per_c: float
+
+    def _span(self, lagged_c: FloatOrArray, direct_c: FloatOrArray) -> FloatOrArray:
+        """The span factor at a (lagged) temperature and the temperature as measured [degC], held at least
+        ``_MIN_SPAN_FACTOR``."""
+        factor = span_factor(self.span_coefficient_per_c, self.span_curvature_per_c2, lagged_c - self.reference_c)
+        return np.maximum(factor + self.direct_span_coefficient_per_c * (direct_c - self.reference_c), _MIN_SPAN_FACTOR)
 
     def _factor(self, t_s: npt.ArrayLike, n: int, aux: Optional[Mapping[str, Any]],
                 state: Optional[ThermalForwardState] = None) -> FloatOrArray:
-        temp = temperature_c_of(aux, n)
-        if temp is not None and self.thermal_tau_s > 0.0:
-            temp = lagged_temperature_c(t_s, temp, self.thermal_tau_s, state)
-        if temp is None:
+        direct = temperature_c_of(aux, n)
+        if direct is None:
             return 1.0
-        return np.maximum(span_factor(self.span_coefficient_per_c, self.span_curvature_per_c2, temp - self.reference_c),
-                          _MIN_SPAN_FACTOR)
+        lagged = lagged_temperature_c(t_s, direct, self.thermal_tau_s, state) if self.thermal_tau_s > 0.0 else None
+        return self._span(direct if lagged is None else lagged, direct)
 
     def forward_state(self) -> Optional[ThermalForwardState]:
         """A fresh lag state for block-wise :meth:`forward` runs (None without a lag)."""
@@ -191,16 +199,14 @@ class ThermalSensitivityElement(SimpleElement):
 
     def streaming(self) -> ElementStream:
         """The per-sample form of :meth:`backward`; a sample without ``aux['temperature_c']`` passes unchanged."""
-        c, q, ref = self.span_coefficient_per_c, self.span_curvature_per_c2, self.reference_c
         lag = LaggedTemperatureStream(self.thermal_tau_s) if self.thermal_tau_s > 0.0 else None
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
             temp = None if not aux else aux.get("temperature_c")
             if temp is None:
                 return y
-            if lag is not None:
-                temp = lag.update(t_s, temp)
-            return float(y / max(float(span_factor(c, q, temp - ref)), _MIN_SPAN_FACTOR))
+            lagged = lag.update(t_s, temp) if lag is not None else temp
+            return float(y / float(self._span(lagged, temp)))
 
         return FunctionStream(step, lag.reset if lag is not None else lambda: None)
 

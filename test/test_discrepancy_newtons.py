@@ -438,24 +438,21 @@ def test_a_span_that_follows_the_temperatures_gradient_is_named_thermal_sensitiv
     temp = (23.0 + rng.uniform(2, 4) * np.sin(2 * np.pi * t / rng.uniform(120, 250) + rng.uniform(0, 2 * np.pi))
             + rng.uniform(2, 4) * np.tanh((t - rng.uniform(0.3, 0.7) * duration_s) / rng.uniform(5, 20)))
     tau_s, g = rng.uniform(15.0, 60.0), rng.uniform(4e-3, 1e-2) * rng.choice([-1, 1])
-    a = np.exp(-1.0 / (rate_hz * tau_s))
-    lagged = signal.lfilter([1 - a], [1, -a], temp - temp[0]) + temp[0]
-    x = SensorChain([ViscoelasticElement(core)]).forward(t, f)
-    volts = x * (1 + g * (temp - lagged)) + 0.04 + rng.normal(0, 2e-3, t.size)
+
+    class Truth:  # the sensor, for the bench record and a new one: the gradient by a first-order lag's recursion
+        @staticmethod
+        def forward(t_s, force_n, aux):
+            temp_c = aux["temperature_c"]
+            step = np.exp(-1.0 / (rate_hz * tau_s))
+            lag_c = signal.lfilter([1 - step], [1, -step], temp_c - temp_c[0]) + temp_c[0]
+            return SensorChain([ViscoelasticElement(core)]).forward(t_s, force_n) * (1 + g * (temp_c - lag_c)) + 0.04
+
+    volts = Truth.forward(t, f, {"temperature_c": temp}) + rng.normal(0, 2e-3, t.size)
     diag = diagnose(Record(t, f + rng.normal(0, 0.005, t.size), volts, temp), base="burgers")
     assert diag.missing_effects == ["thermal_sensitivity"], (diag.missing_effects, diag.unexplained["partial_fits"])
     saved = next(e for e in diag.chain.elements if isinstance(e, ThermalSensitivityElement))
     assert saved.direct_span_coefficient_per_c == pytest.approx(g, rel=0.3)
     assert saved.span_coefficient_per_c == pytest.approx(-g, rel=0.3)
-
-    class Truth:  # the same sensor for a new record: the span's gradient by the same recursion
-        @staticmethod
-        def forward(t_s, force_n, aux):
-            temp_c = aux["temperature_c"]
-            step = np.exp(-np.diff(t_s, prepend=t_s[0] - 1.0 / rate_hz).mean() / tau_s)
-            lag_c = signal.lfilter([1 - step], [1, -step], temp_c - temp_c[0]) + temp_c[0]
-            return SensorChain([ViscoelasticElement(core)]).forward(t_s, force_n) * (1 + g * (temp_c - lag_c)) + 0.04
-
     assert _warm_needle_rmse_fraction(diag.chain, Truth, rate_hz, seed) <= 0.01
 
 

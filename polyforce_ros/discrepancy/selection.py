@@ -6,7 +6,8 @@ order), their confidences and shapes, and every candidate scored. Each round
 
 1. :meth:`~Selection.forward_step` adds every applicable effect in turn and scores it out of sample; the best
    (or a smaller one it does not beat, :func:`parsimonious`) is named when it passes the acceptance test
-   (:meth:`~Selection.justified`), and the model is refitted with it.
+   (:meth:`~Selection.justified`) and the model refitted with it predicts better (:meth:`~Selection.accept`;
+   else the step's next choice is judged).
 2. :meth:`~Selection.backward_check` drops an effect named earlier that the newer ones make redundant.
 3. :meth:`~Selection.swap_check` swaps an effect named earlier for a rival of its own step that now describes the
    data as well.
@@ -141,7 +142,6 @@ class Selection:
         self.variants: dict[str, str] = {}
         self.accepted_at: dict[str, int] = {}  # effect -> the step that named it
         self.step = 0
-        self.judged_in_step: list[Candidate] = []  # the candidates the last forward step judged
 
     # ------------------------------------------------------------------------- the acceptance test
 
@@ -341,10 +341,10 @@ class Selection:
 
     # ------------------------------------------------------------------------- the stages
 
-    def forward_step(self, catalogue: Sequence[str], skipped: Sequence[str]) -> Optional[Candidate]:
+    def forward_step(self, catalogue: Sequence[str], skipped: Sequence[str]) -> list[Candidate]:
         """One step of the forward selection: every effect of ``catalogue`` not named yet nor ``skipped`` nor a
         rival of a named one (:attr:`.effects.Effect.rivals`) nor fitted at the record's rate added to the current
-        model and scored; returns the candidate to judge (:func:`parsimonious`), None when none applies.
+        model and scored; returns the candidates judged (the one to judge first is :func:`parsimonious`'s).
 
         A candidate that removes ``min_excess_share`` of the current error above the floor but not in enough folds
         is tried again with the shapes named before it re-chosen beside it (they were chosen without it, e.g. a fine
@@ -385,8 +385,7 @@ class Selection:
             step_candidates.append(cand)
         if any(c.retried for c in step_candidates):
             step_candidates = [self._reshaped_too(c, current) for c in step_candidates]
-        self.judged_in_step = step_candidates
-        return parsimonious(step_candidates, self.acceptable, self.justified)
+        return step_candidates
 
     def _reshaped_too(self, cand: Candidate, current: Fit) -> Candidate:
         """``cand`` with the shapes named before it re-chosen beside it, when that predicts better and it was not
@@ -427,9 +426,7 @@ class Selection:
         if self.current.cv_mse < before.cv_mse:
             return True
         self.say(f"{best.effect}: its refitted model predicts no better, not named")
-        self.accepted.remove(best.effect)
-        self.accepted_at.pop(best.effect)
-        self._unname(best.effect)
+        self.drop(best.effect)
         self.current, self.fitter.sig = before, sig_before
         return False
 
@@ -521,11 +518,12 @@ class Selection:
         are named or a set of named effects recurs (add one, drop another); then :meth:`settle_variants`."""
         seen: set[frozenset[str]] = {frozenset()}
         while len(self.accepted) < max_effects:
-            best = self.forward_step(catalogue, skipped)
+            judged = self.forward_step(catalogue, skipped)
+            best = parsimonious(judged, self.acceptable, self.justified)
             while best is not None and self.acceptable(best) and not self.accept(best):
                 # the next choice of the step, without the effect whose refitted model did not help
-                self.judged_in_step = [c for c in self.judged_in_step if c.effect != best.effect]
-                best = parsimonious(self.judged_in_step, self.acceptable, self.justified)
+                judged = [c for c in judged if c.effect != best.effect]
+                best = parsimonious(judged, self.acceptable, self.justified)
             if best is None or not self.acceptable(best):
                 break
             self.backward_check()
@@ -544,7 +542,7 @@ class Selection:
                 c.variant = self.variants[c.effect]
 
     def drop(self, name: str) -> None:
-        """``name`` no longer names an effect (another stands in for it)."""
+        """``name`` no longer names an effect (another stands in for it, or its refitted model did not help)."""
         self.accepted.remove(name)
         self.accepted_at.pop(name, None)
         self._unname(name)

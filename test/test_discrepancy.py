@@ -632,6 +632,52 @@ def test_any_gaps_and_the_slow_rival_give_a_finite_bounded_fit(seed, kind, gaps,
         np.testing.assert_array_equal(folded[decays], fit.coef[decays])
 
 
+def _held_levels(duration_s, rate_hz, rng):
+    """Force held at random levels (0-8 N, 5-30 s) reached by minimum-jerk moves of 0.3-1.5 s: little content
+    above a few Hz."""
+    t = np.arange(0.0, duration_s, 1.0 / rate_hz)
+    f, now, level = np.zeros_like(t), 2.0, 0.0
+    while now < duration_s:
+        move, target = rng.uniform(0.3, 1.5), rng.uniform(0.0, 8.0)
+        moving = (t >= now) & (t < now + move)
+        u = (t[moving] - now) / move
+        f[moving] = level + (target - level) * u ** 3 * (10.0 - 15.0 * u + 6.0 * u * u)
+        now += move
+        f[t >= now], level = target, target
+        now += rng.uniform(5.0, 30.0)
+    return t, f
+
+
+@pytest.mark.parametrize("seed", [3, 9])
+def test_a_mode_that_only_smooths_the_reference_forces_noise_is_not_named(seed):
+    """``choose_mode``: a soft sensor's prediction carries the reference force's noise (5 mN through about 1 N/V
+    is about 5 mV, white), which the bridge never saw. Under smooth holds a lightly damped mode low in the band
+    takes that noise out of the prediction at little cost and passed the fold test (these seeds); a low-pass that
+    cannot ring takes it out as well, so no mode is named. A mode that knocks on the tool make the record ring with
+    is still named over the same noise."""
+    from polyforce_ros.discrepancy.resonance import _through_mode, choose_mode
+    from polyforce_ros.physics.viscoelastic import Burgers
+
+    rng = np.random.default_rng(seed)
+    rate_hz = 690.0
+    t, f = _held_levels(120.0, rate_hz, rng)
+    core = Burgers(rng.uniform(0.8, 1.5), rng.uniform(3.0, 10.0), 3e4, rng.uniform(20.0, 200.0))
+    clean = simulate_deformation(core, t, f) + 0.05
+    predicted = simulate_deformation(core, t, f + rng.normal(0.0, 5e-3, t.size)) + 0.05
+    fold = (np.arange(t.size) * 5 // t.size).astype(int)
+    mode, _ = choose_mode(t, clean + rng.normal(0.0, 2.5e-3, t.size), predicted, fold, 2.5e-3, (1.0, 2.0), 0.8, 0.3)
+    assert mode is None, (mode.frequency_hz, mode.damping_ratio, mode.excess_share)
+    for at in rng.uniform(5.0, 115.0, 30):  # knocks of 5-15 ms on the tool excite a mode
+        i0, n = int(at * rate_hz), int(rng.uniform(0.005, 0.015) * rate_hz)
+        f[i0:i0 + n] += rng.uniform(0.2, 0.6) * 0.5 * (1.0 - np.cos(2 * np.pi * np.arange(n) / n))
+    f0_hz = rng.uniform(15.0, 30.0)
+    rings = (_through_mode(simulate_deformation(core, t, f) + 0.05, 1.0 / rate_hz, f0_hz, 0.05)
+             + rng.normal(0.0, 2.5e-3, t.size))
+    predicted = simulate_deformation(core, t, f + rng.normal(0.0, 5e-3, t.size)) + 0.05
+    mode, _ = choose_mode(t, rings, predicted, fold, 2.5e-3, (8.0, 32.0), 0.8, 0.3)
+    assert mode is not None and mode.frequency_hz == pytest.approx(f0_hz, rel=0.05)
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_a_mode_is_added_beside_a_lag_only_for_structure_the_record_shows(seed):
     """``choose_mode``: a 20-40 Hz mode that does take the prediction to the measurement is named on top of a lag's

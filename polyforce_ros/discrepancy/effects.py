@@ -485,10 +485,15 @@ def _lag_elements(coef: Mapping[str, float], variant: str, param: Optional[float
     return [("lag", SensorLagElement(tau_s=float(tau))) for tau in lag_stages(variant, parameter(param))]
 
 
+#: The total delay of a sensor lag's poles searched [s]: from electronics (3 ms) to mechanical and
+#: signal-conditioning filters (0.8 s).
+LAG_DELAY_RANGE_S = (0.003, 0.8)
+
+
 def _lag_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     """Delays (s) searched: a transport delay of DAQ buffering (2-100 ms), or the total delay of one pole or two
-    equal poles, from electronics (3 ms) to mechanical and signal-conditioning filters (0.8 s)."""
-    return _log_grid(0.002, 0.1, 10) if variant == "delay" else _log_grid(0.003, 0.8, 12)
+    equal poles (:data:`LAG_DELAY_RANGE_S`)."""
+    return _log_grid(0.002, 0.1, 10) if variant == "delay" else _log_grid(*LAG_DELAY_RANGE_S, 12)
 
 
 #: How much slower each further Kelvin unit of a spread delayed elasticity starts than the one before: apart enough

@@ -93,7 +93,7 @@ from ..record import Record  # the record type diagnose takes (re-exported)
 from ..runtime import CompensatorConfig
 from .design import (BASES, BLOCKS_PER_FOLD, Fit, Fitter, Structure, Term, build_chain, core_model, design, fold_of,
                      refresh_ref)
-from .effects import EFFECTS as REGISTRY, NAMES
+from .effects import EFFECTS as REGISTRY, NAMES, lag_stages
 from .localise import describe, localise
 from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, rate_of, runtime_guard, with_filter,
                       with_friction_deadband, with_friction_share, with_safe_bandwidth)
@@ -405,8 +405,9 @@ def _mode_stage(rec: Record, fitter: Fitter, sig_full: Signals, bin_of_sample: I
     reduced_fit = fitter.evaluate(reduced) if reduced is not None else None
     fold = fitter.fold[bin_of_sample]
     without_lag = None if reduced_fit is None else out_of_sample(sig_full, reduced_fit, fitter, bin_of_sample)[2]
+    stages_s = lag_stages(lag.variant, float(lag.param)) if lag is not None and lag.param and reduced is not None else []
     mode, drop_lag = choose_mode(rec.t_s, rec.voltage_v, predicted_v, fold, floor_v, band, min_confidence,
-                                 min_excess_share, without_lag, structure_seen=bool(test.present))
+                                 min_excess_share, without_lag, structure_seen=bool(test.present), lag_stages_s=stages_s)
     if drop_lag and reduced_fit is not None:
         say("drop sensor_lag: the mode holds it")
         selection.drop("sensor_lag")

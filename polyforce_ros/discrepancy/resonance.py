@@ -12,6 +12,13 @@ the bound (0.5) is a lag, not a mode. A sensor lag named at the fit rate may hav
 (a moderately damped mode delays the signal by 2 zeta / w): it is kept only when, beside the mode, it passes the
 same test (:func:`.engine.diagnose`).
 
+A mode added on top of the model must also pass that test against a low-pass that cannot ring in its place: one to
+four equal poles, with a named lag's stages refitted among them (:func:`through_equal_poles`). A mode is named for
+its ringing, and two things a low-pass corrects also pass the test: the prediction is made from the reference
+force, whose noise the bridge never saw (5 mN through a soft core is several mV, white), and a mode low in the band
+filters it out; and a lag chosen at the fit rate, where a filter of three or four stages looks like a pole pair,
+attenuates too much below its corner, which a mode's gain, rising towards its peak, makes up for.
+
 The fit runs on a uniform grid at the median step (a first-order-hold discretisation, exact for piecewise-linear
 input, as the ``resonance`` element's forward run); the fold errors are taken on the record's own stamps, through
 the element itself.
@@ -29,6 +36,7 @@ from scipy import optimize, signal
 from ..physics.chain import (ExponentialDriftElement, OffsetDriftElement, OffsetElement, PolynomialDriftElement,
                              ResonanceElement, SensorChain, SensorLagElement, SplineDriftElement, ThermalDriftElement,
                              ThermalLagElement, TransportDelayElement)
+from .effects import LAG_DELAY_RANGE_S
 from .residual import excess
 from .signals import FloatArray, IntArray
 
@@ -137,6 +145,46 @@ def fit_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.Arr
     return ModeFit(frequency_hz, zeta, confidence, share, through)
 
 
+#: The most equal poles a lag refitted at the record's rate may hold (a fourth-order anti-aliasing filter).
+MAX_EQUAL_POLES = 4
+
+
+def through_equal_poles(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.ArrayLike,
+                        lag_stages_s: Sequence[float]) -> FloatArray:
+    """``predicted_v`` through the chain of 1 to :data:`MAX_EQUAL_POLES` equal first-order lags (unit gain at rest)
+    that takes it closest to ``measured_v`` in least squares, with the named lag's stages (time constants
+    ``lag_stages_s`` [s], none when no lag is named) undone first, on the record's own stamps: the rival a mode on
+    top of the model must beat (module docstring). The total delay is searched from one sample to the longest a
+    sensor lag may hold (:data:`.effects.LAG_DELAY_RANGE_S`); the stages are undone by their inverse (the
+    prediction holds no noise of the bridge to amplify); the prediction itself is kept when no chain does better."""
+    t = np.asarray(t_s, dtype=float)
+    v, p = np.asarray(measured_v, dtype=float), np.asarray(predicted_v, dtype=float)
+    step = float(np.median(np.diff(t))) if t.size > 1 else 0.0
+    if not step > 0.0:
+        return p.copy()
+
+    undone = p - p[0]
+    for tau_s in lag_stages_s:
+        undone = np.asarray(SensorLagElement(tau_s=tau_s).backward(t, undone), dtype=float)
+
+    def through(n_poles: int, log_delay: float) -> FloatArray:
+        lag = SensorLagElement(tau_s=math.exp(log_delay) / n_poles)
+        out = undone
+        for _ in range(n_poles):
+            out = np.asarray(lag.forward(t, out), dtype=float)
+        settled: FloatArray = out + p[0]
+        return settled
+
+    best, best_sse = p.copy(), float(np.sum((p - v) ** 2))
+    for n_poles in range(1, MAX_EQUAL_POLES + 1):
+        sol = optimize.minimize_scalar(lambda x, n=n_poles: float(np.sum((through(n, x) - v) ** 2)),
+                                       bounds=(math.log(step), math.log(LAG_DELAY_RANGE_S[1])), method="bounded",
+                                       options={"xatol": 0.02})
+        if float(sol.fun) < best_sse:
+            best, best_sse = through(n_poles, float(sol.x)), float(sol.fun)
+    return best
+
+
 def fold_gain(measured_v: FloatArray, better_v: FloatArray, than_v: FloatArray, fold: IntArray,
               floor_v: float) -> tuple[float, float]:
     """How much the prediction ``better_v`` improves on ``than_v``: the share of folds whose squared error it lowers,
@@ -150,12 +198,14 @@ def fold_gain(measured_v: FloatArray, better_v: FloatArray, than_v: FloatArray, 
 
 def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.ArrayLike, fold: IntArray,
                 floor_v: float, band_hz: Optional[Sequence[float]], min_confidence: float, min_excess_share: float,
-                predicted_without_lag_v: Optional[FloatArray] = None, structure_seen: bool = True
-                ) -> tuple[Optional[ModeFit], bool]:
+                predicted_without_lag_v: Optional[FloatArray] = None, structure_seen: bool = True,
+                lag_stages_s: Sequence[float] = ()) -> tuple[Optional[ModeFit], bool]:
     """The mode to name, if any, and whether the sensor lag named at the fit rate goes (module docstring).
 
-    With a lag named (``predicted_without_lag_v``: the prediction of the model without it), three models compete:
-    the lag (``predicted_v``), the lag and a mode, the mode alone. A mode on top of the lag is named when it passes
+    A mode on top of ``predicted_v`` passes the test against it and against a low-pass that cannot ring in its
+    place (:func:`through_equal_poles`, with the named lag's stages ``lag_stages_s`` [s] refitted). With a lag
+    named (``predicted_without_lag_v``: the prediction of the model without it), three models compete: the lag
+    (``predicted_v``), the lag and a mode, the mode alone. A mode on top of the lag is named when it passes
     the test against the lag; the lag then stays only when it passes the test against the mode alone. A mode that
     does not pass on top of the lag may still replace it: when the mode alone passes the test against the lag.
     When the model leaves no structure the unexplained test sees (``structure_seen`` False), no mode is added on top
@@ -172,6 +222,11 @@ def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.
     v = np.asarray(measured_v, dtype=float)
     on_top = (fit_mode(t_s, v, predicted_v, fold, floor_v, band_hz, min_confidence, min_excess_share)
               if structure_seen else None)
+    if on_top is not None:  # a low-pass that cannot ring in the mode's place (the named lag's stages refitted)
+        rival = through_equal_poles(t_s, v, predicted_v, lag_stages_s)
+        confidence, share = fold_gain(v, on_top.predicted_v, rival, fold, floor_v)
+        if confidence < min_confidence or share < min_excess_share:
+            on_top = None
     if predicted_without_lag_v is None:
         return on_top, False
     alone = fit_mode(t_s, v, predicted_without_lag_v, fold, floor_v, band_hz, 0.0, -math.inf)

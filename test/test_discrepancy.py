@@ -648,6 +648,32 @@ def _held_levels(duration_s, rate_hz, rng):
     return t, f
 
 
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_low_pass_rival_replaces_a_named_lags_stages_by_the_equal_poles_the_record_holds(seed):
+    """``through_equal_poles``: a record through three equal poles, predicted through a pole pair of the same total
+    delay (the fit rate's choice), is taken by the rival to within a small share of the pair's error, the pair's
+    stages undone first; without them undone the rival can only add poles to the pair, and does worse."""
+    from polyforce_ros.discrepancy.resonance import through_equal_poles
+    from polyforce_ros.discrepancy.effects import lag_columns
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, 60.0, 1e-3)
+    x = np.cumsum(rng.normal(0.0, 0.02, t.size))  # a random walk: content at every frequency
+    delay_s = rng.uniform(0.03, 0.09)
+    measured, predicted = x.copy(), x.copy()
+    for _ in range(3):
+        measured = lag_columns(t, measured, delay_s / 3.0)
+    for _ in range(2):
+        predicted = lag_columns(t, predicted, delay_s / 2.0)
+
+    def sse(y):
+        return float(np.sum((y - measured) ** 2))
+
+    replaced = through_equal_poles(t, measured, predicted, [delay_s / 2.0] * 2)
+    added = through_equal_poles(t, measured, predicted, [])
+    assert sse(replaced) <= 0.05 * sse(predicted) and sse(replaced) < sse(added)
+
+
 @pytest.mark.parametrize("seed", [3, 9])
 def test_a_mode_that_only_smooths_the_reference_forces_noise_is_not_named(seed):
     """``choose_mode``: a soft sensor's prediction carries the reference force's noise (5 mN through about 1 N/V

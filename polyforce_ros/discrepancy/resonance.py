@@ -12,16 +12,17 @@ the bound (0.5) is a lag, not a mode. A sensor lag named at the fit rate may hav
 (a moderately damped mode delays the signal by 2 zeta / w): it is kept only when, beside the mode, it passes the
 same test (:func:`.engine.diagnose`).
 
-A mode added on top of the model must also pass that test against a low-pass that cannot ring in its place: one to
-four equal poles, with a named lag's stages refitted among them (:func:`through_equal_poles`). A mode is named for
-its ringing, and two things a low-pass corrects also pass the test: the prediction is made from the reference
+A mode added on top of the model must also show on top of the best low-pass that cannot ring: one to four equal
+poles, a named lag's stages replaced by them (:func:`through_equal_poles`); a mode fitted on top of that low-pass
+must pass the same test against it. A mode is named for its ringing, and two things a low-pass corrects also pass
+the test: the prediction is made from the reference
 force, whose noise the bridge never saw (5 mN through a soft core is several mV, white), and a mode low in the band
 filters it out; and a lag chosen at the fit rate, where a filter of three or four stages looks like a pole pair,
 attenuates too much below its corner, which a mode's gain, rising towards its peak, makes up for.
 
 The fit runs on a uniform grid at the median step (a first-order-hold discretisation, exact for piecewise-linear
 input, as the ``resonance`` element's forward run); the fold errors are taken on the record's own stamps, through
-the element itself.
+the element itself. The low-pass rival is fitted and run on the record's own stamps.
 """
 from __future__ import annotations
 
@@ -40,7 +41,8 @@ from .effects import LAG_DELAY_RANGE_S
 from .residual import excess
 from .signals import FloatArray, IntArray
 
-__all__ = ["ModeFit", "fit_mode", "choose_mode", "fold_gain", "with_mode", "ZETA_BOUNDS", "LOWEST_MODE_HZ"]
+__all__ = ["ModeFit", "fit_mode", "choose_mode", "fold_gain", "through_equal_poles", "with_mode", "ZETA_BOUNDS",
+           "LOWEST_MODE_HZ", "MAX_EQUAL_POLES"]
 
 #: Damping ratios searched: a mode rings below 0.5; at the bound the transfer is a (pole-pair) lag.
 ZETA_BOUNDS = (0.005, 0.5)
@@ -154,13 +156,16 @@ def through_equal_poles(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted
     """``predicted_v`` through the chain of 1 to :data:`MAX_EQUAL_POLES` equal first-order lags (unit gain at rest)
     that takes it closest to ``measured_v`` in least squares, with the named lag's stages (time constants
     ``lag_stages_s`` [s], none when no lag is named) undone first, on the record's own stamps: the rival a mode on
-    top of the model must beat (module docstring). The total delay is searched from one sample to the longest a
-    sensor lag may hold (:data:`.effects.LAG_DELAY_RANGE_S`); the stages are undone by their inverse (the
-    prediction holds no noise of the bridge to amplify); the prediction itself is kept when no chain does better."""
+    top of the model is tested against (module docstring). The total delay is searched from one sample to the
+    longest a sensor lag may hold (:data:`.effects.LAG_DELAY_RANGE_S`); the prediction itself is kept when no chain
+    does better. The stages are undone by the lag's backward run (a slope over each sample interval, which holds
+    no bridge noise to amplify here): close to the inverse of the forward run below the stages' corners, not near
+    the Nyquist rate, so the rival is a low-pass of the prediction rather than the model refitted, and the test on
+    top of it is a mode's own (:func:`choose_mode`)."""
     t = np.asarray(t_s, dtype=float)
     v, p = np.asarray(measured_v, dtype=float), np.asarray(predicted_v, dtype=float)
     step = float(np.median(np.diff(t))) if t.size > 1 else 0.0
-    if not step > 0.0:
+    if not 0.0 < step < LAG_DELAY_RANGE_S[1]:
         return p.copy()
 
     undone = p - p[0]
@@ -202,8 +207,9 @@ def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.
                 lag_stages_s: Sequence[float] = ()) -> tuple[Optional[ModeFit], bool]:
     """The mode to name, if any, and whether the sensor lag named at the fit rate goes (module docstring).
 
-    A mode on top of ``predicted_v`` passes the test against it and against a low-pass that cannot ring in its
-    place (:func:`through_equal_poles`, with the named lag's stages ``lag_stages_s`` [s] refitted). With a lag
+    A mode on top of ``predicted_v`` is named when it passes the test against it and a mode fitted on top of the
+    best low-pass that cannot ring (:func:`through_equal_poles`, the named lag's stages ``lag_stages_s`` [s]
+    replaced) passes the test against that low-pass; its confidence and share are the lower of the two. With a lag
     named (``predicted_without_lag_v``: the prediction of the model without it), three models compete: the lag
     (``predicted_v``), the lag and a mode, the mode alone. A mode on top of the lag is named when it passes
     the test against the lag; the lag then stays only when it passes the test against the mode alone. A mode that
@@ -222,11 +228,12 @@ def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.
     v = np.asarray(measured_v, dtype=float)
     on_top = (fit_mode(t_s, v, predicted_v, fold, floor_v, band_hz, min_confidence, min_excess_share)
               if structure_seen else None)
-    if on_top is not None:  # a low-pass that cannot ring in the mode's place (the named lag's stages refitted)
-        rival = through_equal_poles(t_s, v, predicted_v, lag_stages_s)
-        confidence, share = fold_gain(v, on_top.predicted_v, rival, fold, floor_v)
-        if confidence < min_confidence or share < min_excess_share:
-            on_top = None
+    if on_top is not None:  # the ringing must show on top of the best low-pass that cannot ring, too
+        low_pass = through_equal_poles(t_s, v, predicted_v, lag_stages_s)
+        beyond = fit_mode(t_s, v, low_pass, fold, floor_v, band_hz, min_confidence, min_excess_share)
+        on_top = None if beyond is None else ModeFit(
+            on_top.frequency_hz, on_top.damping_ratio, min(on_top.confidence, beyond.confidence),
+            min(on_top.excess_share, beyond.excess_share), on_top.predicted_v)
     if predicted_without_lag_v is None:
         return on_top, False
     alone = fit_mode(t_s, v, predicted_without_lag_v, fold, floor_v, band_hz, 0.0, -math.inf)

@@ -378,7 +378,7 @@ def _thermal_columns(sig: Signals, variant: str, param: Optional[float]) -> list
     if variant.endswith("curved"):
         cols.append(("thermal_curvature", temp ** 2, -np.inf, np.inf, "additive", None))
     if variant == "lag_lead":
-        cols.append(("thermal_direct", sig.temperature - sig.temp_ref, -np.inf, np.inf, "additive", None))
+        cols.append(("thermal_direct", _departure_c(sig, "direct", None), -np.inf, np.inf, "additive", None))
     return cols
 
 
@@ -401,7 +401,7 @@ def _span_thermal_columns(sig: Signals, variant: str, param: Optional[float]) ->
     if variant.endswith("curved"):
         cols.append(("span_thermal_curvature", sig.core_output * temp ** 2, -np.inf, np.inf, "sensor", None))
     if variant == "lag_lead":
-        cols.append(("span_thermal_direct", sig.core_output * (sig.temperature - sig.temp_ref), -np.inf, np.inf,
+        cols.append(("span_thermal_direct", sig.core_output * _departure_c(sig, "direct", None), -np.inf, np.inf,
                      "sensor", None))
     return cols
 

@@ -413,22 +413,35 @@ class Selection:
         saved) has them made from its own core (:func:`.refit.settle`), and where the two differ in shape (a
         voltage-path hysteresis that takes part of the core's gain and creep) the effect in its saved form may
         not help at all: every later step would be judged against a model worse than the one it replaced."""
-        before, sig_before = self.current, self.fitter.sig
         best.accepted = True
         self.accepted_at[best.effect] = self.step
         self.accepted.append(best.effect)
         self.confidences[best.effect] = best.confidence
         self.variants[best.effect] = best.variant
         self.say(f"refit with {best.effect}")
-        self.current = refine(self.fitter, best.fit.structure)
-        if len(self.accepted) > 1:  # the shapes named before it were chosen without it
-            self.current = self.rechosen(self.current, skip=best.effect)
-        if self.current.cv_mse < before.cv_mse:
+        # the shapes named before it were chosen without it
+        refined = self.saved_form(best.fit.structure, self.current, best.effect if len(self.accepted) > 1 else "")
+        if refined is not None:
+            self.current = refined
             return True
         self.say(f"{best.effect}: its refitted model predicts no better, not named")
         self.drop(best.effect)
-        self.current, self.fitter.sig = before, sig_before
         return False
+
+    def saved_form(self, structure: Structure, than: Fit, rechoose_beside: str = "") -> Optional[Fit]:
+        """``structure`` as the model keeps (and saves) it: refined on its own reference core (:func:`.refit.refine`),
+        with the shapes named beside ``rechoose_beside`` re-chosen (:meth:`rechosen`) when given; None, with the
+        fitter's reference core as before, when it predicts the left-out blocks no better than ``than``. The rule
+        by which an effect is named (:meth:`accept`) or swapped in (:meth:`swap_check`) only when it helps in its
+        saved form."""
+        sig_before = self.fitter.sig
+        fit = refine(self.fitter, structure)
+        if rechoose_beside:
+            fit = self.rechosen(fit, skip=rechoose_beside)
+        if fit.cv_mse < than.cv_mse:
+            return fit
+        self.fitter.sig = sig_before
+        return None
 
     def _unname(self, name: str) -> None:
         """``name`` no longer names an effect of the answer."""
@@ -487,10 +500,8 @@ class Selection:
                         (size(fit) < size(self.current) and not self.justified(self.current, fit))
                         or self.justified(fit, self.current)):
                     continue
-                sig_before = fitter.sig
-                refined = refine(fitter, fit.structure)
-                if refined.cv_mse >= reduced_fit.cv_mse:  # the rival in its saved form does not help (as in accept)
-                    fitter.sig = sig_before
+                refined = self.saved_form(fit.structure, reduced_fit)
+                if refined is None:
                     self.say(f"{rival.effect}: its refitted model predicts no better, not swapped in")
                     continue
                 self.say(f"swap {name} for {rival.effect}")

@@ -674,6 +674,63 @@ def test_the_low_pass_rival_replaces_a_named_lags_stages_by_the_equal_poles_the_
     assert sse(replaced) <= 0.05 * sse(predicted) and sse(replaced) < sse(added)
 
 
+def _light_mode_record(seed, duration_s=120.0):
+    """A coloured drive (like a load) through a mode of 10-80 Hz damped at 0.005-0.05 (at least 0.1 Hz of
+    half-power width), 1 mV of noise at 1 kHz: (t, drive, measured, f0_hz, zeta)."""
+    from polyforce_ros.physics.chain import ResonanceElement
+
+    rng = np.random.default_rng(seed)
+    f0_hz = rng.uniform(10.0, 80.0)
+    zeta = max(rng.uniform(0.005, 0.05), 0.05 / f0_hz)
+    t = np.arange(0.0, duration_s, 1e-3)
+    drive = scipy_signal.lfilter([1.0], [1.0, -0.9], rng.normal(0.0, 0.01, t.size))
+    rung = np.asarray(ResonanceElement(frequency_hz=f0_hz, damping_ratio=zeta).forward(t, drive), dtype=float)
+    return t, drive, rung + rng.normal(0.0, 1e-3, t.size), f0_hz, zeta
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_the_transfer_peak_finds_a_light_modes_frequency_and_damping(seed):
+    """The empirical transfer's peak (the light mode's start) lies within the mode's half-power band (or one Welch
+    bin of 1/15 Hz, for the lightest), with a damping within a factor of 1.6 (the window smears the peak); a
+    transfer with no gain above 1 gives none."""
+    from polyforce_ros.discrepancy.resonance import transfer_peak
+
+    t, drive, measured, f0_hz, zeta = _light_mode_record(seed)
+    peak = transfer_peak(drive, measured, 1e-3, 450.0)
+    assert peak is not None and abs(peak[0] - f0_hz) <= max(1.0 / 15.0, zeta * f0_hz)
+    assert zeta / 1.6 <= peak[1] <= 1.6 * zeta
+    assert transfer_peak(drive, 0.5 * drive, 1e-3, 450.0) is None
+    assert transfer_peak(np.zeros(t.size), measured, 1e-3, 450.0) is None
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_light_mode_is_fitted_from_a_band_an_octave_away(seed):
+    """A mode damped at 0.005-0.05 is fitted within 0.5 % in frequency and 20 % in damping when the search band
+    given (the residual's strongest) starts an octave below it: the transfer's peak is a start of its own."""
+    from polyforce_ros.discrepancy.resonance import fit_mode
+
+    t, drive, measured, f0_hz, zeta = _light_mode_record(seed)
+    fold = (np.arange(t.size) * 5 // t.size).astype(int)
+    mode = fit_mode(t, measured, drive, fold, 1e-3, (f0_hz / 4.0, f0_hz / 2.0), 0.8, 0.3)
+    assert mode is not None and mode.frequency_hz == pytest.approx(f0_hz, rel=0.005)
+    assert mode.damping_ratio == pytest.approx(zeta, rel=0.2)
+
+
+@given(st_.integers(0, 2**32 - 1), st_.integers(0, 40000), st_.sampled_from([1e-3, 4e-3, 0.05, 0.0, -1e-3, np.nan]),
+       st_.sampled_from(["noise", "constant", "nan", "huge"]))
+@settings(max_examples=40, deadline=None)
+def test_the_transfer_peak_of_any_record_is_none_or_a_mode_inside_its_bounds(seed, n, step_s, content):
+    from polyforce_ros.discrepancy.resonance import LOWEST_MODE_HZ, ZETA_BOUNDS, transfer_peak
+
+    rng = np.random.default_rng(seed)
+    x = {"noise": rng.normal(0.0, 1.0, n), "constant": np.full(n, 0.3), "huge": rng.normal(0.0, 1e150, n),
+         "nan": np.where(rng.random(n) < 0.01, np.nan, rng.normal(0.0, 1.0, n))}[content]
+    y = np.roll(x, 1) * 3.0 + rng.normal(0.0, 0.1, n)
+    highest_hz = 0.45 / step_s if step_s > 0 else 1.0
+    peak = transfer_peak(x, y, step_s, highest_hz)
+    assert peak is None or (LOWEST_MODE_HZ <= peak[0] <= highest_hz and ZETA_BOUNDS[0] <= peak[1] <= ZETA_BOUNDS[1])
+
+
 @pytest.mark.parametrize("seed", [3, 9])
 def test_a_mode_that_only_smooths_the_reference_forces_noise_is_not_named(seed):
     """``choose_mode``: a soft sensor's prediction carries the reference force's noise (5 mN through about 1 N/V

@@ -144,17 +144,36 @@ def _resonant_chain(f0_hz, zeta, seed):
     return SensorChain([*elements, OffsetElement(0.05)], forward_only=True)
 
 
-def _resonant_record(f0_hz, zeta, seed, rate_hz=1000.0):
+def _resonant_record(f0_hz, zeta, seed, rate_hz=1000.0, knocks=0):
+    """A record of :func:`_resonant_chain` under a random bench load, with ``knocks`` raised-cosine knocks of
+    5-15 ms and 0.3-1.5 N on the tool (what excites a mode in use)."""
     from polyforce_ros.record import Record
     from polyforce_ros.sim.bench import random_load
     from polyforce_ros.sim.sensor import BridgeSimulator
 
     t, f = random_load(240.0, rate_hz, seed)
+    rng = np.random.default_rng(seed + 99)
+    for at in rng.uniform(0.05, 0.95, knocks) * t[-1]:
+        i0, n = int(at * rate_hz), int(rng.uniform(0.005, 0.015) * rate_hz)
+        f[i0:i0 + n] += rng.uniform(0.3, 1.5) * 0.5 * (1.0 - np.cos(2 * np.pi * np.arange(n) / n))
     chain = _resonant_chain(f0_hz, zeta, seed)
     sim = BridgeSimulator(noise_std_v=2e-3, seed=seed)
     sim.chain, sim._states = chain, chain.forward_states()
     volts = sim.simulate(t, f)
     return Record(t, f + np.random.default_rng(seed).normal(0.0, 0.005, t.size), volts, None)
+
+
+def _compensated_needle(diag, f0_hz, zeta, seed):
+    """The saved model of ``diag`` compensating a new needle record of the :func:`_resonant_chain` sensor at 1 kHz
+    (2 mV of noise): asserts the runtime's guard accepts it and the RMSE is within 1 % of full scale against the
+    reference as late as the model states; returns (t, compensated force)."""
+    comp = Compensator(diag.chain, CompensatorConfig(auto_tare=False))
+    t, force = profiles.make_profile("needle_insertion", rate_hz=1000.0, seed=seed)
+    volts = _resonant_chain(f0_hz, zeta, seed).forward(t, force) + np.random.default_rng(seed).normal(0, 2e-3, t.size)
+    used, out = comp.run(np.round(t * 1e9).astype(np.int64), volts)
+    late = np.interp(t - diag.chain.latency_s, t, force, left=force[0])
+    assert used.all() and np.sqrt(np.mean((out - late) ** 2)) <= 0.01 * np.ptp(force)
+    return t, out
 
 
 @pytest.mark.parametrize("f0_hz, zeta, seed", [(15.0, 0.05, 31), (28.0, 0.04, 32), (40.0, 0.2, 33)])
@@ -172,13 +191,29 @@ def test_a_mechanical_mode_is_named_at_the_records_rate_and_its_saved_model_damp
     mode = next(e for e in diag.chain.elements if isinstance(e, ResonanceElement))
     assert mode.frequency_hz == pytest.approx(f0_hz, rel=0.1) and mode.damping_ratio == pytest.approx(zeta, rel=0.3)
     assert diag.newtons["saved"]["rmse_n"] < diag.newtons["base"]["rmse_n"]
-    comp = Compensator(diag.chain, CompensatorConfig(auto_tare=False))  # the runtime's guard accepts it
-    t, force = profiles.make_profile("needle_insertion", rate_hz=1000.0, seed=seed)
-    volts = _resonant_chain(f0_hz, zeta, seed).forward(t, force) + np.random.default_rng(seed).normal(0, 2e-3, t.size)
-    used, out = comp.run(np.round(t * 1e9).astype(np.int64), volts)
-    late = np.interp(t - diag.chain.latency_s, t, force, left=force[0])
-    assert used.all() and np.sqrt(np.mean((out - late) ** 2)) <= 0.01 * np.ptp(force)
+    t, out = _compensated_needle(diag, f0_hz, zeta, seed)
     assert np.std(out[t < 0.9]) <= 0.02
+
+
+@pytest.mark.parametrize("seed", [51, 52, 53])
+def test_a_very_lightly_damped_mode_is_fitted_at_its_peak_and_its_saved_model_compensates(seed):
+    """A mode damped at 0.008-0.02 (a stiff mount, an oil line) at a random 15-45 Hz, excited by knocks on the tool:
+    its least-squares valley in frequency is narrow, and a fit started an octave away settles on a broad damped
+    compromise that leaves most of the ringing. Named ``resonance`` alone, explaining 90 % of the excess, its
+    frequency within 2 % and its damping within a factor of 1.5; the saved model compensates a new needle record
+    within 1 % of full scale."""
+    from polyforce_ros.physics.chain import ResonanceElement
+
+    rng = np.random.default_rng(seed)
+    f0_hz, zeta = float(rng.uniform(15.0, 45.0)), float(rng.uniform(0.008, 0.02))
+    rec = _resonant_record(f0_hz, zeta, seed, knocks=30)
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["resonance"], (diag.missing_effects, diag.unexplained)
+    assert diag.unexplained["explained_share"] >= 0.9
+    mode = next(e for e in diag.chain.elements if isinstance(e, ResonanceElement))
+    assert mode.frequency_hz == pytest.approx(f0_hz, rel=0.02)
+    assert zeta / 1.5 <= mode.damping_ratio <= 1.5 * zeta
+    _compensated_needle(diag, f0_hz, zeta, seed)
 
 
 @pytest.mark.parametrize("seed", [31, 34])

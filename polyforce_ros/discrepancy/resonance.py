@@ -5,20 +5,20 @@ away. A mode acts on the voltage the rest of the model predicts: ``V = H(p) + no
 ``H(s) = w^2 / (s^2 + 2 zeta w s + w^2)`` (unit gain at rest), ``p`` the out-of-sample prediction at the record's
 rate. So when the unexplained test sees structure, or a sensor lag is named (a mode damped at 0.25-0.4 is a
 low-pass too, and a lag may hold all of it), (f0, zeta) are fitted by least squares to the transfer from ``p`` to
-the measured voltage, started from the residual's strongest band (or from the mode that delays as the lag does),
-and the mode is named when it passes the forward step's own test: it lowers the out-of-sample error in
-``min_confidence`` of the folds and removes ``min_excess_share`` of the error above the noise floor. A damping at
-the bound (0.5) is a lag, not a mode. A sensor lag named at the fit rate may have stood in for the mode's slow part
-(a moderately damped mode delays the signal by 2 zeta / w): it is kept only when, beside the mode, it passes the
-same test (:func:`.engine.diagnose`).
+the measured voltage, started from the residual's strongest band (or from the mode that delays as the lag does)
+and from the peak of the empirical transfer (:func:`transfer_peak`), and the mode is named when it passes the
+forward step's own test: it lowers the out-of-sample error in ``min_confidence`` of the folds and removes
+``min_excess_share`` of the error above the noise floor. A damping at the bound (0.5) is a lag, not a mode. A
+sensor lag named at the fit rate may have stood in for the mode's slow part (a moderately damped mode delays the
+signal by 2 zeta / w): it is kept only when, beside the mode, it passes the same test (:func:`.engine.diagnose`).
 
 A mode added on top of the model must also show on top of the best low-pass that cannot ring: one to four equal
-poles, a named lag's stages replaced by them (:func:`through_equal_poles`); a mode fitted on top of that low-pass
-must pass the same test against it. A mode is named for its ringing, and two things a low-pass corrects also pass
-the test: the prediction is made from the reference
-force, whose noise the bridge never saw (5 mN through a soft core is several mV, white), and a mode low in the band
-filters it out; and a lag chosen at the fit rate, where a filter of three or four stages looks like a pole pair,
-attenuates too much below its corner, which a mode's gain, rising towards its peak, makes up for.
+poles, a named lag's stages replaced by them (:func:`through_equal_poles`); that low-pass refitted on top of the
+mode must pass the same test against the low-pass alone. A mode is named for its ringing, and two things a
+low-pass corrects also pass the test: the prediction is made from the reference force, whose noise the bridge never
+saw (5 mN through a soft core is several mV, white), and a mode low in the band filters it out; and a lag chosen
+at the fit rate, where a filter of three or four stages looks like a pole pair, attenuates too much below its
+corner, which a mode's gain, rising towards its peak, makes up for.
 
 The fit runs on a uniform grid at the median step (a first-order-hold discretisation, exact for piecewise-linear
 input, as the ``resonance`` element's forward run); the fold errors are taken on the record's own stamps, through
@@ -41,8 +41,8 @@ from .effects import LAG_DELAY_RANGE_S
 from .residual import excess
 from .signals import FloatArray, IntArray
 
-__all__ = ["ModeFit", "fit_mode", "choose_mode", "fold_gain", "through_equal_poles", "with_mode", "ZETA_BOUNDS",
-           "LOWEST_MODE_HZ", "MAX_EQUAL_POLES"]
+__all__ = ["ModeFit", "fit_mode", "choose_mode", "fold_gain", "through_equal_poles", "transfer_peak", "with_mode",
+           "ZETA_BOUNDS", "LOWEST_MODE_HZ", "MAX_EQUAL_POLES", "TRANSFER_SEGMENT_S"]
 
 #: Damping ratios searched: a mode rings below 0.5; at the bound the transfer is a (pole-pair) lag.
 ZETA_BOUNDS = (0.005, 0.5)
@@ -89,6 +89,61 @@ def _through_mode(x: FloatArray, step_s: float, frequency_hz: float, zeta: float
     return out
 
 
+#: The longest Welch segment of :func:`transfer_peak` [s]: a mode damped at 0.005 rings down in 1 / (zeta w), 16 s
+#: at 2 Hz, and a segment shorter than its ring-down smears the peak and lowers its coherence.
+TRANSFER_SEGMENT_S = 16.0
+
+
+def transfer_peak(predicted_v: FloatArray, measured_v: FloatArray, step_s: float,
+                  highest_hz: float) -> Optional[tuple[float, float]]:
+    """The strongest peak of the empirical transfer from a prediction to the measured voltage, the mode it
+    suggests as a start for :func:`fit_mode`.
+
+    A lightly damped mode's least-squares surface is a valley a fraction of a hertz wide in frequency: started an
+    octave away, the fit settles on a broad, damped compromise.
+
+    Parameters
+    ----------
+    predicted_v, measured_v : (n,) ndarray of float
+        The prediction and the measured voltage on a uniform grid [V].
+    step_s : float
+        The grid's step [s].
+    highest_hz : float
+        The fastest mode searched [Hz] (the slowest is :data:`LOWEST_MODE_HZ`).
+
+    Returns
+    -------
+    (frequency_hz, damping_ratio) or None
+        The peak of ``|P_pv / P_pp|`` (Welch: eight or more segments, at most :data:`TRANSFER_SEGMENT_S` long) among
+        the frequencies where the coherence is at least a half (the prediction accounts for at least half the
+        measured power there; where it holds almost none, above a low-pass, the ratio is noise over nearly
+        nothing), and the damping ratio of the mode with that peak gain, ``1 / (2 |H|)``, within
+        :data:`ZETA_BOUNDS`. None when the record holds fewer than eight segments of two periods of
+        :data:`LOWEST_MODE_HZ`, holds a value that is not finite, or no such frequency has a gain above 1.
+    """
+    if not (math.isfinite(step_s) and step_s > 0.0 and np.isfinite(predicted_v).all()
+            and np.isfinite(measured_v).all()):
+        return None
+    rate_hz = 1.0 / step_s
+    segment = min(int(round(TRANSFER_SEGMENT_S * rate_hz)), predicted_v.size // 8)
+    if segment * step_s < 2.0 / LOWEST_MODE_HZ:
+        return None
+    f, cross = signal.csd(predicted_v, measured_v, fs=rate_hz, nperseg=segment, detrend="linear")
+    _, auto = signal.welch(predicted_v, fs=rate_hz, nperseg=segment, detrend="linear")
+    _, auto_measured = signal.welch(measured_v, fs=rate_hz, nperseg=segment, detrend="linear")
+    with np.errstate(over="ignore", invalid="ignore"):  # a bin out of range is not finite: never a peak
+        power = auto * auto_measured
+        coherence = np.abs(cross) ** 2 / np.where(power > 0, power, np.inf)
+    inside = (f >= LOWEST_MODE_HZ) & (f <= highest_hz) & (auto > 0) & (coherence >= 0.5)
+    if not inside.any():
+        return None
+    gain = np.where(inside, np.abs(cross) / np.where(auto > 0, auto, 1.0), 0.0)
+    k = int(np.argmax(gain))
+    if not gain[k] > 1.0:
+        return None
+    return float(f[k]), float(np.clip(0.5 / gain[k], *ZETA_BOUNDS))
+
+
 def fit_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.ArrayLike, fold: IntArray,
              floor_v: float, band_hz: Optional[Sequence[float]], min_confidence: float,
              min_excess_share: float) -> Optional[ModeFit]:
@@ -127,14 +182,16 @@ def fit_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.Arr
     upper = np.log([highest, ZETA_BOUNDS[1]])
     centres = [math.sqrt(band_hz[0] * band_hz[1]), band_hz[0], band_hz[1]] if band_hz else [0.1 * highest]
     # starts clipped to the same bound are one start
-    centres = sorted({float(np.clip(f0, LOWEST_MODE_HZ, highest)) for f0 in centres})
+    starts = {(float(np.clip(f0, LOWEST_MODE_HZ, highest)), zeta) for f0 in centres for zeta in (0.03, 0.15)}
+    peak = transfer_peak(pu, vu, step, highest)
+    if peak is not None:
+        starts.add(peak)
     best = None
-    for f0 in centres:
-        for zeta in (0.03, 0.15):
-            x0 = np.clip(np.log([f0, zeta]), lower + 1e-9, upper - 1e-9)
-            sol = optimize.least_squares(residual, x0, bounds=(lower, upper), x_scale=1.0, max_nfev=40)
-            if best is None or sol.cost < best.cost:
-                best = sol
+    for f0, zeta in sorted(starts):
+        x0 = np.clip(np.log([f0, zeta]), lower + 1e-9, upper - 1e-9)
+        sol = optimize.least_squares(residual, x0, bounds=(lower, upper), x_scale=1.0, max_nfev=40)
+        if best is None or sol.cost < best.cost:
+            best = sol
     assert best is not None
     frequency_hz, zeta = (float(math.exp(x)) for x in best.x)
     if zeta >= 0.98 * ZETA_BOUNDS[1] or frequency_hz >= 0.98 * highest or frequency_hz <= 1.02 * LOWEST_MODE_HZ:
@@ -142,7 +199,7 @@ def fit_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.Arr
     mode = ResonanceElement(frequency_hz=frequency_hz, damping_ratio=zeta)
     through = np.asarray(mode.forward(t, p - p[0]), dtype=float) + p[0]  # exact on the record's own stamps
     confidence, share = fold_gain(v, through, p, fold, floor_v)
-    if confidence < min_confidence or share < min_excess_share:
+    if not _passes(confidence, share, min_confidence, min_excess_share):
         return None
     return ModeFit(frequency_hz, zeta, confidence, share, through)
 
@@ -201,22 +258,43 @@ def fold_gain(measured_v: FloatArray, better_v: FloatArray, than_v: FloatArray, 
     return float(np.mean(after < before)), share
 
 
+def _beyond_low_pass(t_s: npt.ArrayLike, measured_v: FloatArray, predicted_v: FloatArray, mode: ModeFit,
+                     fold: IntArray, floor_v: float, min_confidence: float, min_excess_share: float,
+                     lag_stages_s: Sequence[float]) -> Optional[ModeFit]:
+    """``mode`` with the lower of its own test and the test of the low-pass with the mode against the low-pass
+    alone (:func:`through_equal_poles`, on ``predicted_v`` and on the mode's prediction), None when that second test
+    fails. The poles are refitted on top of the mode: a low-pass fitted alone takes part of a mode's ringing as
+    attenuation, and a mode fitted again on top of it is judged on what is left."""
+    low_pass = through_equal_poles(t_s, measured_v, predicted_v, lag_stages_s)
+    with_mode = through_equal_poles(t_s, measured_v, mode.predicted_v, lag_stages_s)
+    confidence, share = fold_gain(measured_v, with_mode, low_pass, fold, floor_v)
+    if not _passes(confidence, share, min_confidence, min_excess_share):
+        return None
+    return ModeFit(mode.frequency_hz, mode.damping_ratio, min(mode.confidence, confidence),
+                   min(mode.excess_share, share), mode.predicted_v)
+
+
+def _passes(confidence: float, share: float, min_confidence: float, min_excess_share: float) -> bool:
+    """The forward step's acceptance test on a mode's fold gain (:func:`fold_gain`)."""
+    return confidence >= min_confidence and share >= min_excess_share
+
+
 def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.ArrayLike, fold: IntArray,
                 floor_v: float, band_hz: Optional[Sequence[float]], min_confidence: float, min_excess_share: float,
                 predicted_without_lag_v: Optional[FloatArray] = None, structure_seen: bool = True,
                 lag_stages_s: Sequence[float] = ()) -> tuple[Optional[ModeFit], bool]:
     """The mode to name, if any, and whether the sensor lag named at the fit rate goes (module docstring).
 
-    A mode on top of ``predicted_v`` is named when it passes the test against it and a mode fitted on top of the
-    best low-pass that cannot ring (:func:`through_equal_poles`, the named lag's stages ``lag_stages_s`` [s]
-    replaced) passes the test against that low-pass; its confidence and share are the lower of the two. With a lag
-    named (``predicted_without_lag_v``: the prediction of the model without it), three models compete: the lag
-    (``predicted_v``), the lag and a mode, the mode alone. A mode on top of the lag is named when it passes
-    the test against the lag; the lag then stays only when it passes the test against the mode alone. A mode that
-    does not pass on top of the lag may still replace it: when the mode alone passes the test against the lag.
-    When the model leaves no structure the unexplained test sees (``structure_seen`` False), no mode is added on top
-    of it: the gain would be a misfit of the lag's shape that the record does not show; the mode may still replace
-    the lag.
+    A mode on top of ``predicted_v`` is named when it passes the test against it and the best low-pass that
+    cannot ring (:func:`through_equal_poles`, the named lag's stages ``lag_stages_s`` [s] replaced) with a mode
+    passes the test against that low-pass alone (:func:`_beyond_low_pass`); its confidence and share are the lower
+    of the two. With a lag named (``predicted_without_lag_v``: the prediction of the model without it), three models
+    compete: the lag (``predicted_v``), the lag and a mode, the mode alone. A mode on top of the lag is named when
+    it passes the test against the lag; the lag then stays only when it passes the test against the mode alone. A
+    mode that does not pass on top of the lag may still replace it: when the mode alone passes the test against the
+    lag. When the model leaves no structure the unexplained test sees (``structure_seen`` False), no mode is added
+    on top of it: the gain would be a misfit of the lag's shape that the record does not show; the mode may still
+    replace the lag.
 
     Returns
     -------
@@ -229,11 +307,8 @@ def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.
     on_top = (fit_mode(t_s, v, predicted_v, fold, floor_v, band_hz, min_confidence, min_excess_share)
               if structure_seen else None)
     if on_top is not None:  # the ringing must show on top of the best low-pass that cannot ring, too
-        low_pass = through_equal_poles(t_s, v, predicted_v, lag_stages_s)
-        beyond = fit_mode(t_s, v, low_pass, fold, floor_v, band_hz, min_confidence, min_excess_share)
-        on_top = None if beyond is None else ModeFit(
-            on_top.frequency_hz, on_top.damping_ratio, min(on_top.confidence, beyond.confidence),
-            min(on_top.excess_share, beyond.excess_share), on_top.predicted_v)
+        on_top = _beyond_low_pass(t_s, v, np.asarray(predicted_v, dtype=float), on_top, fold, floor_v,
+                                  min_confidence, min_excess_share, lag_stages_s)
     if predicted_without_lag_v is None:
         return on_top, False
     alone = fit_mode(t_s, v, predicted_without_lag_v, fold, floor_v, band_hz, 0.0, -math.inf)
@@ -241,10 +316,10 @@ def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.
         return on_top, False
     if on_top is not None:
         confidence, share = fold_gain(v, on_top.predicted_v, alone.predicted_v, fold, floor_v)
-        lag_needed = confidence >= min_confidence and share >= min_excess_share
+        lag_needed = _passes(confidence, share, min_confidence, min_excess_share)
         return (on_top, False) if lag_needed else (alone, True)
     confidence, share = fold_gain(v, alone.predicted_v, np.asarray(predicted_v, dtype=float), fold, floor_v)
-    if confidence >= min_confidence and share >= min_excess_share:
+    if _passes(confidence, share, min_confidence, min_excess_share):
         return ModeFit(alone.frequency_hz, alone.damping_ratio, confidence, share, alone.predicted_v), True
     return None, False
 

@@ -263,8 +263,8 @@ def _beyond_low_pass(t_s: npt.ArrayLike, measured_v: FloatArray, predicted_v: Fl
                      lag_stages_s: Sequence[float]) -> Optional[ModeFit]:
     """``mode`` with the lower of its own test and the test of the low-pass with the mode against the low-pass
     alone (:func:`through_equal_poles`, on ``predicted_v`` and on the mode's prediction), None when that second test
-    fails. The poles are refitted on top of the mode: a low-pass fitted alone takes part of a mode's ringing as
-    attenuation, and a mode fitted again on top of it is judged on what is left."""
+    fails. The poles are refitted on top of the mode: poles fitted alone take part of a mode's ringing as
+    attenuation, so a mode fitted on top of them afterwards would be judged only on what they left."""
     low_pass = through_equal_poles(t_s, measured_v, predicted_v, lag_stages_s)
     with_mode = through_equal_poles(t_s, measured_v, mode.predicted_v, lag_stages_s)
     confidence, share = fold_gain(measured_v, with_mode, low_pass, fold, floor_v)

@@ -62,7 +62,7 @@ from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import ForcePath, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin
+from split_kit import ForcePath, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, coarse, core_output, kelvin
 
 SEED0 = 890_000  # never a seed of the registry's splits nor of splits A (90000..) to L (820000..)
 FORCE_MAX_N = 9.0
@@ -220,12 +220,6 @@ def temperature(t, rng, step_s=0.25):
 
 
 # ----------------------------------------------------------------------------- simulate-only truth elements
-
-def coarse(t, x, step_s=0.5):
-    """``x`` on a grid of ``step_s`` over ``t`` (for slow thermal signals): (grid, values)."""
-    grid = np.arange(t[0], t[-1] + step_s, step_s)
-    return grid, np.interp(grid, t, x)
-
 
 class FlowAddedCore(SimOnly):
     """A Zener core plus a flow ``flow(t, F)`` (V) added to its deformation."""

@@ -73,7 +73,7 @@ from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import ForcePath, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, kelvin
+from split_kit import ForcePath, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, coarse, kelvin
 
 SEED0 = 960_000  # never a seed of the registry's splits nor of splits A (90000..) to M (890000..)
 FORCE_MAX_N = 9.0
@@ -263,12 +263,6 @@ def temperature(t, rng, step_s=0.25):
 
 
 # ----------------------------------------------------------------------------- simulate-only truth elements
-
-def coarse(t, x, step_s=0.5):
-    """``x`` on a grid of ``step_s`` over ``t`` (for slow thermal signals): (grid, values)."""
-    grid = np.arange(t[0], t[-1] + step_s, step_s)
-    return grid, np.interp(grid, t, x)
-
 
 def temperature_of(aux, shape):
     """The temperature the chain passes its elements, broadcast to ``shape``."""

@@ -81,6 +81,12 @@ def dead_time(t, x, delay_s):
     return np.interp(t - delay_s, t, x, left=x[0])
 
 
+def coarse(t, x, step_s=0.5):
+    """``x`` on a grid of ``step_s`` over ``t`` (for slow thermal signals): (grid, values)."""
+    grid = np.arange(t[0], t[-1] + step_s, step_s)
+    return grid, np.interp(grid, t, x)
+
+
 def kelvin(t, f, compliance_v_per_n, tau_s):
     """A Kelvin unit's deformation, tau x' + x = c F, from rest."""
     return compliance_v_per_n * exp_convolve(t, f, [1.0 / tau_s])[:, 0] / tau_s

@@ -12,9 +12,6 @@ order), their confidences and shapes, and every candidate scored. Each round
 3. :meth:`~Selection.swap_check` swaps an effect named earlier for a rival of its own step that now describes the
    data as well.
 
-Between models that hold effects (two candidates of a step, an effect beside those named, a drop, a swap), one is
-better than the other only by a difference the record can show at its own rate (:meth:`~Selection.beats`).
-
 The rounds end when nothing more is justified, the most effects are named, or a set of effects recurs.
 """
 from __future__ import annotations
@@ -25,10 +22,10 @@ from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from .design import Fit, Fitter, Structure, design_columns, fitted, n_params, size, term_columns
+from .design import Fit, Fitter, Structure, design_columns, n_params, size, term_columns
 from .effects import EFFECTS as REGISTRY, SPREAD_RATIO, at_noise_limit, variant_group
 from .refit import candidates_for, is_core_time, polish, refine, without
-from .residual import drift_follows_load, excess, shown_share, slow_response_columns
+from .residual import drift_follows_load, excess, slow_response_columns
 
 __all__ = ["Candidate", "parsimonious", "Selection"]
 
@@ -77,9 +74,10 @@ class Candidate:
 def parsimonious(cands: Sequence[Candidate], acceptable: Callable[[Candidate], bool],
                  justified: Callable[[Fit, Fit], bool]) -> Optional[Candidate]:
     """The candidate of one step to judge: the lowest out-of-sample error, unless the acceptable candidates of
-    smaller nominal size (:func:`.design.size`) include some that it does not beat (``justified(better, than)``:
-    :meth:`Selection.beats`, the acceptance test by a margin the record can show); then the smallest of those (the
-    lower error among equals). Always compared with the overall best, so the choice is not path-bound."""
+    smaller nominal size (:func:`.design.size`) include some that it does not improve on as an added effect would
+    have to improve on the current model (``justified(better, than)``: the acceptance test itself); then the
+    smallest of those (the lower error among equals). Always compared with the overall best, so the choice is not
+    path-bound."""
     if not cands:
         return None
     best = min(cands, key=lambda c: c.fit.cv_mse)
@@ -116,10 +114,6 @@ class Selection:
         The acceptance test's thresholds (:meth:`justified`).
     say : callable
         Called with a short text before each step (a progress bar).
-    floor_v : float
-        The noise floor at the record's rate [V]; 0: every difference between two models counts as shown.
-    unexplained_ratio : float
-        What the record can show, as a share of ``floor_v`` (step 5's test; :meth:`shows`).
 
     Attributes
     ----------
@@ -134,12 +128,9 @@ class Selection:
     """
 
     def __init__(self, fitter: Fitter, base_fit: Fit, floor_mse: float, has_temperature: bool, min_confidence: float,
-                 min_excess_share: float, say: Callable[[str], None], floor_v: float = 0.0,
-                 unexplained_ratio: float = 0.5) -> None:
+                 min_excess_share: float, say: Callable[[str], None]) -> None:
         self.fitter = fitter
         self.floor_mse = floor_mse
-        self.floor_v = floor_v
-        self.unexplained_ratio = unexplained_ratio
         self.has_temperature = has_temperature
         self.min_confidence = min_confidence
         self.min_excess_share = min_excess_share
@@ -160,28 +151,6 @@ class Selection:
         share = excess(than.cv_mse, self.floor_mse)
         return (float(np.mean(fit.sse_folds < than.sse_folds)) >= self.min_confidence
                 and (than.cv_mse - fit.cv_mse) / share >= self.min_excess_share)
-
-    def shows(self, fit: Fit, than: Fit) -> bool:
-        """Whether the record can show how ``fit`` differs from ``than``: the unexplained test (step 5) would see the
-        difference of their predictions (every block, the fit rate) at ``unexplained_ratio`` of the floor
-        (:func:`.residual.shown_share`). Both are fitted on the signals the fitter holds."""
-        sig = self.fitter.sig
-        part_v = fitted(sig, fit) - fitted(sig, than)
-        return shown_share(sig.t, part_v, self.floor_v, self.unexplained_ratio) >= self.unexplained_ratio
-
-    def beats(self, fit: Fit, than: Fit) -> bool:
-        """Whether ``fit`` is better than ``than``, a model that holds effects too: it passes the acceptance test
-        against it (:meth:`justified`) and the record can show the difference (:meth:`shows`).
-
-        Against the base alone the acceptance test decides (over a whole record it finds an effect far smaller than
-        any one second shows). Between models that hold effects (a larger candidate of a step over a smaller one,
-        an effect beside those named, one kept in the backward check, a swap) its least gain lies far below what
-        the record shows at its own rate: a model better by less describes another's misfit of a shape it nearly
-        holds (a spline in time following a zero that a buffered thermometer moves, a Kelvin unit beside a drift
-        that wanders), not an effect of its own."""
-        if not than.structure.terms:
-            return self.justified(fit, than)
-        return self.justified(fit, than) and self.shows(fit, than)
 
     def noise_limited(self, fit: Fit, name: str) -> bool:
         """Whether ``name``'s parameter in ``fit`` sits at the narrowest bound its search allows
@@ -410,8 +379,6 @@ class Selection:
                              float((current.cv_mse - fit.cv_mse) / share), self.step, retried=retried)
             self.candidates.append(cand)
             why = self.why_not_judged(fit, name)
-            if why is None and self.justified(fit, current) and not self.beats(fit, current):
-                why = "adds less than the record can show"
             if why is not None:
                 self.say(f"step {self.step}: {name} {why}, not judged")
                 continue
@@ -495,7 +462,7 @@ class Selection:
                 fit = self.without(self.current, name)
                 if fit is None:
                     continue
-                if not self.beats(self.current, fit):
+                if not self.justified(self.current, fit):
                     self.say(f"drop {name}")
                     dropped = True
                     self.drop(name)
@@ -529,9 +496,9 @@ class Selection:
                 again = self.rebuild(rival, name)
                 if again is not None and (fit is None or again.cv_mse < fit.cv_mse):
                     fit = again
-                if fit is None or self.not_judged(fit, rival.effect) or not self.beats(fit, reduced_fit) or not (
-                        (size(fit) < size(self.current) and not self.beats(self.current, fit))
-                        or self.beats(fit, self.current)):
+                if fit is None or self.not_judged(fit, rival.effect) or not self.justified(fit, reduced_fit) or not (
+                        (size(fit) < size(self.current) and not self.justified(self.current, fit))
+                        or self.justified(fit, self.current)):
                     continue
                 refined = self.saved_form(fit.structure, reduced_fit)
                 if refined is None:
@@ -563,11 +530,11 @@ class Selection:
         seen: set[frozenset[str]] = {frozenset()}
         while len(self.accepted) < max_effects:
             judged = self.forward_step(catalogue, skipped)
-            best = parsimonious(judged, self.acceptable, self.beats)
+            best = parsimonious(judged, self.acceptable, self.justified)
             while best is not None and self.acceptable(best) and not self.accept(best):
                 # the next choice of the step, without the effect whose refitted model did not help
                 judged = [c for c in judged if c.effect != best.effect]
-                best = parsimonious(judged, self.acceptable, self.beats)
+                best = parsimonious(judged, self.acceptable, self.justified)
             if best is None or not self.acceptable(best):
                 break
             self.backward_check()

@@ -68,6 +68,13 @@ def excess(mse: float, floor_mse: float) -> float:
     return max(mse - floor_mse, 0.25 * floor_mse)
 
 
+def passes(confidence: float, excess_share: float, min_confidence: float, min_excess_share: float) -> bool:
+    """The acceptance test on a model's gain over another: it lowers the out-of-sample error in ``min_confidence``
+    of the folds and removes ``min_excess_share`` of the other's error above the floor (:func:`excess`). The one
+    home of the test for every candidate: the effects of the catalogue and a mechanical mode alike."""
+    return confidence >= min_confidence and excess_share >= min_excess_share
+
+
 # ----------------------------------------------------------------------------- the unexplained residual
 
 def ljung_box(x: npt.ArrayLike, lags: int = 20) -> tuple[float, float]:

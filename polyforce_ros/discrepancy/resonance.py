@@ -38,7 +38,7 @@ from ..physics.chain import (ExponentialDriftElement, OffsetDriftElement, Offset
                              ResonanceElement, SensorChain, SensorLagElement, SplineDriftElement, ThermalDriftElement,
                              ThermalLagElement, TransportDelayElement)
 from .effects import LAG_DELAY_RANGE_S
-from .residual import excess
+from .residual import excess, passes
 from .signals import FloatArray, IntArray
 
 __all__ = ["ModeFit", "fit_mode", "choose_mode", "fold_gain", "through_equal_poles", "transfer_peak", "with_mode",
@@ -199,7 +199,7 @@ def fit_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.Arr
     mode = ResonanceElement(frequency_hz=frequency_hz, damping_ratio=zeta)
     through = np.asarray(mode.forward(t, p - p[0]), dtype=float) + p[0]  # exact on the record's own stamps
     confidence, share = fold_gain(v, through, p, fold, floor_v)
-    if not _passes(confidence, share, min_confidence, min_excess_share):
+    if not passes(confidence, share, min_confidence, min_excess_share):
         return None
     return ModeFit(frequency_hz, zeta, confidence, share, through)
 
@@ -268,15 +268,10 @@ def _beyond_low_pass(t_s: npt.ArrayLike, measured_v: FloatArray, predicted_v: Fl
     low_pass = through_equal_poles(t_s, measured_v, predicted_v, lag_stages_s)
     with_mode = through_equal_poles(t_s, measured_v, mode.predicted_v, lag_stages_s)
     confidence, share = fold_gain(measured_v, with_mode, low_pass, fold, floor_v)
-    if not _passes(confidence, share, min_confidence, min_excess_share):
+    if not passes(confidence, share, min_confidence, min_excess_share):
         return None
     return ModeFit(mode.frequency_hz, mode.damping_ratio, min(mode.confidence, confidence),
                    min(mode.excess_share, share), mode.predicted_v)
-
-
-def _passes(confidence: float, share: float, min_confidence: float, min_excess_share: float) -> bool:
-    """The forward step's acceptance test on a mode's fold gain (:func:`fold_gain`)."""
-    return confidence >= min_confidence and share >= min_excess_share
 
 
 def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.ArrayLike, fold: IntArray,
@@ -316,10 +311,10 @@ def choose_mode(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted_v: npt.
         return on_top, False
     if on_top is not None:
         confidence, share = fold_gain(v, on_top.predicted_v, alone.predicted_v, fold, floor_v)
-        lag_needed = _passes(confidence, share, min_confidence, min_excess_share)
+        lag_needed = passes(confidence, share, min_confidence, min_excess_share)
         return (on_top, False) if lag_needed else (alone, True)
     confidence, share = fold_gain(v, alone.predicted_v, np.asarray(predicted_v, dtype=float), fold, floor_v)
-    if _passes(confidence, share, min_confidence, min_excess_share):
+    if passes(confidence, share, min_confidence, min_excess_share):
         return ModeFit(alone.frequency_hz, alone.damping_ratio, confidence, share, alone.predicted_v), True
     return None, False
 

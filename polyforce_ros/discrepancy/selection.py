@@ -25,7 +25,7 @@ import numpy as np
 from .design import Fit, Fitter, Structure, design_columns, n_params, size, term_columns
 from .effects import EFFECTS as REGISTRY, SPREAD_RATIO, at_noise_limit, variant_group
 from .refit import candidates_for, is_core_time, polish, refine, without
-from .residual import drift_follows_load, excess, slow_response_columns
+from .residual import drift_follows_load, excess, passes, slow_response_columns
 
 __all__ = ["Candidate", "parsimonious", "Selection"]
 
@@ -149,8 +149,8 @@ class Selection:
         """The acceptance test: ``fit`` lowers the out-of-sample error of ``than`` in ``min_confidence`` of the
         blocks and removes ``min_excess_share`` of its error above the floor (at least a quarter of the floor's own)."""
         share = excess(than.cv_mse, self.floor_mse)
-        return (float(np.mean(fit.sse_folds < than.sse_folds)) >= self.min_confidence
-                and (than.cv_mse - fit.cv_mse) / share >= self.min_excess_share)
+        return passes(float(np.mean(fit.sse_folds < than.sse_folds)), (than.cv_mse - fit.cv_mse) / share,
+                      self.min_confidence, self.min_excess_share)
 
     def noise_limited(self, fit: Fit, name: str) -> bool:
         """Whether ``name``'s parameter in ``fit`` sits at the narrowest bound its search allows
@@ -205,7 +205,7 @@ class Selection:
 
     def acceptable(self, c: Candidate) -> bool:
         """Whether a candidate passed the acceptance test against the model of its step."""
-        return c.confidence >= self.min_confidence and c.excess_share >= self.min_excess_share
+        return passes(c.confidence, c.excess_share, self.min_confidence, self.min_excess_share)
 
     # ------------------------------------------------------------------------- models tried
 

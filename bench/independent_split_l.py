@@ -54,7 +54,7 @@ from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers, Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
 from split_kit import (ForcePath, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, kelvin,
-                       repeated_insertions)
+                       repeated_insertions, uniform_grid)
 
 SEED0 = 820_000  # never a seed of the registry's splits nor of splits A (90000..) to K (750000..)
 FORCE_MAX_N = 9.0
@@ -152,13 +152,6 @@ def temperature(t, rng):
 
 
 # ----------------------------------------------------------------------------- simulate-only truth elements
-
-def uniform_grid(t, x):
-    """``x`` on a uniform grid at the median step of ``t``: (grid, values, step)."""
-    h = float(np.median(np.diff(t)))
-    tu = np.arange(t[0], t[-1] + h, h)
-    return tu, np.interp(tu, t, x), h
-
 
 class FlowCore(SimOnly):
     """A Zener core plus a dashpot whose flow rate is ``rate_of(F)`` (V/s)."""

@@ -83,7 +83,7 @@ from independent_split import puncture_train
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import ForcePath, Parts, ShapeSplit, SimOnly, band_play, coarse, kelvin
+from split_kit import ForcePath, Parts, ShapeSplit, SimOnly, band_play, coarse, kelvin, uniform_grid
 
 SEED0 = 1_030_000  # never a seed of the registry's splits nor of splits A (90000..) to N (960000..)
 FORCE_MAX_N = 9.0
@@ -590,9 +590,8 @@ class BassetMode(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+        tu, xu, h = uniform_grid(t, x)
+        xu = xu - x[0]
         n = tu.size + int(20.0 / h)
         s = 2j * math.pi * np.fft.rfftfreq(n, h)
         w = self.w
@@ -610,9 +609,8 @@ class CheckValveMode(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x).tolist()
+        tu, xu, h = uniform_grid(t, x)
+        xu = xu.tolist()
         w2, sub = self.w * self.w, h / 4.0
         light, heavy = 2.0 * self.w * self.zeta, 2.0 * self.w * (self.zeta + self.valve)
         y, v, out = xu[0], 0.0, np.empty(len(xu))

@@ -166,6 +166,14 @@ class ForcePath(SimOnly):
         return self.fn(np.asarray(t_s, dtype=float), np.asarray(x, dtype=float))
 
 
+def uniform_grid(t, x):
+    """``x`` on a uniform grid at the median step of ``t``: (grid, values, step). A simulated element that needs
+    equal steps runs there and is read back at ``t`` by interpolation."""
+    h = float(np.median(np.diff(t)))
+    tu = np.arange(t[0], t[-1] + h, h)
+    return tu, np.interp(tu, t, x), h
+
+
 class LinearFilter(SimOnly):
     """A continuous-time filter (numerator, denominator in s), from rest, on a uniform grid at the median step."""
 
@@ -174,10 +182,9 @@ class LinearFilter(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
+        tu, xu, h = uniform_grid(t, x)
         b, a = signal.bilinear(self.num, self.den, fs=1.0 / h)
-        tu = np.arange(t[0], t[-1] + h, h)
-        y = signal.lfilter(b, a, np.interp(tu, t, x) - x[0]) + x[0]
+        y = signal.lfilter(b, a, xu - x[0]) + x[0]
         return np.interp(t, tu, y)
 
 

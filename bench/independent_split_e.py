@@ -40,7 +40,7 @@ from scipy import integrate, signal
 from polyforce_ros.physics.viscoelastic import Zener, Zener2, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
 from split_kit import (LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, kelvin, ramp_and_hold,
-                       repeated_insertions)
+                       repeated_insertions, uniform_grid)
 
 SEED0 = 330_000  # never a seed of the registry's splits nor of splits A (90000..), B, C (210000..), D (260000..)
 FORCE_MAX_N = 9.0
@@ -146,10 +146,9 @@ class Boxcar(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
+        tu, xu, h = uniform_grid(t, x)
         n = max(1, int(round(self.width / h)))
-        y = signal.lfilter(np.ones(n) / n, [1.0], np.interp(tu, t, x) - x[0]) + x[0]
+        y = signal.lfilter(np.ones(n) / n, [1.0], xu - x[0]) + x[0]
         return np.interp(t, tu, y)
 
 

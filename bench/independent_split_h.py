@@ -37,7 +37,7 @@ from scipy import integrate, interpolate
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
 from split_kit import (ForcePath, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin,
-                       ramp_and_hold, relaxing_play, repeated_insertions)
+                       ramp_and_hold, relaxing_play, repeated_insertions, uniform_grid)
 
 SEED0 = 540_000  # never a seed of the registry's splits nor of splits A (90000..) to G (470000..)
 FORCE_MAX_N = 9.0
@@ -133,9 +133,8 @@ class FractionalLag(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+        tu, xu, h = uniform_grid(t, x)
+        xu = xu - x[0]
         n = 2 * tu.size
         w = 2 * np.pi * np.fft.rfftfreq(n, h)
         gain = 1.0 / (1.0 + (1j * w * self.tau) ** self.alpha)
@@ -151,12 +150,10 @@ class GaussianWindow(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
+        tu, xu, h = uniform_grid(t, x)
         k = np.arange(0.0, 6.0 * self.sigma + h, h)
         taps = np.exp(-0.5 * ((k - 3.0 * self.sigma) / self.sigma) ** 2)
         taps /= taps.sum()
-        xu = np.interp(tu, t, x)
         y = np.convolve(np.concatenate([np.full(taps.size - 1, xu[0]), xu]), taps, mode="valid")
         return np.interp(t, tu, y)
 

@@ -36,7 +36,7 @@ from scipy import integrate
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
 from split_kit import (ForcePath, LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output,
-                       kelvin, ramp_and_hold, repeated_insertions)
+                       kelvin, ramp_and_hold, repeated_insertions, uniform_grid)
 
 SEED0 = 610_000  # never a seed of the registry's splits nor of splits A (90000..) to H (540000..)
 FORCE_MAX_N = 9.0
@@ -124,12 +124,10 @@ class TriangularWindow(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
+        tu, xu, h = uniform_grid(t, x)
         n = max(3, int(round(self.width / h)))
         taps = 1.0 - np.abs(np.linspace(-1.0, 1.0, n))
         taps /= taps.sum()
-        xu = np.interp(tu, t, x)
         y = np.convolve(np.concatenate([np.full(n - 1, xu[0]), xu]), taps, mode="valid")
         return np.interp(t, tu, y)
 
@@ -144,9 +142,7 @@ class LoadTunedMode(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x)
+        tu, xu, h = uniform_grid(t, x)
         w = 2 * np.pi * self.f0 * (1.0 + self.s * np.minimum(np.abs(xu - xu[0]) / self.x_max, 1.0))
         y, v, out = xu[0], 0.0, np.empty_like(xu)
         for i, (xi, wi) in enumerate(zip(xu.tolist(), w.tolist())):

@@ -47,7 +47,7 @@ from scipy import integrate, interpolate, signal, special
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
 from split_kit import (ForcePath, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output, kelvin,
-                       ramp_and_hold, repeated_insertions)
+                       ramp_and_hold, repeated_insertions, uniform_grid)
 
 SEED0 = 680_000  # never a seed of the registry's splits nor of splits A (90000..) to I (610000..)
 FORCE_MAX_N = 9.0
@@ -131,9 +131,7 @@ class SpringpotFlowZener(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
-        fu = np.interp(tu, t, f)
+        tu, fu, h = uniform_grid(t, f)
         creep = self.phi * self.t0 ** (1.0 - self.alpha) * (tu - tu[0]) ** self.alpha / special.gamma(1.0 + self.alpha)
         flow = signal.fftconvolve(np.diff(fu, prepend=0.0), creep)[:tu.size]
         return simulate_deformation(self.zener, t, f) + np.interp(t, tu, flow)
@@ -181,12 +179,11 @@ class WindowedSinc(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
+        tu, xu, h = uniform_grid(t, x)
         n = max(3, int(round(self.length / h)) // 2 * 2 + 1)
         k = np.arange(n) - (n - 1) / 2
         taps = np.sinc(2.0 * min(self.cutoff, 0.45 / h) * h * k) * np.hamming(n)
-        y = signal.lfilter(taps / taps.sum(), [1.0], np.interp(tu, t, x) - x[0]) + x[0]
+        y = signal.lfilter(taps / taps.sum(), [1.0], xu - x[0]) + x[0]
         return np.interp(t, tu, y)
 
 
@@ -199,10 +196,9 @@ class BoxcarPole(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
+        tu, xu, h = uniform_grid(t, x)
         n = max(1, int(round(self.width / h)))
-        mean = signal.lfilter(np.ones(n) / n, [1.0], np.interp(tu, t, x) - x[0])
+        mean = signal.lfilter(np.ones(n) / n, [1.0], xu - x[0])
         a = math.exp(-h / self.tau)
         return np.interp(t, tu, signal.lfilter([1.0 - a], [1.0, -a], mean) + x[0])
 
@@ -218,9 +214,7 @@ class DryDampedMode(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x)
+        tu, xu, h = uniform_grid(t, x)
         w = 2.0 * math.pi * self.f0
         w2, damp, held, hs = w * w, 2.0 * self.zeta * w, w * w * self.slip, h / 2.0
         y, v, out = float(xu[0]), 0.0, np.empty_like(xu)
@@ -246,9 +240,7 @@ class ThermallyTunedMode(SimOnly):
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
         temp = np.broadcast_to(np.asarray(aux["temperature_c"], dtype=float), t.shape)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x)
+        tu, xu, h = uniform_grid(t, x)
         w = 2.0 * np.pi * self.f0 * (1.0 - self.c * (np.interp(tu, t, temp) - T_REF_C))
         y, v, out = float(xu[0]), 0.0, np.empty_like(xu)
         for i, (xi, wi) in enumerate(zip(xu.tolist(), w.tolist())):

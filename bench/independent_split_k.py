@@ -50,7 +50,7 @@ from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
 from split_kit import (ForcePath, LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output,
-                       dead_time, kelvin, repeated_insertions)
+                       dead_time, kelvin, repeated_insertions, uniform_grid)
 
 SEED0 = 750_000  # never a seed of the registry's splits nor of splits A (90000..) to J (680000..)
 FORCE_MAX_N = 9.0
@@ -246,12 +246,11 @@ class DuffingMode(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
+        tu, xu, h = uniform_grid(t, x)
         w = 2.0 * math.pi * self.f0
         w2, damp, inv_ref2, hs = w * w, 2.0 * self.zeta * w, 1.0 / self.e_ref ** 2, h / 2.0
         y, v, out = float(x[0]), 0.0, np.empty_like(tu)
-        for i, xi in enumerate(np.interp(tu, t, x).tolist()):
+        for i, xi in enumerate(xu.tolist()):
             for _ in range(2):
                 e = xi - y
                 v += hs * (w2 * e * (1.0 + e * e * inv_ref2) - damp * v)
@@ -271,13 +270,12 @@ class DragDampedMode(SimOnly):
 
     def forward(self, t_s, x, aux=None, state=None):
         t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1] + h, h)
+        tu, xu, h = uniform_grid(t, x)
         w = 2.0 * math.pi * self.f0
         w2, damp, hs = w * w, 2.0 * self.zeta * w, h / 2.0
         drag = damp / (w * self.e_ref * self.ratio)
         y, v, out = float(x[0]), 0.0, np.empty_like(tu)
-        for i, xi in enumerate(np.interp(tu, t, x).tolist()):
+        for i, xi in enumerate(xu.tolist()):
             for _ in range(2):
                 v = (v + hs * w2 * (xi - y)) / (1.0 + hs * (damp + drag * abs(v)))
                 y += hs * v

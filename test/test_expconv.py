@@ -4,7 +4,8 @@ import math
 import numpy as np
 import pytest
 
-from polyforce_ros.physics.expconv import ExpConvState, exp_convolve, step_weights, step_weights_scalar
+from polyforce_ros.physics.chain import SensorLagElement
+from polyforce_ros.physics.expconv import ExpConvState, exp_convolve, lag_cascade, step_weights, step_weights_scalar
 
 
 def exact_linear(t, a, b, r):
@@ -93,3 +94,29 @@ def test_uniform_step_after_a_previous_sample():
     assert uniform_step_after(1e5 - 1e-3, t) is None  # the gap to the block is two steps
     assert uniform_step_after(1e5, t[:1]) == pytest.approx(1e-3)  # one sample: the gap is the step
     assert uniform_step_after(t[0], t[:1]) is None  # a duplicate stamp is no step
+
+
+@pytest.mark.parametrize("stamps", ["jittered", "uniform", "gap"])
+@pytest.mark.parametrize("n_stages", [0, 1, 3])
+def test_lag_cascade_is_the_lag_run_again_and_again(stamps, n_stages):
+    """The cascade gives the very numbers of a lag's forward pass repeated: it only computes the weights once."""
+    rng = np.random.default_rng(n_stages)
+    t = np.arange(3000) / 1000.0
+    if stamps == "jittered":
+        t = t + rng.uniform(-0.3e-3, 0.3e-3, t.size)
+    elif stamps == "gap":
+        t = np.concatenate((t[:1000], t[1800:]))
+    x = np.cumsum(rng.normal(0.0, 1.0, t.size))
+    tau_s = 0.0137
+    expected = x
+    for _ in range(n_stages):
+        expected = np.asarray(SensorLagElement(tau_s=tau_s).forward(t, expected), dtype=float)
+    assert np.array_equal(lag_cascade(t, x, tau_s, n_stages), expected)
+
+
+@pytest.mark.parametrize("bad", [dict(tau_s=0.0), dict(tau_s=float("nan")), dict(tau_s=-1.0),
+                                 dict(t=[0.0, 0.2, 0.1])])
+def test_lag_cascade_refuses_what_has_no_meaning(bad):
+    t = np.asarray(bad.get("t", [0.0, 0.1, 0.2]))
+    with pytest.raises(ValueError):
+        lag_cascade(t, np.ones(t.size), bad.get("tau_s", 0.01), 2)

@@ -37,6 +37,7 @@ from scipy import optimize, signal
 from ..physics.chain import (ExponentialDriftElement, OffsetDriftElement, OffsetElement, PolynomialDriftElement,
                              ResonanceElement, SensorChain, SensorLagElement, SplineDriftElement, ThermalDriftElement,
                              ThermalLagElement, TransportDelayElement)
+from ..physics.expconv import lag_cascade
 from .effects import LAG_DELAY_RANGE_S
 from .residual import excess, passes
 from .signals import FloatArray, IntArray
@@ -230,11 +231,7 @@ def through_equal_poles(t_s: npt.ArrayLike, measured_v: npt.ArrayLike, predicted
         undone = np.asarray(SensorLagElement(tau_s=tau_s).backward(t, undone), dtype=float)
 
     def through(n_poles: int, log_delay: float) -> FloatArray:
-        lag = SensorLagElement(tau_s=math.exp(log_delay) / n_poles)
-        out = undone
-        for _ in range(n_poles):
-            out = np.asarray(lag.forward(t, out), dtype=float)
-        settled: FloatArray = out + p[0]
+        settled: FloatArray = lag_cascade(t, undone, math.exp(log_delay) / n_poles, n_poles) + p[0]
         return settled
 
     best, best_sse = p.copy(), float(np.sum((p - v) ** 2))

@@ -35,7 +35,7 @@ import numpy.typing as npt
 from scipy import signal
 
 __all__ = ["uniform_step", "uniform_step_after", "step_weights", "step_weights_scalar", "exp_convolve",
-    "exp_convolve_columns", "ExpConvState"]
+    "exp_convolve_columns", "lag_cascade", "ExpConvState"]
 
 # Below this z the closed forms lose digits to cancellation; the Taylor series
 # to z**5 is accurate to ~1e-16 relative there.
@@ -272,18 +272,29 @@ def _convolve_uniform(h: float, u_all: np.ndarray, r: float, y_start: npt.ArrayL
     return np.asarray(y)
 
 
-def _convolve_irregular(h: np.ndarray, u_all: np.ndarray, r: float, y_start: float) -> np.ndarray:
+_IrregularWeights = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+def _irregular_weights(h: np.ndarray, r: float) -> _IrregularWeights:
+    """What :func:`_convolve_irregular` needs of the spacings ``h`` [s] and the rate ``r`` [1/s] alone: the
+    accumulated decay and the step weights ``(zc, E, alpha, beta)``, computed once for any number of inputs."""
+    z = r * h
+    e, alpha, beta = step_weights(z)
+    return np.cumsum(z), e, alpha, beta
+
+
+def _convolve_irregular(h: np.ndarray, u_all: np.ndarray, r: float, y_start: float,
+                        weights: Optional[_IrregularWeights] = None) -> np.ndarray:
     """Recursion for arbitrary spacings, in chunks of bounded accumulated decay.
 
     Within a chunk the solution is ``y_i = exp(-Z_i) (y_in + sum_j exp(Z_j) d_j)``
     with ``Z`` the decay accumulated since the chunk start; bounding ``Z`` keeps
-    ``exp(Z)`` finite, and chunk length bounds the rounding of the sum.
+    ``exp(Z)`` finite, and chunk length bounds the rounding of the sum. ``weights``: those of
+    :func:`_irregular_weights` for the same ``h`` and ``r``, when already at hand.
     """
-    z = r * h
-    e, alpha, beta = step_weights(z)
+    zc, e, alpha, beta = _irregular_weights(h, r) if weights is None else weights
     drive = h * (alpha * u_all[:-1] + beta * u_all[1:])
     y = np.empty_like(drive)
-    zc = np.cumsum(z)
     start, y_in, n = 0, y_start, drive.size
     while start < n:
         base = zc[start - 1] if start else 0.0
@@ -298,6 +309,47 @@ def _convolve_irregular(h: np.ndarray, u_all: np.ndarray, r: float, y_start: flo
         y_in = y[stop - 1]
         start = stop
     return np.asarray(y)
+
+
+def lag_cascade(t_s: npt.ArrayLike, x: npt.ArrayLike, tau_s: float, n_stages: int) -> np.ndarray:
+    """``x`` through ``n_stages`` equal first-order lags ``tau y' + y = u`` in series, each from rest.
+
+    Each stage is the exact recursion of :func:`exp_convolve` (piecewise-linear input, any spacing) times the rate,
+    its output zero at ``t_s[0]``: the same numbers as running a lag's forward pass ``n_stages`` times, with the
+    step weights of irregular stamps computed once instead of once per stage.
+
+    Parameters
+    ----------
+    t_s : (n,) array_like of float
+        Sample times [s], non-decreasing.
+    x : (n,) array_like of float
+        Input (any unit ``U``); the lags start at rest, so an input that does not start at zero steps at ``t_s[0]``.
+    tau_s : float
+        Time constant of each stage [s], > 0.
+    n_stages : int
+        Number of stages, >= 0 (zero returns ``x``).
+
+    Returns
+    -------
+    (n,) ndarray of float
+        The output of the last stage, in ``U``.
+    """
+    t, y = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+    if not (math.isfinite(tau_s) and tau_s > 0.0):
+        raise ValueError(f"lag_cascade: tau_s must be finite and > 0, got {tau_s!r}")
+    rate = 1.0 / tau_s
+    h = np.diff(t)
+    if np.any(h < 0):
+        raise ValueError("lag_cascade: sample times must be non-decreasing")
+    step = uniform_step(t) if h.size else None
+    weights = _irregular_weights(h, rate) if h.size and step is None else None
+    for _ in range(n_stages):
+        out = np.zeros(t.size)
+        if h.size:
+            out[1:] = (_convolve_uniform(step, y, rate, 0.0) if step is not None
+                       else _convolve_irregular(h, y, rate, 0.0, weights))
+        y = out * rate
+    return y
 
 
 def exp_convolve_columns(t_s: npt.ArrayLike, u: npt.ArrayLike, rate_per_s: float) -> np.ndarray:

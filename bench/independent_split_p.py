@@ -516,7 +516,7 @@ def on_clock(c, t, f, rate):
 class AnnealedClock(SimOnly):
     """A Burgers core on the clock exp(b (T_c - T_ref) - beta (A - A_0)): T_c the core's temperature (lag
     ``lag_s``), A its annealing, which rises toward T_c whenever T_c is above it (``anneal_s``) and never falls,
-    from A_0 = T_c[0] + ``head_c`` (the warmest it had been)."""
+    from A_0 = T_c[0] + ``head_c`` (the warmest the core was before the record)."""
 
     def __init__(self, c, b_per_c, beta_per_c, lag_s, anneal_s, head_c):
         self.c, self.b, self.beta, self.lag, self.anneal, self.head = c, b_per_c, beta_per_c, lag_s, anneal_s, head_c

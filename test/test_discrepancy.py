@@ -173,19 +173,18 @@ def test_drift_events_shorter_than_a_coarse_spline_interval_are_named_offset_dri
 
 
 def test_a_flow_that_a_fine_spline_drift_stood_in_for_is_named_once_the_drift_is_rechosen_beside_it():
-    """A zener that flows, with a settling drift (tune case, 200 Hz). A spline drift is named first (it follows the
-    flow's creep under a slow load); beside it the flow lowered the out-of-sample error by 60 % of its excess, but
-    in only 3 of 5 folds, and was not named. With the drift's shape re-chosen beside the flow, it is; and once a
-    slow delayed elasticity is retried so, the flow is too (judged without it, the elasticity won on the drift's
-    re-choice alone)."""
+    """A zener that flows, with a settling drift (tune case, 200 Hz). A drift is named first (it follows the flow's
+    creep under a slow load); beside it the flow lowered the out-of-sample error by 60 % of its excess, but in only
+    3 of 5 folds. A slow delayed elasticity retried with the drift's shape re-chosen beside it predicts a little
+    better than the flow, by a difference of predictions the record cannot show, so it is not judged; the flow,
+    judged beside the drift by the acceptance test alone (the two are nearly collinear), is named."""
     rec, case = bench_record(["viscous_flow", "offset_drift"], 0.5, "zener", 600.0, 200.0, 9022, split="tune",
                              families={"viscous_flow": "eta_two_decades", "offset_drift": "exp_approach"})
     steps = []
     d = diagnose(rec, base=case.base, progress=steps.append)
     assert sorted(d.missing_effects) == ["offset_drift", "viscous_flow"], [c.summary() for c in d.candidates]
-    # judged with the drift's shape re-chosen beside it: retried itself, or beside a retried rival
-    assert {"retry viscous_flow with the shapes named before it re-chosen",
-            "re-choose the shapes beside viscous_flow too"} & set(steps), steps
+    # the elasticity that won on the drift's re-choice alone is not judged beside the drift
+    assert "step 2: delayed_elasticity adds less than the record can show, not judged" in steps, steps
     assert d.rmse_after <= 1.2 * d.noise_floor_v, (d.rmse_after, d.noise_floor_v)
 
 

@@ -731,14 +731,95 @@ def test_what_the_record_can_show_of_a_noise_free_part_is_its_rms(frequency_hz):
     """A noise-free contribution is seen by the unexplained test as it would be on top of the record's noise: its
     RMS in 1 s averages or in its octave band, with nothing subtracted for a floor it does not hold (a fast part of
     0.8 times the floor passed as unseen when the floor's power was subtracted from it)."""
-    from polyforce_ros.discrepancy.engine import _shown
+    from polyforce_ros.discrepancy.residual import shown_share
 
     rate_hz, floor_v = 160.0, 2e-3
     t = np.arange(0.0, 120.0, 1.0 / rate_hz)
     for share in (0.3, 0.8):
         part = share * floor_v * np.sqrt(2.0) * np.sin(2 * np.pi * frequency_hz * t)
-        assert _shown(t, part, floor_v, 0.5) == pytest.approx(share, rel=0.15)
+        assert shown_share(t, part, floor_v, 0.5) == pytest.approx(share, rel=0.15)
 
+
+@pytest.mark.parametrize("frequency_hz", [1.0 / 150.0, 0.02, 3.0])
+@pytest.mark.parametrize("share", [0.3, 0.8])
+def test_between_models_that_hold_effects_only_what_the_record_can_show_counts(monkeypatch, share, frequency_hz):
+    """Of two candidates of a step that both pass the acceptance test, the larger (a spline drift in time, or a
+    hysteresis) is named over the smaller (a thermal zero) only when it also passes that test against it by a
+    difference of predictions that the unexplained test would see (half the floor): a model better by less follows
+    the smaller shape's misfit of the record, not an effect of its own. Against the base alone, and with no floor
+    given, the acceptance test alone decides."""
+    from types import SimpleNamespace
+
+    from polyforce_ros.discrepancy import selection as sel
+    from polyforce_ros.discrepancy.design import Structure, Term
+
+    rate_hz, floor_v = 100.0, 2e-3
+    t = np.arange(0.0, 600.0, 1.0 / rate_hz)
+    common = 0.05 * np.sin(2 * np.pi * t / 400.0)
+    apart = share * floor_v * np.sqrt(2.0) * np.sin(2 * np.pi * frequency_hz * t)
+
+    def cand(effect, variant, n_columns, cv_mse, prediction_v):
+        terms = (Term(effect, variant, None),) if effect else ()
+        fit = SimpleNamespace(names=["c"] * n_columns, structure=Structure("burgers", (10.0,), terms), cv_mse=cv_mse,
+                              prediction_v=prediction_v)
+        return SimpleNamespace(effect=effect, fit=fit)
+
+    smaller, base = cand("thermal_drift", "direct", 6, 1.1e-6, common), cand("", "", 4, 2e-6, np.zeros_like(t))
+    drift = cand("offset_drift", "spline8", 14, 1.0e-6, common + apart)
+    loop = cand("hysteresis", "bridge", 14, 1.0e-6, common + apart)
+    monkeypatch.setattr(sel, "fitted", lambda sig, fit: fit.prediction_v)
+    monkeypatch.setattr(sel.Selection, "justified", lambda self, fit, than: than is not fit and fit.cv_mse < than.cv_mse)
+    fitter = SimpleNamespace(sig=SimpleNamespace(t=t))
+    selection = sel.Selection(fitter, base.fit, floor_v ** 2, True, 0.8, 0.3, lambda _: None, floor_v=floor_v,
+                              unexplained_ratio=0.5)
+    for larger in (drift, loop):
+        assert sel.parsimonious([larger, smaller], lambda c: True, selection.beats) is (
+            larger if share > 0.5 else smaller)
+        assert selection.beats(larger.fit, smaller.fit) is (share > 0.5)
+    # an effect on its own: the base holds none, and over a whole record the acceptance test finds an effect far
+    # smaller than any one second shows
+    assert selection.beats(drift.fit, SimpleNamespace(**{**vars(base.fit), "prediction_v": common + apart}))
+    # without a floor every difference counts: the acceptance test alone decides
+    blind = sel.Selection(fitter, base.fit, floor_v ** 2, True, 0.8, 0.3, lambda _: None)
+    assert sel.parsimonious([drift, smaller], lambda c: True, blind.beats) is drift
+
+
+
+@pytest.mark.parametrize("added, beside, judged_alone", [
+    ("offset_drift", "viscous_flow", True), ("viscous_flow", "offset_drift", True),
+    ("offset_drift", "hysteresis", False), ("delayed_elasticity", "offset_drift", False)])
+def test_a_drift_beside_a_flow_is_judged_by_the_acceptance_test_alone(monkeypatch, added, beside, judged_alone):
+    """A flow (the integral of the force) and a drift (a function of time) are nearly collinear under a load that
+    seldom rests: refitted without one, the other takes most of it, so the difference of the two refits is no
+    measure of what the record holds. Between those two (an addition, a drop), the acceptance test alone decides;
+    an effect added beside any other must still make a difference the record can show."""
+    from types import SimpleNamespace
+
+    from polyforce_ros.discrepancy import selection as sel
+    from polyforce_ros.discrepancy.design import Structure, Term
+
+    rate_hz, floor_v = 100.0, 2e-3
+    t = np.arange(0.0, 600.0, 1.0 / rate_hz)
+    common = 0.05 * np.sin(2 * np.pi * t / 400.0)
+    unseen = 0.2 * floor_v * np.sqrt(2.0) * np.sin(2 * np.pi * t / 150.0)  # a difference far below what shows
+
+    def fit(effects, cv_mse, prediction_v):
+        terms = tuple(Term(e, "", None) for e in effects)
+        return SimpleNamespace(names=["c"] * (4 + 2 * len(effects)), structure=Structure("burgers", (10.0,), terms),
+                               cv_mse=cv_mse, prediction_v=prediction_v)
+
+    monkeypatch.setattr(sel, "fitted", lambda sig, f: f.prediction_v)
+    monkeypatch.setattr(sel.Selection, "justified", lambda self, f, than: f.cv_mse < than.cv_mse)
+    selection = sel.Selection(SimpleNamespace(sig=SimpleNamespace(t=t)), fit((), 2e-6, 0 * t), floor_v ** 2, True, 0.8,
+                              0.3, lambda _: None, floor_v=floor_v, unexplained_ratio=0.5)
+    smaller = fit((beside,), 1.1e-6, common)
+    larger = fit((beside, added), 1.0e-6, common + unseen)
+    assert selection.beats(larger, smaller) is judged_alone
+    # the backward check asks the same question the other way round: is the model without the effect as good?
+    assert selection.beats(smaller, larger) is False
+    # a difference the record shows counts for every pair
+    shown = fit((beside, added), 1.0e-6, common + 5 * unseen)
+    assert selection.beats(shown, smaller)
 
 def test_an_effect_whose_refitted_model_predicts_no_better_is_not_named(monkeypatch):
     """A candidate is scored with columns made from the step's reference core and kept with them made from its own

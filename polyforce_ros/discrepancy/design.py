@@ -120,6 +120,15 @@ def design(sig: Signals, st: Structure, extra: Sequence[Col] = ()
     return names, stack(mats), lo, hi, ridge
 
 
+def fitted(sig: Signals, fit: Fit) -> FloatArray:
+    """``fit``'s prediction on ``sig`` (the signals its columns were made on) with the coefficients fitted on every
+    block [V]."""
+    names, a, *_ = design(sig, fit.structure)
+    coef = fit.coef_map
+    out: FloatArray = a @ np.array([coef.get(n, 0.0) for n in names])
+    return out
+
+
 _ALL_ROWS = slice(None)
 
 

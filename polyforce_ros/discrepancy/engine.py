@@ -40,7 +40,10 @@ Procedure (:func:`diagnose`):
    named before it re-chosen beside it, and kept if it passes the test against
    the current model re-chosen alike; an effect whose refitted model, the one
    saved, predicts no better than the step's model is not named, and the step's
-   next choice is judged). Then the next step runs with it included; an effect that the newer ones make redundant (the
+   next choice is judged). Between models that both hold effects (two candidates of a step, an effect beside
+   those named, a drop, a swap), the better must also differ from the other by what step 5's test would see
+   (:meth:`.selection.Selection.beats`; a flow beside a drift, nearly collinear, is judged by the test above
+   alone). Then the next step runs with it included; an effect that the newer ones make redundant (the
    others re-chosen in their best shape without it) is dropped again, and
    one that a rival of its own step now describes as well is swapped for it,
    until nothing more is justified or a set of effects recurs. Of two or more
@@ -99,7 +102,7 @@ from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, rate_
                       with_friction_deadband, with_friction_share, with_safe_bandwidth)
 from .refit import base_structure, refine, settle
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
-from .residual import excess, noise_floor, out_of_sample, unexplained_test, where
+from .residual import excess, noise_floor, out_of_sample, shown_share, unexplained_test, where
 from .resonance import ModeFit, choose_mode, with_mode
 from .result import Diagnosis
 from .selection import Candidate, Selection
@@ -317,20 +320,12 @@ def _own_part_v(sig_full: Signals, fit: Fit, name: str) -> Optional[FloatArray]:
     return predicted(fit.structure, {}) - predicted(reduced, as_fitted)
 
 
-def _shown(t_s: FloatArray, part_v: FloatArray, floor_v: float, ratio: float) -> float:
-    """How much of a noise-free signal the unexplained test would see, as a share of ``floor_v``: its larger RMS
-    in 1 s averages or in an octave band (:func:`.residual.unexplained_test` over a zero floor, which subtracts
-    nothing; the test proper subtracts the floor's own power in each band, which a noise-free part does not hold).
-    The 1 s averages count without the test's whiteness gate: a part is counted as shown when in doubt, and kept."""
-    seen = unexplained_test(t_s, part_v - float(np.mean(part_v)), 0.0, ratio)
-    return seen.rms_v / floor_v if floor_v > 0.0 else float("inf")
-
-
 def _drop_unseen(selection: Selection, full_rate: Signals, bin_of_sample: IntArray, floor_v: float, ratio: float,
                  say: Callable[[str], None]) -> Signals:
     """Stage 4b: of two or more effects named, drop one that the record cannot show, while two or more are named
     and the model leaves no structure (:func:`.residual.unexplained_test`, out of sample, at the record's rate).
-    An effect the record cannot show adds less to the prediction than the test sees (:func:`_own_part_v`), and
+    An effect the record cannot show adds less to the prediction than the test sees (:func:`_own_part_v`,
+    :func:`.residual.shown_share`), and
     without it (the others re-chosen) the residual still holds no structure; the smallest goes first. A drop
     re-chooses the others' shapes on the selection's reference core. ``full_rate``: the record at its own rate.
 
@@ -358,7 +353,7 @@ def _drop_unseen(selection: Selection, full_rate: Signals, bin_of_sample: IntArr
             own = _own_part_v(sig_full, selection.current, name)
             if own is None:
                 continue
-            shown = _shown(t_s, own, floor_v, ratio)
+            shown = shown_share(t_s, own, floor_v, ratio)
             if shown < ratio:
                 small.append((shown, name))
         for _, name in sorted(small):
@@ -445,7 +440,8 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     fitter.sig = refresh_ref(data.fit_rate, base_core)
     skipped = _skipped(base, has_temp)
     # 4. forward selection, backward check and swap
-    selection = Selection(fitter, base_fit, noise.fit_mse, has_temp, min_confidence, min_excess_share, say)
+    selection = Selection(fitter, base_fit, noise.fit_mse, has_temp, min_confidence, min_excess_share, say,
+                          floor_v=floor, unexplained_ratio=unexplained_ratio)
     selection.run(catalogue, list(skipped), max_effects)
     sig_full = _drop_unseen(selection, data.full_rate, bin_of_sample, floor, unexplained_ratio, say)
     if selection.current.structure.term("nonlinear_gain") is not None:

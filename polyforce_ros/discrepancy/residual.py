@@ -163,6 +163,18 @@ def unexplained_test(t_s: FloatArray, resid_v: FloatArray, floor_v: float, ratio
     return Unexplained(present, max(structured, in_bands), q, p_value, bands)
 
 
+def shown_share(t_s: FloatArray, part_v: FloatArray, floor_v: float, ratio: float) -> float:
+    """How much of a noise-free signal the unexplained test would see, as a share of ``floor_v``: its larger RMS
+    in 1 s averages or in an octave band (:func:`unexplained_test` over a zero floor, which subtracts nothing; the
+    test proper subtracts the floor's own power in each band, which a noise-free part does not hold). The 1 s
+    averages count without the test's whiteness gate: a part is counted as shown when in doubt.
+
+    What the record can show at its own rate is ``ratio`` of the floor (step 5's test): an effect that adds less
+    to a prediction, or a model that differs from another by less, describes nothing the record tells apart."""
+    seen = unexplained_test(t_s, part_v - float(np.mean(part_v)), 0.0, ratio)
+    return seen.rms_v / floor_v if floor_v > 0.0 else float("inf")
+
+
 def out_of_sample(sig_full: Signals, fit: Fit, fitter: Fitter, bin_of_sample: IntArray
                   ) -> tuple[float, FloatArray, FloatArray]:
     """Out-of-sample prediction at the record's rate: each sample predicted by the fit that left its fold out.

@@ -12,6 +12,10 @@ order), their confidences and shapes, and every candidate scored. Each round
 3. :meth:`~Selection.swap_check` swaps an effect named earlier for a rival of its own step that now describes the
    data as well.
 
+Between models that hold effects (two candidates of a step, an effect beside those named, a drop, a swap), one is
+better than the other only by a difference the record can show at its own rate (:meth:`~Selection.beats`), except
+between a flow and a drift, where the acceptance test alone decides (:data:`COLLINEAR`).
+
 The rounds end when nothing more is justified, the most effects are named, or a set of effects recurs.
 """
 from __future__ import annotations
@@ -22,10 +26,10 @@ from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 
-from .design import Fit, Fitter, Structure, design_columns, n_params, size, term_columns
+from .design import Fit, Fitter, Structure, design_columns, fitted, n_params, size, term_columns
 from .effects import EFFECTS as REGISTRY, SPREAD_RATIO, at_noise_limit, variant_group
 from .refit import candidates_for, is_core_time, polish, refine, without
-from .residual import drift_follows_load, excess, passes, slow_response_columns
+from .residual import drift_follows_load, excess, passes, shown_share, slow_response_columns
 
 __all__ = ["Candidate", "parsimonious", "Selection"]
 
@@ -71,13 +75,24 @@ class Candidate:
                 "n_params": n_params(self.fit)}
 
 
+#: Effects whose columns a load that seldom rests makes nearly collinear: one named beside the other is judged by
+#: the acceptance test alone (:meth:`Selection.beats`).
+COLLINEAR = frozenset({"viscous_flow", "offset_drift"})
+
+
+def _collinear(a: Structure, b: Structure) -> bool:
+    """Whether two structures differ by one effect of :data:`COLLINEAR` and both hold the other."""
+    ea, eb = set(a.effects), set(b.effects)
+    differing = ea ^ eb
+    return len(differing) == 1 and differing < COLLINEAR and COLLINEAR - differing <= ea & eb
+
+
 def parsimonious(cands: Sequence[Candidate], acceptable: Callable[[Candidate], bool],
                  justified: Callable[[Fit, Fit], bool]) -> Optional[Candidate]:
     """The candidate of one step to judge: the lowest out-of-sample error, unless the acceptable candidates of
-    smaller nominal size (:func:`.design.size`) include some that it does not improve on as an added effect would
-    have to improve on the current model (``justified(better, than)``: the acceptance test itself); then the
-    smallest of those (the lower error among equals). Always compared with the overall best, so the choice is not
-    path-bound."""
+    smaller nominal size (:func:`.design.size`) include some that it does not beat (``justified(better, than)``:
+    :meth:`Selection.beats`, the acceptance test by a margin the record can show); then the smallest of those (the
+    lower error among equals). Always compared with the overall best, so the choice is not path-bound."""
     if not cands:
         return None
     best = min(cands, key=lambda c: c.fit.cv_mse)
@@ -114,6 +129,10 @@ class Selection:
         The acceptance test's thresholds (:meth:`justified`).
     say : callable
         Called with a short text before each step (a progress bar).
+    floor_v : float
+        The noise floor at the record's rate [V]; 0: every difference between two models counts as shown.
+    unexplained_ratio : float
+        What the record can show, as a share of ``floor_v`` (step 5's test; :meth:`shows`).
 
     Attributes
     ----------
@@ -128,9 +147,12 @@ class Selection:
     """
 
     def __init__(self, fitter: Fitter, base_fit: Fit, floor_mse: float, has_temperature: bool, min_confidence: float,
-                 min_excess_share: float, say: Callable[[str], None]) -> None:
+                 min_excess_share: float, say: Callable[[str], None], floor_v: float = 0.0,
+                 unexplained_ratio: float = 0.5) -> None:
         self.fitter = fitter
         self.floor_mse = floor_mse
+        self.floor_v = floor_v
+        self.unexplained_ratio = unexplained_ratio
         self.has_temperature = has_temperature
         self.min_confidence = min_confidence
         self.min_excess_share = min_excess_share
@@ -151,6 +173,34 @@ class Selection:
         share = excess(than.cv_mse, self.floor_mse)
         return passes(float(np.mean(fit.sse_folds < than.sse_folds)), (than.cv_mse - fit.cv_mse) / share,
                       self.min_confidence, self.min_excess_share)
+
+    def shows(self, fit: Fit, than: Fit) -> bool:
+        """Whether the record can show how ``fit`` differs from ``than``: the unexplained test (step 5) would see the
+        difference of their predictions (every block, the fit rate) at ``unexplained_ratio`` of the floor
+        (:func:`.residual.shown_share`). Both are fitted on the signals the fitter holds."""
+        sig = self.fitter.sig
+        part_v = fitted(sig, fit) - fitted(sig, than)
+        return shown_share(sig.t, part_v, self.floor_v, self.unexplained_ratio) >= self.unexplained_ratio
+
+    def beats(self, fit: Fit, than: Fit) -> bool:
+        """Whether ``fit`` is better than ``than``, a model that holds effects too: it passes the acceptance test
+        against it (:meth:`justified`) and the record can show the difference (:meth:`shows`).
+
+        Against the base alone the acceptance test decides (over a whole record it finds an effect far smaller than
+        any one second shows). Between models that hold effects (a larger candidate of a step over a smaller one,
+        an effect beside those named, one kept in the backward check, a swap) its least gain lies far below what
+        the record shows at its own rate: a model better by less describes another's misfit of a shape it nearly
+        holds (a spline in time following a zero that a buffered thermometer moves, a Kelvin unit beside a drift
+        that wanders), not an effect of its own.
+
+        Except between a flow and a drift (:data:`COLLINEAR`): a flow creeps as the integral of the force and a
+        drift moves with time, two columns that a load which seldom rests makes nearly the same. Refitted without
+        one, the other takes most of it, so the refits differ by less than the record holds of either; the record
+        tells them apart only at its rests and load changes, which is what the acceptance test's fold-by-fold gain
+        weighs, so it decides alone there."""
+        if not than.structure.terms or _collinear(fit.structure, than.structure):
+            return self.justified(fit, than)
+        return self.justified(fit, than) and self.shows(fit, than)
 
     def noise_limited(self, fit: Fit, name: str) -> bool:
         """Whether ``name``'s parameter in ``fit`` sits at the narrowest bound its search allows
@@ -379,6 +429,8 @@ class Selection:
                              float((current.cv_mse - fit.cv_mse) / share), self.step, retried=retried)
             self.candidates.append(cand)
             why = self.why_not_judged(fit, name)
+            if why is None and self.justified(fit, current) and not self.beats(fit, current):
+                why = "adds less than the record can show"
             if why is not None:
                 self.say(f"step {self.step}: {name} {why}, not judged")
                 continue
@@ -462,7 +514,7 @@ class Selection:
                 fit = self.without(self.current, name)
                 if fit is None:
                     continue
-                if not self.justified(self.current, fit):
+                if not self.beats(self.current, fit):
                     self.say(f"drop {name}")
                     dropped = True
                     self.drop(name)
@@ -496,9 +548,9 @@ class Selection:
                 again = self.rebuild(rival, name)
                 if again is not None and (fit is None or again.cv_mse < fit.cv_mse):
                     fit = again
-                if fit is None or self.not_judged(fit, rival.effect) or not self.justified(fit, reduced_fit) or not (
-                        (size(fit) < size(self.current) and not self.justified(self.current, fit))
-                        or self.justified(fit, self.current)):
+                if fit is None or self.not_judged(fit, rival.effect) or not self.beats(fit, reduced_fit) or not (
+                        (size(fit) < size(self.current) and not self.beats(self.current, fit))
+                        or self.beats(fit, self.current)):
                     continue
                 refined = self.saved_form(fit.structure, reduced_fit)
                 if refined is None:
@@ -530,11 +582,11 @@ class Selection:
         seen: set[frozenset[str]] = {frozenset()}
         while len(self.accepted) < max_effects:
             judged = self.forward_step(catalogue, skipped)
-            best = parsimonious(judged, self.acceptable, self.justified)
+            best = parsimonious(judged, self.acceptable, self.beats)
             while best is not None and self.acceptable(best) and not self.accept(best):
                 # the next choice of the step, without the effect whose refitted model did not help
                 judged = [c for c in judged if c.effect != best.effect]
-                best = parsimonious(judged, self.acceptable, self.justified)
+                best = parsimonious(judged, self.acceptable, self.beats)
             if best is None or not self.acceptable(best):
                 break
             self.backward_check()

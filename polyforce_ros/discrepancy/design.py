@@ -120,13 +120,18 @@ def design(sig: Signals, st: Structure, extra: Sequence[Col] = ()
     return names, stack(mats), lo, hi, ridge
 
 
+def predict(sig: Signals, st: Structure, coef: Mapping[str, float]) -> FloatArray:
+    """The prediction of structure ``st`` on ``sig`` with coefficients ``coef`` by column name (a column it does not
+    name counts as zero) [V]."""
+    names, a, *_ = design(sig, st)
+    out: FloatArray = a @ np.array([coef.get(n, 0.0) for n in names])
+    return out
+
+
 def fitted(sig: Signals, fit: Fit) -> FloatArray:
     """``fit``'s prediction on ``sig`` (the signals its columns were made on) with the coefficients fitted on every
     block [V]."""
-    names, a, *_ = design(sig, fit.structure)
-    coef = fit.coef_map
-    out: FloatArray = a @ np.array([coef.get(n, 0.0) for n in names])
-    return out
+    return predict(sig, fit.structure, fit.coef_map)
 
 
 _ALL_ROWS = slice(None)

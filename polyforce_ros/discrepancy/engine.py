@@ -86,7 +86,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import partial
-from typing import Any, Callable, Collection, Mapping, Optional, Sequence
+from typing import Any, Callable, Collection, Optional, Sequence
 
 import numpy as np
 from scipy import ndimage
@@ -94,8 +94,8 @@ from scipy import ndimage
 from ..physics.chain import FrictionElement, SensorChain
 from ..record import Record  # the record type diagnose takes (re-exported)
 from ..runtime import CompensatorConfig
-from .design import (BASES, BLOCKS_PER_FOLD, Fit, Fitter, Structure, Term, build_chain, core_model, design, fold_of,
-                     refresh_ref)
+from .design import (BASES, BLOCKS_PER_FOLD, Fit, Fitter, Structure, Term, build_chain, core_model, fitted,
+                     fold_of, predict, refresh_ref)
 from .effects import EFFECTS as REGISTRY, NAMES, lag_stages
 from .localise import describe, localise
 from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, rate_of, runtime_guard, with_filter,
@@ -310,14 +310,9 @@ def _own_part_v(sig_full: Signals, fit: Fit, name: str) -> Optional[FloatArray]:
         return None
     coef, full_taus = fit.coef_map, list(fit.structure.taus)
     # column c<i> holds the i-th retardation time (a gap's decays, gap<k>_c<i>, follow the base core's times)
-    as_fitted = {f"c{i}": f"c{full_taus.index(tau)}" for i, tau in enumerate(reduced.taus) if tau in full_taus}
-
-    def predicted(st: Structure, rename: Mapping[str, str]) -> FloatArray:
-        names, a, *_ = design(sig_full, st)
-        out: FloatArray = a @ np.array([coef.get(rename.get(n, n), 0.0) for n in names])
-        return out
-
-    return predicted(fit.structure, {}) - predicted(reduced, as_fitted)
+    as_fitted = {f"c{i}": coef.get(f"c{full_taus.index(tau)}", 0.0) for i, tau in enumerate(reduced.taus)
+                 if tau in full_taus}
+    return fitted(sig_full, fit) - predict(sig_full, reduced, {**coef, **as_fitted})
 
 
 def _drop_unseen(selection: Selection, full_rate: Signals, bin_of_sample: IntArray, floor_v: float, ratio: float,

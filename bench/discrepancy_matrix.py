@@ -9,7 +9,8 @@ base the effects apply to, and the answer compared with the truth:
 
 * catalogue effects: fully correct when ``missing_effects`` names exactly the hidden set;
 * out of catalogue: fully correct when the answer is ``unexplained`` (``none`` is
-  counted apart; any catalogue name is wrong);
+  counted apart; any catalogue name is wrong); a simulated shape that a catalogue effect
+  describes (``EXTRA_EFFECTS``) counts as that effect;
 * clean data: fully correct when the answer is ``none``.
 
 ``--split held_out`` (default) uses the seeds (and families) the engine was
@@ -30,7 +31,7 @@ from tqdm import tqdm
 
 from polyforce_ros.discrepancy.effects import EFFECTS
 from polyforce_ros.discrepancy.engine import diagnose
-from polyforce_ros.sim.bench import OUT_OF_CATALOGUE, bench_record, default_base
+from polyforce_ros.sim.bench import EXTRA_EFFECTS, OUT_OF_CATALOGUE, bench_record, default_base
 from polyforce_ros.sim.truths import SPLITS, families
 
 PAIRS = (("hysteresis", "thermal_drift"), ("sensor_lag", "nonlinear_gain"), ("viscous_flow", "offset_drift"),
@@ -50,7 +51,7 @@ def cases(split, seeds):
     for pair in PAIRS:
         for m in MAGNITUDES[1:]:
             out += [(pair, None, m, s) for s in range(seeds)]
-    for name in OUT_OF_CATALOGUE:
+    for name in EXTRA_EFFECTS:
         for m in MAGNITUDES[1:]:
             out += [((name,), None, m, s) for s in range(seeds)]
     out += [((), None, 0.0, s) for s in range(3 * seeds)]
@@ -58,6 +59,7 @@ def cases(split, seeds):
 
 
 def verdict(hidden, d, temperature):
+    hidden = [(EXTRA_EFFECTS[h][1] or h) if h in EXTRA_EFFECTS else h for h in hidden]  # a catalogue effect's shape
     catalogue = [h for h in hidden if h in EFFECTS]
     if not temperature:  # a thermal effect cannot be seen without the topic: it is not expected
         catalogue = [h for h in catalogue if not EFFECTS[h].needs_temperature]

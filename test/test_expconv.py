@@ -115,8 +115,15 @@ def test_lag_cascade_is_the_lag_run_again_and_again(stamps, n_stages):
 
 
 @pytest.mark.parametrize("bad", [dict(tau_s=0.0), dict(tau_s=float("nan")), dict(tau_s=-1.0),
-                                 dict(t=[0.0, 0.2, 0.1])])
+                                 dict(t=[0.0, 0.2, 0.1]), dict(x=[1.0, 1.0]), dict(x=np.ones((3, 2)))])
 def test_lag_cascade_refuses_what_has_no_meaning(bad):
     t = np.asarray(bad.get("t", [0.0, 0.1, 0.2]))
     with pytest.raises(ValueError):
-        lag_cascade(t, np.ones(t.size), bad.get("tau_s", 0.01), 2)
+        lag_cascade(t, bad.get("x", np.ones(t.size)), bad.get("tau_s", 0.01), 2)
+
+
+@pytest.mark.parametrize("u", [[1.0, 2.0], [1.0, 2.0, 3.0, 4.0], np.ones((3, 1))])
+def test_exp_convolve_refuses_an_input_that_is_not_one_value_per_stamp(u):
+    """A length mismatch would otherwise be filtered silently over the shorter of the two (or broadcast)."""
+    with pytest.raises(ValueError, match="shape of t_s"):
+        exp_convolve([0.0, 0.1, 0.2], u, [1.0])

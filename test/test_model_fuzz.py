@@ -301,6 +301,10 @@ def _example_chains():
         elif kind == "power_flow":  # a zener core with a power-law dashpot beside it
             chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(Zener(3.0, 20.0, 200.0)), 0.01, 2.5, 9.0),
                                         OffsetElement(0.02)])
+        elif kind == "knee_kelvin":  # a zener core beside a Kelvin unit loaded above a knee
+            chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(Zener(3.0, 20.0, 200.0)), [2.0, 5.0],
+                                                            [0.05, -0.1], 8.0),
+                                        OffsetElement(0.02)])
         elif kind == "bridge_hysteresis":  # the core and its plays in one element
             chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(PAPER_BURGERS), [0.1, 0.5], [0.01, 0.005],
                                                             history_max_n=2.0), OffsetElement(0.02)])

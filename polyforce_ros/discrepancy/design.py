@@ -18,11 +18,11 @@ import numpy as np
 import numpy.typing as npt
 from scipy import linalg, optimize
 
-from ..physics.chain import (BridgeHysteresisElement, Element, OffsetElement, PowerFlowElement, SensorChain,
-                             ThermoRheologicalElement, ViscoelasticElement, reduced_time_s)
+from ..physics.chain import (BridgeHysteresisElement, Element, KneeKelvinElement, OffsetElement, PowerFlowElement,
+                             SensorChain, ThermoRheologicalElement, ViscoelasticElement, reduced_time_s)
 from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
-from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, Col, lag_columns, lag_stages, parameter
+from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, Col, knee_beside, lag_columns, lag_stages, parameter
 from .signals import BoolArray, FloatArray, IntArray, Signals
 
 __all__ = ["BASES", "BLOCKS_PER_FOLD", "CORE_SHAPE", "TAU_GRID", "TAU_BOUNDS", "Term", "Structure", "Design", "design",
@@ -393,7 +393,9 @@ def core_model(st: Structure, coef: Mapping[str, float]) -> ViscoelasticModel:
 
 
 def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> SensorChain:
-    """Model-file chain: [force-path hysteresis] core [gain, voltage-path hysteresis] [lag] [thermal, drift] offset."""
+    """Model-file chain: [force-path hysteresis] core [gain, voltage-path hysteresis] [lag] [thermal, drift] offset.
+    The core is the fitted one, on the reduced time when viscosities follow temperature, beside a power-law dashpot
+    and a knee unit when those are named, with plays beside it at the bridge."""
     slots: dict[str, list[Element]] = {"before": [], "core": [], "bridge": [], "after": [], "lag": [], "late": []}
     for term in st.terms:
         for slot, element in REGISTRY[term.effect].to_elements(coef, term.variant, term.param, sig):
@@ -407,6 +409,10 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
     if flows:  # a power-law dashpot beside the fitted core (on its clock's core, shifted or not)
         fitted = PowerFlowElement(fitted, flows[0].flow_rate_v_per_s, flows[0].flow_exponent,
                                   flows[0].flow_force_scale_n, flows[0].flow_yield_n)
+    knees = [e for e in slots["core"] if isinstance(e, KneeKelvinElement)]
+    if knees:  # a Kelvin unit that only the force above a knee loads, beside the fitted core (flowing or not)
+        k = knees[0]
+        fitted = knee_beside(fitted, k.knees_n, list(k.knee_compliances_v_per_n), k.knee_tau_s)
     core: Element = fitted
     bridges = [e for e in slots["bridge"] if isinstance(e, BridgeHysteresisElement)]
     if bridges:  # hysteresis at the bridge (one term per effect, so one element): the fitted core, plays beside it

@@ -22,7 +22,8 @@ parameters (retardation times, lag and thermal time constants) are fixed::
 
 with *sensor* columns ``s_j`` (the core's compliance terms F, int F, K_tau F, on the reduced time when the
 viscosities follow temperature;
-hysteresis play operators; a friction's stop; the squared core output) and *additive* columns
+hysteresis play operators; a friction's stop; Kelvin units loaded by the force above a knee; the squared core output)
+and *additive* columns
 ``a_k`` (temperature, drift polynomials). Cores are written in compliance
 form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
 """
@@ -35,7 +36,8 @@ import numpy as np
 import numpy.typing as npt
 
 from ..physics.chain import (
-    BridgeHysteresisElement, Element, ExponentialDriftElement, FrictionElement, PlayHysteresisElement, PolynomialDriftElement,
+    BridgeHysteresisElement, Element, ExponentialDriftElement, FrictionElement, KneeKelvinElement, PlayHysteresisElement,
+    PolynomialDriftElement,
     PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
     PowerFlowElement,
@@ -48,7 +50,8 @@ from .signals import FloatArray, Signals, noise_std
 
 __all__ = ["SPREAD_RATIO",
            "Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
-           "SPLINE_INTERVALS", "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n",
+           "SPLINE_INTERVALS", "KNEE_FRACTIONS", "KNEE_FLOOR_SHARE", "knees_n", "knee_beside", "FRICTION_FRACTIONS",
+           "FRICTION_NOISE_SIGMAS", "force_noise_n",
            "at_noise_limit", "lag_columns", "lag_stages",
            "variant_group", "parameter", "hints"]
 
@@ -512,6 +515,58 @@ def _delayed_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     return grid
 
 
+#: Knees of a load-dependent delayed elasticity (its ``knee`` variants), as fractions of the force span above the
+#: smallest force: a Kelvin unit that a preload keeps out of play at low loads, or that a stop holds at high ones; all
+#: three together (``knees``) make a curved dependence (a spring that stiffens, a stop that engages gradually).
+KNEE_FRACTIONS = {"knee15": (0.15,), "knee30": (0.3,), "knee50": (0.5,), "knees": (0.15, 0.3, 0.5)}
+
+
+def knees_n(sig: Signals, variant: str) -> FloatArray:
+    """The knees of a ``knee`` variant of delayed elasticity [N]."""
+    return float(np.min(sig.f_nonlinear)) + np.asarray(KNEE_FRACTIONS[variant]) * sig.span_f
+
+
+def _knee_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
+    """The ``knee`` variants' columns beside the Kelvin unit they add to the core: units of the same time loaded by
+    the force above each knee, their compliances of either sign (more creep above a knee, or less)."""
+    if variant not in KNEE_FRACTIONS:
+        return []
+    loads = np.maximum(sig.f_nonlinear[:, None] - knees_n(sig, variant)[None, :], 0.0)
+    cols = lag_columns(sig.t, loads, parameter(param))
+    return [(f"knee{k}", cols[:, k], -np.inf, np.inf, "sensor", None) for k in range(cols.shape[1])]
+
+
+def _knee_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
+    if variant not in KNEE_FRACTIONS:
+        return []
+    knees = knees_n(sig, variant)
+    compliances = [coef.get(f"knee{k}", 0.0) for k in range(knees.size)]
+    if not any(compliances):
+        return []
+    # the core here is a stand-in: build_chain puts the fitted core inside (:func:`knee_beside`)
+    return [("core", knee_beside(ViscoelasticElement(sig.reference_core), knees, compliances, float(parameter(param))))]
+
+
+#: The most the knee units may take off the core's settled compliance above a knee, as a share of it: the settled
+#: output still rises with the load at a tenth of the core's slope, so the inverse stays single-valued.
+KNEE_FLOOR_SHARE = 0.9
+
+
+def knee_beside(core: ViscoelasticElement, knees: npt.ArrayLike, compliances_v_per_n: Sequence[float],
+                tau_s: float) -> KneeKelvinElement:
+    """``core`` beside knee units, each compliance within the model file's bounds and their running sum above
+    :data:`KNEE_FLOOR_SHARE` times minus the core's settled compliance."""
+    settled = core.model.compliance()
+    floor = -KNEE_FLOOR_SHARE * (settled.j0_v_per_n + float(np.sum(settled.c_v_per_n)))
+    kept, total = [], 0.0
+    for c in compliances_v_per_n:
+        c = float(np.clip(c, max(floor - total, -1e3), 1e3))
+        kept.append(c)
+        total += c
+    return KneeKelvinElement(core, np.clip(np.asarray(knees, dtype=float), -1e5, 1e5), kept,
+                             float(np.clip(tau_s, 1e-3, 1e6)))
+
+
 def _thermal_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     """Time constants (s) of the thermal lag; none for the direct variants."""
     return _log_grid(3.0, 120.0, 6) if variant.startswith("lag") else [None]
@@ -532,9 +587,14 @@ EFFECTS: dict[str, Effect] = {
                                                                "zener3": "burgers3"}),
     "delayed_elasticity": Effect(
         "delayed_elasticity", "creep and recovery that settle (delayed_elasticity)", ("hold_under_load", "rest_after_unloading"),
-        ("load_history",), ("zener", "burgers", "zener2", "burgers2", "zener3", "burgers3"), grid=_delayed_grid,
-        # one Kelvin unit, or two a decade apart (a retardation spectrum spread over time scales)
-        variants=("", "spread"), extends={"spread": ""}, core_times={"": 1, "spread": 2},
+        ("load_history",), ("zener", "burgers", "zener2", "burgers2", "zener3", "burgers3", "knee_kelvin"),
+        grid=_delayed_grid,
+        # one Kelvin unit, two a decade apart (a retardation spectrum spread over time scales), or one beside units of
+        # the same time that only the force above a knee loads (one knee, or three: a curved dependence on the load)
+        variants=("", "spread", *KNEE_FRACTIONS), extends={"spread": "", **{k: "" for k in KNEE_FRACTIONS}},
+        also_holds={"knees": tuple(k for k in KNEE_FRACTIONS if k != "knees")},
+        core_times={"": 1, "spread": 2, **{k: 1 for k in KNEE_FRACTIONS}}, columns=_knee_columns,
+        to_elements=_knee_elements,
         core_change={"elastic": "zener", "maxwell": "burgers", "zener": "zener2", "burgers": "burgers2",
                      "zener2": "zener3", "burgers2": "burgers3"}),
     "hysteresis": Effect(

@@ -18,7 +18,7 @@ from scipy import optimize
 from ..physics.fitting import multistart_least_squares
 from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, Term, bounded_solve, core_model,
                      design_columns, refresh_ref, stack)
-from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, SPREAD_RATIO, parameter
+from .effects import EFFECTS as REGISTRY, KNEE_FRACTIONS, PLAY_RIDGE, SPREAD_RATIO, parameter
 from .signals import FloatArray, Signals
 
 __all__ = ["polish", "is_core_time", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]
@@ -243,6 +243,8 @@ def candidates_for(st: Structure, effect: str, has_temperature: bool, sig: Signa
                 kind = eff.core_change.get(kind) if kind is not None else None
             if kind is None:
                 continue
+            if variant in KNEE_FRACTIONS and _bridge_hysteresis(st):
+                continue  # the bridge's inverse solves its plays with a plain core beside them
             for tau in eff.grid(variant, sig):
                 added = tuple(tau * SPREAD_RATIO ** k for k in range(n_times)) if tau is not None else ()
                 if added and all(abs(math.log(a / t)) > 0.5 for a in added for t in st.taus):
@@ -253,9 +255,11 @@ def candidates_for(st: Structure, effect: str, has_temperature: bool, sig: Signa
     out = []
     flow = st.term("viscous_flow")
     power_flow = flow is not None and bool(flow.variant)  # a dashpot beside the core, not the core's own
+    delayed = st.term("delayed_elasticity")
+    beside_core = power_flow or (delayed is not None and delayed.variant in KNEE_FRACTIONS)
     for variant in eff.variants:
-        if effect == "hysteresis" and power_flow and variant.startswith("bridge"):
-            continue  # a power-law dashpot wraps the core that the bridge's plays would sit beside
+        if effect == "hysteresis" and beside_core and variant.startswith("bridge"):
+            continue  # a power-law dashpot or a knee unit wraps the core that the bridge's plays would sit beside
         for param in eff.grid(variant, sig):
             out.append(Structure(st.core, st.taus, st.terms + (Term(effect, variant, param),)))
     if effect == "sensor_lag":

@@ -230,6 +230,8 @@ def exp_convolve(t_s: npt.ArrayLike, u: npt.ArrayLike, rates_per_s: npt.ArrayLik
     t = np.asarray(t_s, dtype=float)
     u = np.asarray(u, dtype=float)
     rates = np.atleast_1d(np.asarray(rates_per_s, dtype=float))
+    if u.shape != t.shape:
+        raise ValueError(f"exp_convolve: u must have the shape of t_s, {t.shape}; got {u.shape}")
     n, m = t.size, rates.size
     out = np.empty((n, m))
     if n == 0:
@@ -335,6 +337,8 @@ def lag_cascade(t_s: npt.ArrayLike, x: npt.ArrayLike, tau_s: float, n_stages: in
         The output of the last stage, in ``U``.
     """
     t, y = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+    if y.shape != t.shape:
+        raise ValueError(f"lag_cascade: x must have the shape of t_s, {t.shape}; got {y.shape}")
     if not (math.isfinite(tau_s) and tau_s > 0.0):
         raise ValueError(f"lag_cascade: tau_s must be finite and > 0, got {tau_s!r}")
     rate = 1.0 / tau_s

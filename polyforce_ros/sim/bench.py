@@ -7,8 +7,9 @@ any number of hidden effects. Each effect is drawn from one of its
 *families* (:mod:`.truths`) with random parameters; none is the element the
 engine fits. Families marked ``held_out`` and the seeds of the held-out split
 (:data:`~.truths.SPLITS`) are never used while tuning the engine.
-Out-of-catalogue effects (:data:`OUT_OF_CATALOGUE`) have no element in the
-catalogue at all. Temperature always varies (independently of
+Effects simulated beside the families (:data:`EXTRA_EFFECTS`) are either shapes
+of a catalogue effect that no family draws, or out of the catalogue
+(:data:`OUT_OF_CATALOGUE`: no catalogue effect describes them at all). Temperature always varies (independently of
 the load), so its mere presence gives nothing away; :func:`bench_record`
 adds real recording conditions (rate, stamp jitter, dropped blocks, no
 temperature topic, a reference load cell with its own noise).
@@ -206,9 +207,15 @@ class _TimeGain:
         return out
 
 
-#: Effects no catalogue holds: the workflow must answer "unexplained" (or "none"), never a catalogue name.
-OUT_OF_CATALOGUE: dict[str, MakeFn] = {"sensitivity_drift": _sens_drift, "load_stiffening": _stiffening,
-                                        "periodic_interference": _periodic}
+#: Effects simulated beside the families (their order fixes the matrix's seeds), each with the catalogue effect that
+#: describes it, or None when no catalogue effect does: then the workflow must answer "unexplained" (or "none"),
+#: never a catalogue name. A Kelvin stiffness that grows with the load is a delayed elasticity whose size changes with
+#: the load (the catalogue's knee variants).
+EXTRA_EFFECTS: dict[str, tuple[MakeFn, Optional[str]]] = {
+    "sensitivity_drift": (_sens_drift, None), "load_stiffening": (_stiffening, "delayed_elasticity"),
+    "periodic_interference": (_periodic, None)}
+#: The simulated effects no catalogue effect describes (:data:`EXTRA_EFFECTS`).
+OUT_OF_CATALOGUE: tuple[str, ...] = tuple(name for name, (_, holder) in EXTRA_EFFECTS.items() if holder is None)
 EFFECTS = ("none",) + NAMES
 #: Order of effects along the chain (core first, drift last).
 _ORDER = ("viscous_flow", "delayed_elasticity", "thermo_rheological", "friction", "hysteresis", "resonance",
@@ -254,7 +261,7 @@ def truth_chain(effects: Hidden, magnitude: float, base: str = "burgers", seed: 
                 families: Optional[Mapping[str, str]] = None) -> tuple[SensorChain, dict[str, str]]:
     """The sensor truth and the family of each hidden effect: ``(SensorChain, {effect: family})``.
 
-    ``effects``: a name, a list of names (catalogue or :data:`OUT_OF_CATALOGUE`), or "none".
+    ``effects``: a name, a list of names (catalogue or :data:`EXTRA_EFFECTS`), or "none".
     ``families``: {effect: family} to force a family; otherwise one is drawn from ``split``.
     """
     if isinstance(effects, str):
@@ -272,8 +279,8 @@ def truth_chain(effects: Hidden, magnitude: float, base: str = "burgers", seed: 
     chosen: dict[str, str] = {}
     core_el: Optional[ForwardElement] = None
     for name in sorted(effects, key=lambda e: _ORDER.index(e) if e in _ORDER else len(_ORDER)):
-        if name in OUT_OF_CATALOGUE:
-            truth, chosen[name] = OUT_OF_CATALOGUE[name](rng, m, ctx), name
+        if name in EXTRA_EFFECTS:
+            truth, chosen[name] = EXTRA_EFFECTS[name][0](rng, m, ctx), name
         elif name in REGISTRY:
             needs_base = HIDDEN_AGAINST.get(name, ())
             if needs_base and base not in needs_base:
@@ -282,7 +289,7 @@ def truth_chain(effects: Hidden, magnitude: float, base: str = "burgers", seed: 
             chosen[name] = str(fam)
             truth = FAMILIES[name][fam].make(rng, m, ctx)
         else:
-            raise ValueError(f"unknown effect {name!r}; choose from {EFFECTS + tuple(OUT_OF_CATALOGUE)}")
+            raise ValueError(f"unknown effect {name!r}; choose from {EFFECTS + tuple(EXTRA_EFFECTS)}")
         if truth.core is not None:
             if isinstance(truth.core, ViscoelasticModel):
                 core = truth.core

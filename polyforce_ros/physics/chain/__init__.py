@@ -20,7 +20,7 @@ from .base import (
                    short_repr,
                    smoke_records,
 )
-from .core import PowerFlowElement, ThermoRheologicalElement, ViscoelasticElement, reduced_time_s
+from .core import KneeKelvinElement, PowerFlowElement, ThermoRheologicalElement, ViscoelasticElement, reduced_time_s
 from .drift import (
                    ExponentialDriftElement,
                    OffsetDriftElement,
@@ -36,7 +36,7 @@ from .sensor_chain import ELEMENT_TYPES, ChainStream, SensorChain
 from .static import GainElement, NonlinearGainElement, OffsetElement, PolynomialGainElement, ThermalSensitivityElement
 
 __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "ForwardElement", "Element", "PARAMETER_BOUNDS",
-           "MAX_PREISACH_LEVELS", "ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement",
+           "MAX_PREISACH_LEVELS", "ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "KneeKelvinElement",
            "reduced_time_s", "OffsetElement",
            "GainElement", "NonlinearGainElement",
            "SensorLagElement", "TransportDelayElement", "ResonanceElement", "ThermalDriftElement", "ThermalSensitivityElement",

@@ -215,6 +215,11 @@ PARAMETER_BOUNDS = {
     "flow_exponent": (0.2, 5.0, "", "a flow rate steeper than F^5 is a yield step, flatter than F^0.2 a constant"),
     "flow_force_scale_n": (1e-3, 1e5, "N", "1 mN to 100 kN: beyond any force sensor range"),
     "flow_yield_n": (0.0, 1e5, "N", "100 kN: beyond any force sensor range"),
+    # Kelvin units loaded by the force above knees: a compliance may be negative (a unit that bottoms out above its
+    # knee) as long as the settled output still rises with the load (checked against the core's)
+    "knees_n": (-1e5, 1e5, "N", "100 kN: beyond any force sensor range"),
+    "knee_compliances_v_per_n": (-1e3, 1e3, "V/N", "1 kV per newton: beyond any bridge"),
+    "knee_tau_s": (1e-3, 1e6, "s", "a retardation faster than 1 ms is a lag (sensor_lag); up to 11.6 days"),
     # the span's thermal lag behind the thermometer (0 = none): up to a day
     "thermal_tau_s": (1e-3, 1e5, "s", "a span a day behind its temperature follows the weather, not the sensor"),
     # a polymer sensor below -100 degC is glass, above 300 degC it decomposes

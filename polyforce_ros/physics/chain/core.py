@@ -9,6 +9,7 @@ from typing import Any, Mapping, Optional, Self, TypedDict
 import numpy as np
 import numpy.typing as npt
 
+from ..expconv import exp_convolve, step_weights_scalar
 from ..viscoelastic import (
     MODEL_TYPES,
     CreepCompliance,
@@ -20,9 +21,10 @@ from ..viscoelastic import (
     simulate_deformation,
 )
 from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, FunctionStream, ModelError, check_keys, check_number,
-                   short_repr, smoke_records, stream_backward, temperature_c_of)
+                   float_list, short_repr, smoke_records, stream_backward, temperature_c_of)
 
-__all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "reduced_time_s", "MAX_LOG_SHIFT"]
+__all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "KneeKelvinElement", "reduced_time_s",
+           "MAX_LOG_SHIFT"]
 
 
 def _laplace_mismatch(rel: RelaxationModulus, comp: CreepCompliance, s: npt.ArrayLike) -> FloatArray:
@@ -398,3 +400,155 @@ class PowerFlowElement(ViscoelasticElement):
         inner = (ThermoRheologicalElement.from_dict(core) if core.get("type") == "thermo_rheological"
                  else ViscoelasticElement.from_dict(core))
         return cls(inner, d["flow_rate_v_per_s"], d["flow_exponent"], d["flow_force_scale_n"], d.get("flow_yield_n", 0.0))
+
+
+class _KneeState(TypedDict):
+    core: Any  # the wrapped core's forward state
+    t: Optional[float]  # the last stamp of the previous block [s]
+    loads_n: FloatArray  # each knee unit's load there: the force above its knee [N]
+    states_n_s: FloatArray  # their convolution states there [N s] (a deformation is compliance * state / tau)
+
+
+#: Most knees one element holds.
+MAX_KNEES = 8
+
+
+class KneeKelvinElement(ViscoelasticElement):
+    """A viscoelastic core beside Kelvin units of one retardation time that only the force above their knees loads:
+
+        V = core(F) + sum_k knee_compliances_v_per_n[k] * K(max(F - knees_n[k], 0))
+
+    with K the unit-gain first-order lag of time constant ``knee_tau_s``: a delayed elasticity whose size changes
+    with the load. A unit that engages above a preload (positive compliance: more creep at high loads), or one that
+    bottoms out against a stop (negative: less creep above its knee than below it); a few knees make a curved
+    dependence. The settled output must still rise with the load: above every knee, the core's settled compliance
+    plus the knee compliances up to it stays positive. The forward run is the exact recursion of
+    :func:`~polyforce_ros.physics.expconv.exp_convolve`; the inverse takes the units' states from the forces already
+    solved for and their current sample from the previous force (an error of ``sum |c| (h / tau) / 2`` times the
+    force's change over one sample, a few parts per thousand of it at a 1 kHz rate and tau >= 0.3 s), then advances
+    the states on the force it found, so the error does not accumulate.
+
+    Parameters (model file keys)
+    ----------------------------
+    core : mapping
+        The viscoelastic core (any model type, ``thermo_rheological`` or ``power_flow``).
+    knees_n : list of float, ascending
+        The forces above which each unit is loaded [N] (at most :data:`MAX_KNEES`).
+    knee_compliances_v_per_n : list of float
+        Each unit's settled compliance [V/N], one per knee.
+    knee_tau_s : float > 0
+        Their retardation time [s].
+    """
+
+    KEYS = ("core", "knees_n", "knee_compliances_v_per_n", "knee_tau_s")
+    core: ViscoelasticElement
+    knees_n: FloatArray
+    knee_compliances_v_per_n: FloatArray
+    knee_tau_s: float
+
+    def __init__(self, core: ViscoelasticElement, knees_n: npt.ArrayLike, knee_compliances_v_per_n: npt.ArrayLike,
+                 knee_tau_s: float) -> None:
+        if not isinstance(core, ViscoelasticElement) or isinstance(core, KneeKelvinElement):
+            raise ModelError("knee_kelvin: core must be a viscoelastic core (plain, thermo_rheological or power_flow)")
+        knees = float_list("knee_kelvin", "knees_n", knees_n, positive=False)
+        compliances = float_list("knee_kelvin", "knee_compliances_v_per_n", knee_compliances_v_per_n, positive=False)
+        tau = check_number("knee_kelvin", "knee_tau_s", knee_tau_s, positive=True)
+        if knees.size != compliances.size or knees.size > MAX_KNEES:
+            raise ModelError(f"knee_kelvin: knees_n and knee_compliances_v_per_n must hold the same number of values, "
+                             f"at most {MAX_KNEES}; got {knees.size} and {compliances.size}")
+        if np.any(np.diff(knees) <= 0.0):
+            raise ModelError(f"knee_kelvin: knees_n must be strictly ascending, got {knees.tolist()}")
+        settled = core.model.compliance()
+        static_v_per_n = settled.j0_v_per_n + float(np.sum(settled.c_v_per_n))
+        slopes = static_v_per_n + np.cumsum(compliances)
+        if np.any(slopes <= 0.0):
+            k = int(np.argmax(slopes <= 0.0))
+            raise ModelError(f"knee_kelvin: above the knee at {knees[k]:.6g} N the settled output would fall as the "
+                             f"load rises (the core's settled compliance {static_v_per_n:.6g} V/N plus the knee "
+                             f"compliances up to it, {slopes[k]:.6g} V/N, must stay > 0)")
+        self._freeze(model=core.model, kind="knee_kelvin", core=core, knees_n=knees, knee_compliances_v_per_n=compliances,
+                     knee_tau_s=tau)
+
+    def loads_n(self, force_n: npt.ArrayLike) -> FloatArray:
+        """Each unit's load at each force: the force above its knee, (n, knees) [N]."""
+        out: FloatArray = np.maximum(np.asarray(force_n, dtype=float)[:, None] - self.knees_n[None, :], 0.0)
+        return out
+
+    def forward_state(self) -> _KneeState:  # type: ignore[override]
+        """A fresh state for block-wise :meth:`forward` runs: the core's, and the units' at the last stamp."""
+        zeros = np.zeros(self.knees_n.size)
+        return {"core": self.core.forward_state(), "t": None, "loads_n": zeros, "states_n_s": zeros.copy()}
+
+    def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
+                state: Optional[_KneeState] = None) -> FloatArray:  # type: ignore[override]
+        """The core's deformation plus the knee units'; ``state`` carries both across blocks."""
+        st = state if state is not None else self.forward_state()
+        t, f = np.asarray(t_s, dtype=float), np.asarray(force_n, dtype=float)
+        out = self.core.forward(t, f, aux, state=st["core"])
+        if not t.size:
+            return out
+        loads, rate = self.loads_n(f), [1.0 / self.knee_tau_s]
+        ys = np.empty_like(loads)
+        for k in range(loads.shape[1]):
+            ys[:, k] = (exp_convolve(t, loads[:, k], rate)[:, 0] if st["t"] is None else
+                        exp_convolve(t, loads[:, k], rate, y0=[st["states_n_s"][k]], u_prev=float(st["loads_n"][k]),
+                                     t_prev_s=st["t"])[:, 0])
+        st["t"], st["loads_n"], st["states_n_s"] = float(t[-1]), loads[-1].copy(), ys[-1].copy()
+        result: FloatArray = out + ys @ self.knee_compliances_v_per_n / self.knee_tau_s
+        return result
+
+    def backward(self, t_s: npt.ArrayLike, deformation_v: npt.ArrayLike,
+                 aux: Optional[Mapping[str, Any]] = None) -> FloatArray:
+        """Force for a deformation record from a relaxed sensor, sample by sample (:meth:`streaming`)."""
+        return stream_backward(self.streaming(), t_s, deformation_v, aux)
+
+    def streaming(self) -> FunctionStream:  # type: ignore[override]
+        """The per-sample inverse: the knee units' deformation taken off (their current sample from the last force),
+        then the core's own inverse, then the units advanced on the force found."""
+        inner = self.core.streaming()
+        knees, tau = self.knees_n.tolist(), self.knee_tau_s
+        gains = (self.knee_compliances_v_per_n / tau).tolist()
+        zeros = [0.0] * len(knees)
+        held: dict[str, Any] = {"t": None, "loads_n": zeros, "states_n_s": zeros}
+
+        def advance(t_s: float, loads_n: list[float]) -> list[float]:
+            if held["t"] is None:
+                return [0.0] * len(knees)
+            h = t_s - held["t"]
+            e, alpha, beta = step_weights_scalar(h / tau)
+            return [e * y + h * (alpha * u0 + beta * u1) for y, u0, u1 in zip(held["states_n_s"], held["loads_n"], loads_n)]
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+            if held["t"] is not None and t_s < held["t"]:
+                return inner.step(t_s, y, aux)  # the core refuses a stamp going back; nothing here moves
+            guess = advance(t_s, held["loads_n"])
+            force = inner.step(t_s, y - sum(g * s for g, s in zip(gains, guess)), aux)
+            if force is not None:
+                loads = [max(force - knee, 0.0) for knee in knees]
+                held.update(states_n_s=advance(t_s, loads), t=t_s, loads_n=loads)
+            return force
+
+        def reset() -> None:
+            inner.reset()
+            held.update(t=None, loads_n=zeros, states_n_s=zeros)
+
+        return FunctionStream(step, reset)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping."""
+        return {"type": self.kind, "core": self.core.to_dict(), "knees_n": [float(k) for k in self.knees_n],
+                "knee_compliances_v_per_n": [float(c) for c in self.knee_compliances_v_per_n],
+                "knee_tau_s": float(self.knee_tau_s)}
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping."""
+        check_keys("knee_kelvin", d, cls.KEYS)
+        core = d["core"]
+        if not isinstance(core, dict):
+            raise ModelError(f"knee_kelvin: core must be a mapping (a viscoelastic core), got {short_repr(core)}")
+        kind = core.get("type")
+        inner: ViscoelasticElement = (ThermoRheologicalElement.from_dict(core) if kind == "thermo_rheological"
+                                      else PowerFlowElement.from_dict(core) if kind == "power_flow"
+                                      else ViscoelasticElement.from_dict(core))
+        return cls(inner, d["knees_n"], d["knee_compliances_v_per_n"], d["knee_tau_s"])

@@ -15,7 +15,7 @@ import numpy.typing as npt
 
 from ..viscoelastic import MODEL_TYPES, ViscoelasticModel
 from .base import Element, ElementStream, FloatArray, ForwardElement, ModelError
-from .core import PowerFlowElement, ThermoRheologicalElement, ViscoelasticElement
+from .core import KneeKelvinElement, PowerFlowElement, ThermoRheologicalElement, ViscoelasticElement
 from .drift import (
     ExponentialDriftElement,
     OffsetDriftElement,
@@ -48,6 +48,7 @@ ELEMENT_TYPES: dict[str, type] = {name: ViscoelasticElement for name in MODEL_TY
 ELEMENT_TYPES["offset"] = OffsetElement
 ELEMENT_TYPES["thermo_rheological"] = ThermoRheologicalElement
 ELEMENT_TYPES["power_flow"] = PowerFlowElement
+ELEMENT_TYPES["knee_kelvin"] = KneeKelvinElement
 for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportDelayElement, ResonanceElement,
                  ThermalDriftElement,
                  ThermalSensitivityElement, OffsetDriftElement, PreisachElement, PlayHysteresisElement, BridgeHysteresisElement,

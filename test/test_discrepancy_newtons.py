@@ -846,3 +846,42 @@ def test_an_effect_whose_refitted_model_predicts_no_better_is_not_named(monkeypa
     refits = [line for line in said[refused + 1:] if line.startswith("refit with ")]
     assert refits and refits[0] != "refit with hysteresis"  # the step's next choice, judged against the step's model
     assert diag.rmse_after <= diag.rmse_before
+
+
+@pytest.mark.parametrize("retry_justified", [True, False])
+def test_a_candidate_that_fails_beside_the_named_shapes_is_retried_with_them_rechosen(retry_justified, monkeypatch):
+    """The forward step's retry path: a flow that removes enough of the excess beside a named drift but not in enough
+    folds is fitted again with the drift re-chosen beside it; the retry is kept (and said) only when it passes the
+    acceptance test against the current model re-chosen the same way, so that the gain is the flow's, not the
+    re-choice's alone."""
+    from types import SimpleNamespace
+
+    from polyforce_ros.discrepancy import selection as sel
+    from polyforce_ros.discrepancy.design import Structure, Term
+
+    folds = 5
+
+    def fit(label, effects, cv_mse):
+        terms = tuple(Term(e, "", None) for e in effects)
+        return SimpleNamespace(label=label, structure=Structure("burgers", (10.0,), terms), cv_mse=cv_mse,
+                               sse_folds=np.full(folds, cv_mse), names=["c"] * (4 + len(effects)))
+
+    current = fit("drift", ("offset_drift",), 4e-6)
+    added = fit("flow beside the drift", ("offset_drift", "viscous_flow"), 2e-6)
+    again = fit("flow beside the drift re-chosen", ("offset_drift", "viscous_flow"), 1e-6)
+    reshaped = fit("drift re-chosen", ("offset_drift",), 3e-6)
+    passing = {("flow beside the drift re-chosen", "drift re-chosen"): retry_justified,
+               ("flow beside the drift re-chosen", "drift"): True}
+    monkeypatch.setattr(sel.Selection, "justified", lambda self, f, than: passing.get((f.label, than.label), False))
+    monkeypatch.setattr(sel.Selection, "beats", lambda self, f, than: True)
+    monkeypatch.setattr(sel.Selection, "why_not_judged", lambda self, f, name: None)
+    monkeypatch.setattr(sel.Selection, "addition", lambda self, to, name, polish_=True: added)
+    monkeypatch.setattr(sel.Selection, "rechosen",
+                        lambda self, f, skip, polish_=True: again if skip == "viscous_flow" else reshaped)
+    said = []
+    selection = sel.Selection(SimpleNamespace(sig=None), current, 1e-6, True, 0.8, 0.3, said.append)
+    selection.accepted = ["offset_drift"]
+    (cand,) = selection.forward_step(["viscous_flow"], [])
+    assert cand.retried is retry_justified
+    assert cand.fit is (again if retry_justified else added)
+    assert ("retry viscous_flow with the shapes named before it re-chosen" in said) is retry_justified

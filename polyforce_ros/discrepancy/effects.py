@@ -522,8 +522,9 @@ KNEE_FRACTIONS = {"knee15": (0.15,), "knee30": (0.3,), "knee50": (0.5,), "knees"
 
 
 def knees_n(sig: Signals, variant: str) -> FloatArray:
-    """The knees of a ``knee`` variant of delayed elasticity [N]."""
-    return float(np.min(sig.f_nonlinear)) + np.asarray(KNEE_FRACTIONS[variant]) * sig.span_f
+    """The knees of a ``knee`` variant of delayed elasticity [N], within the range the force covers."""
+    f = sig.f_nonlinear
+    return float(np.min(f)) + np.asarray(KNEE_FRACTIONS[variant]) * max(float(np.ptp(f)), 1e-9)
 
 
 def _knee_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
@@ -547,17 +548,17 @@ def _knee_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
     return [("core", knee_beside(ViscoelasticElement(sig.reference_core), knees, compliances, float(parameter(param))))]
 
 
-#: The most the knee units may take off the core's settled compliance above a knee, as a share of it: the settled
-#: output still rises with the load at a tenth of the core's slope, so the inverse stays single-valued.
+#: The most the knee units may take off above a knee, as a share of the core's instantaneous compliance (the model
+#: file's bound is all of it): the output still rises with the load at a tenth of the core's instant slope, so the
+#: inverse stays single-valued and bounded.
 KNEE_FLOOR_SHARE = 0.9
 
 
 def knee_beside(core: ViscoelasticElement, knees: npt.ArrayLike, compliances_v_per_n: Sequence[float],
                 tau_s: float) -> KneeKelvinElement:
     """``core`` beside knee units, each compliance within the model file's bounds and their running sum above
-    :data:`KNEE_FLOOR_SHARE` times minus the core's settled compliance."""
-    settled = core.model.compliance()
-    floor = -KNEE_FLOOR_SHARE * (settled.j0_v_per_n + float(np.sum(settled.c_v_per_n)))
+    :data:`KNEE_FLOOR_SHARE` times minus the core's instantaneous compliance."""
+    floor = -KNEE_FLOOR_SHARE * core.model.compliance().j0_v_per_n
     kept, total = [], 0.0
     for c in compliances_v_per_n:
         c = float(np.clip(c, max(floor - total, -1e3), 1e3))

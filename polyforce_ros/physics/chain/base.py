@@ -14,7 +14,8 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = ["ModelError", "ElementStream", "ForwardElement", "Element", "Frozen", "short_repr", "check_number", "check_keys",
-           "smoke_records", "SimpleElement", "StepFunction", "FunctionStream", "stream_backward", "temperature_c_of",
+           "smoke_records", "SimpleElement", "StepFunction", "AffineFunction",
+           "FunctionStream", "stream_backward", "temperature_c_of",
            "float_list",
            "abscissae_and_values", "FloatArray", "FloatOrArray", "Numbers", "PARAMETER_BOUNDS", "MAX_PREISACH_LEVELS", "DAY_S",
            "MAX_RATE_PER_S"]
@@ -398,11 +399,18 @@ def stream_backward(stream: ElementStream, t_s: npt.ArrayLike, y: npt.ArrayLike,
     return out
 
 
-class FunctionStream:
-    """Streaming inverse of an element with a per-sample function ``f(t_s, y, aux) -> x``."""
+#: The next step of a core's per-sample inverse as an affine map of its output, without advancing it:
+#: ``(t_s, aux) -> (force0_n, stiffness_n_per_v)``, None for a stamp before the previous one.
+AffineFunction = Callable[[float, Optional[Mapping[str, Any]]], Optional[tuple[float, float]]]
 
-    def __init__(self, step: StepFunction, reset: Callable[[], None] = lambda: None) -> None:
-        self.step, self.reset = step, reset
+
+class FunctionStream:
+    """Streaming inverse of an element with a per-sample function ``f(t_s, y, aux) -> x``; a core's stream also has
+    ``affine`` (:data:`AffineFunction`), which an element beside the core solves its own force with."""
+
+    def __init__(self, step: StepFunction, reset: Callable[[], None] = lambda: None,
+                 affine: Optional[AffineFunction] = None) -> None:
+        self.step, self.reset, self.affine = step, reset, affine
 
 
 

@@ -187,13 +187,24 @@ class _ReducedTimeStream:
         self.t_prev: Optional[float] = None
         self.xi, self.rate_prev = 0.0, 1.0
 
-    def step(self, t_s: float, value: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+    def _clock(self, t_s: float, aux: Optional[Mapping[str, Any]]) -> tuple[float, float]:
+        """(reduced time, clock rate) at ``t_s``, the state not moved."""
         temp = None if not aux else aux.get("temperature_c")
         rate = 1.0
         if temp is not None:
             e = math.exp(min(max(self.b * (float(temp) - self.ref), -MAX_LOG_SHIFT), MAX_LOG_SHIFT))
             rate = e if math.isfinite(e) else 1.0
         xi = t_s if self.t_prev is None else self.xi + (t_s - self.t_prev) * 0.5 * (rate + self.rate_prev)
+        return xi, rate
+
+    def affine(self, t_s: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[tuple[float, float]]:
+        """The next :meth:`step` as an affine map of its input (:meth:`StreamingCompensator.affine`)."""
+        if self.t_prev is not None and t_s < self.t_prev:
+            return None
+        return self.inner.affine(self._clock(t_s, aux)[0])
+
+    def step(self, t_s: float, value: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+        xi, rate = self._clock(t_s, aux)
         force = self.inner.step(xi, value)
         if force is not None:  # a refused sample (a stamp going back) leaves the clock as it was
             self.t_prev, self.xi, self.rate_prev = t_s, xi, rate
@@ -367,20 +378,31 @@ class PowerFlowElement(ViscoelasticElement):
                                           self.flow_yield_n)
         held: dict[str, Any] = {"t": None, "force_n": 0.0, "flow_v": 0.0}
 
-        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
-            flow = held["flow_v"]
+        def flow_at(t_s: float) -> float:
+            flow: float = held["flow_v"]
             if held["t"] is not None:
                 flow += (t_s - held["t"]) * rate * (max(held["force_n"] - yield_n, 0.0) / scale) ** exponent
+            return flow
+
+        def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
+            flow = flow_at(t_s)
             force = inner.step(t_s, y - flow, aux)
             if force is not None:  # a refused sample (a stamp going back) leaves the flow as it was
                 held.update(t=t_s, force_n=force, flow_v=flow)
             return force
 
+        def affine(t_s: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[tuple[float, float]]:
+            coefficients = inner.affine(t_s, aux)
+            if coefficients is None:
+                return None
+            force0, stiffness = coefficients
+            return force0 - stiffness * flow_at(t_s), stiffness
+
         def reset() -> None:
             inner.reset()
             held.update(t=None, force_n=0.0, flow_v=0.0)
 
-        return FunctionStream(step, reset)
+        return FunctionStream(step, reset, affine)
 
     def to_dict(self) -> dict[str, Any]:
         """The element as a model-file mapping."""
@@ -418,15 +440,15 @@ class KneeKelvinElement(ViscoelasticElement):
 
         V = core(F) + sum_k knee_compliances_v_per_n[k] * K(max(F - knees_n[k], 0))
 
-    with K the unit-gain first-order lag of time constant ``knee_tau_s``: a delayed elasticity whose size changes
-    with the load. A unit that engages above a preload (positive compliance: more creep at high loads), or one that
-    bottoms out against a stop (negative: less creep above its knee than below it); a few knees make a curved
-    dependence. The settled output must still rise with the load: above every knee, the core's settled compliance
-    plus the knee compliances up to it stays positive. The forward run is the exact recursion of
-    :func:`~polyforce_ros.physics.expconv.exp_convolve`; the inverse takes the units' states from the forces already
-    solved for and their current sample from the previous force (an error of ``sum |c| (h / tau) / 2`` times the
-    force's change over one sample, a few parts per thousand of it at a 1 kHz rate and tau >= 0.3 s), then advances
-    the states on the force it found, so the error does not accumulate.
+    with K the unit-gain first-order lag of time constant ``knee_tau_s`` (on real time, also beside a
+    thermo-rheological core): a delayed elasticity whose size changes with the load. A unit that engages above a
+    preload (positive compliance: more creep at high loads), or one that bottoms out against a stop (negative: less
+    creep above its knee than below it); a few knees make a curved dependence. Above every knee the knee compliances
+    up to it sum to more than minus the core's instantaneous compliance: the units, which may settle before the
+    core creeps, never make the output fall as the load rises, so the inverse is single-valued and bounded. The
+    forward run is the exact recursion of :func:`~polyforce_ros.physics.expconv.exp_convolve`; the inverse solves
+    each sample's force exactly for that recursion (the core's step is affine in its deformation, the units' current
+    sample piecewise linear in the force), at any spacing and across gaps.
 
     Parameters (model file keys)
     ----------------------------
@@ -435,7 +457,7 @@ class KneeKelvinElement(ViscoelasticElement):
     knees_n : list of float, ascending
         The forces above which each unit is loaded [N] (at most :data:`MAX_KNEES`).
     knee_compliances_v_per_n : list of float
-        Each unit's settled compliance [V/N], one per knee.
+        Each unit's settled compliance [V/N], one per knee; each running sum > minus the core's ``j0``.
     knee_tau_s : float > 0
         Their retardation time [s].
     """
@@ -458,14 +480,14 @@ class KneeKelvinElement(ViscoelasticElement):
                              f"at most {MAX_KNEES}; got {knees.size} and {compliances.size}")
         if np.any(np.diff(knees) <= 0.0):
             raise ModelError(f"knee_kelvin: knees_n must be strictly ascending, got {knees.tolist()}")
-        settled = core.model.compliance()
-        static_v_per_n = settled.j0_v_per_n + float(np.sum(settled.c_v_per_n))
-        slopes = static_v_per_n + np.cumsum(compliances)
+        j0_v_per_n = core.model.compliance().j0_v_per_n
+        slopes = j0_v_per_n + np.cumsum(compliances)
         if np.any(slopes <= 0.0):
             k = int(np.argmax(slopes <= 0.0))
-            raise ModelError(f"knee_kelvin: above the knee at {knees[k]:.6g} N the settled output would fall as the "
-                             f"load rises (the core's settled compliance {static_v_per_n:.6g} V/N plus the knee "
-                             f"compliances up to it, {slopes[k]:.6g} V/N, must stay > 0)")
+            raise ModelError(f"knee_kelvin: above the knee at {knees[k]:.6g} N the knee compliances up to it sum to "
+                             f"{slopes[k] - j0_v_per_n:.6g} V/N, which must stay above minus the core's instantaneous "
+                             f"compliance ({-j0_v_per_n:.6g} V/N): a unit that settles before the core creeps would "
+                             f"make the output fall as the load rises, and no inverse follows that")
         self._freeze(model=core.model, kind="knee_kelvin", core=core, knees_n=knees, knee_compliances_v_per_n=compliances,
                      knee_tau_s=tau)
 
@@ -503,30 +525,51 @@ class KneeKelvinElement(ViscoelasticElement):
         return stream_backward(self.streaming(), t_s, deformation_v, aux)
 
     def streaming(self) -> FunctionStream:  # type: ignore[override]
-        """The per-sample inverse: the knee units' deformation taken off (their current sample from the last force),
-        then the core's own inverse, then the units advanced on the force found."""
+        """The per-sample inverse, exact for the recursion of :meth:`forward`: the core's next step is an affine map
+        of its deformation (its stream's ``affine``), and the knee units add to it a term piecewise linear in the
+        force (their states known, their current sample weighted by ``h beta / tau``); the force that satisfies both
+        is solved for, then the core and the units advance on it."""
         inner = self.core.streaming()
         knees, tau = self.knees_n.tolist(), self.knee_tau_s
-        gains = (self.knee_compliances_v_per_n / tau).tolist()
+        compliances = self.knee_compliances_v_per_n.tolist()
         zeros = [0.0] * len(knees)
         held: dict[str, Any] = {"t": None, "loads_n": zeros, "states_n_s": zeros}
 
-        def advance(t_s: float, loads_n: list[float]) -> list[float]:
-            if held["t"] is None:
-                return [0.0] * len(knees)
-            h = t_s - held["t"]
-            e, alpha, beta = step_weights_scalar(h / tau)
-            return [e * y + h * (alpha * u0 + beta * u1) for y, u0, u1 in zip(held["states_n_s"], held["loads_n"], loads_n)]
-
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
             if held["t"] is not None and t_s < held["t"]:
-                return inner.step(t_s, y, aux)  # the core refuses a stamp going back; nothing here moves
-            guess = advance(t_s, held["loads_n"])
-            force = inner.step(t_s, y - sum(g * s for g, s in zip(gains, guess)), aux)
-            if force is not None:
-                loads = [max(force - knee, 0.0) for knee in knees]
-                held.update(states_n_s=advance(t_s, loads), t=t_s, loads_n=loads)
-            return force
+                return None  # a stamp going back: nothing moves
+            coefficients = inner.affine(t_s, aux)
+            if coefficients is None:
+                return None
+            force0, stiffness = coefficients
+            stiffness = max(stiffness, 0.0)
+            if held["t"] is None:  # the units start from rest at the first sample
+                h, beta = 0.0, 0.0
+                bases = zeros
+            else:
+                h = t_s - held["t"]
+                e, alpha, beta = step_weights_scalar(h / tau)
+                bases = [e * s + h * alpha * u for s, u in zip(held["states_n_s"], held["loads_n"])]
+            settled_v = sum(c * b for c, b in zip(compliances, bases)) / tau
+            gains = [c * h * beta / tau for c in compliances]  # V per N above each knee, this sample
+            # F + stiffness * sum g_k max(F - knee_k, 0) = force0 + stiffness * (y - settled): rising in F (each
+            # running sum of g above -1 / stiffness, by the check on the core's instantaneous compliance)
+            target = force0 + stiffness * (y - settled_v)
+            force, slope, below = target, 1.0, 0.0  # below: the left side at the knee passed, less its slope * knee
+            for knee, g in zip(knees, gains):
+                if target <= below + slope * knee:
+                    break
+                slope = max(slope + stiffness * g, 1e-12)
+                below -= stiffness * g * knee
+            force = (target - below) / slope
+            deformation = y - settled_v - sum(g * max(force - k, 0.0) for g, k in zip(gains, knees))
+            found = inner.step(t_s, deformation, aux)
+            if found is None:
+                return None
+            loads = [max(found - k, 0.0) for k in knees]
+            states = [b + h * beta * u for b, u in zip(bases, loads)]
+            held.update(t=t_s, loads_n=loads, states_n_s=states)
+            return found
 
         def reset() -> None:
             inner.reset()

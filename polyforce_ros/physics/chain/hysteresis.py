@@ -23,7 +23,7 @@ from .base import (
     short_repr,
     stream_backward,
 )
-from .core import ViscoelasticElement
+from .core import KneeKelvinElement, ViscoelasticElement
 
 if TYPE_CHECKING:  # for annotations only: at run time the Preisach model loads when first used
     from ..preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
@@ -383,8 +383,10 @@ class BridgeHysteresisElement(Frozen):
 
     def __init__(self, core: ViscoelasticElement, radii_n: Numbers, weights_v_per_n: Numbers,
                  linear_v_per_n: float = 0.0, history_max_n: float = 0.0) -> None:
-        if not isinstance(core, ViscoelasticElement):
-            raise ModelError(f"{self.kind}: core must be a viscoelastic core, got {short_repr(core)}")
+        if not isinstance(core, ViscoelasticElement) or isinstance(core, KneeKelvinElement):
+            # the inverse solves the plays with the core's next step as an affine map of its deformation
+            raise ModelError(f"{self.kind}: core must be a viscoelastic core whose step is affine (not knee_kelvin), "
+                             f"got {short_repr(core)}")
         radii, weights = abscissae_and_values(self.kind, "radii_n", radii_n, "weights_v_per_n", weights_v_per_n)
         linear = check_number(self.kind, "linear_v_per_n", linear_v_per_n, positive=False)
         history = check_number(self.kind, "history_max_n", history_max_n, positive=False)

@@ -353,7 +353,7 @@ class StreamingCompensator:
         """Stamp (s) of the last sample processed by step(), or None before the first one and after reset()."""
         return self._conv.t_prev_s if self._ar else self._t_prev_s
 
-    def affine(self, t_s: float) -> Optional[tuple[float, float]]:
+    def affine(self, t_s: float, aux: object = None) -> Optional[tuple[float, float]]:
         """The next :meth:`step` at ``t_s`` as an affine map of its deformation, without advancing the state.
 
         ``step(t_s, d)`` returns ``force0_n + stiffness_n_per_v * d`` for every ``d``: an element that adds
@@ -364,6 +364,8 @@ class StreamingCompensator:
         ----------
         t_s : float
             Stamp of the next sample [s].
+        aux : object, optional
+            Ignored (the signature of every core stream's ``affine``).
 
         Returns
         -------

@@ -217,7 +217,7 @@ PARAMETER_BOUNDS = {
     "flow_force_scale_n": (1e-3, 1e5, "N", "1 mN to 100 kN: beyond any force sensor range"),
     "flow_yield_n": (0.0, 1e5, "N", "100 kN: beyond any force sensor range"),
     # Kelvin units loaded by the force above knees: a compliance may be negative (a unit that bottoms out above its
-    # knee) as long as the settled output still rises with the load (checked against the core's)
+    # knee) as long as each running sum stays above minus the core's instantaneous compliance (checked against it)
     "knees_n": (-1e5, 1e5, "N", "100 kN: beyond any force sensor range"),
     "knee_compliances_v_per_n": (-1e3, 1e3, "V/N", "1 kV per newton: beyond any bridge"),
     "knee_tau_s": (1e-3, 1e6, "s", "a retardation faster than 1 ms is a lag (sensor_lag); up to 11.6 days"),

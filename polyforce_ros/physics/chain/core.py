@@ -24,7 +24,7 @@ from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, FunctionStream, Mo
                    float_list, short_repr, smoke_records, stream_backward, temperature_c_of)
 
 __all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "KneeKelvinElement", "reduced_time_s",
-           "MAX_LOG_SHIFT"]
+           "wrapped_core_from_dict", "MAX_LOG_SHIFT"]
 
 
 def _laplace_mismatch(rel: RelaxationModulus, comp: CreepCompliance, s: npt.ArrayLike) -> FloatArray:
@@ -142,6 +142,20 @@ class ViscoelasticElement(Frozen):
             raise ModelError(f"{kind}: {exc}") from None
         _check_core_numerics(kind, model)
         return cls(model)
+
+
+def wrapped_core_from_dict(kind: str, core: object, wrappers: tuple[str, ...] = ()) -> ViscoelasticElement:
+    """The core an element of type ``kind`` wraps, from its model-file mapping: a viscoelastic core, or one of the
+    core ``wrappers`` (``thermo_rheological``, ``power_flow``) around one; a :class:`ModelError` naming ``kind``
+    for anything else."""
+    if not isinstance(core, dict):
+        raise ModelError(f"{kind}: core must be a mapping (a viscoelastic core), got {short_repr(core)}")
+    wrapper = core.get("type")
+    if isinstance(wrapper, str) and wrapper in wrappers:
+        element: type[ViscoelasticElement] = {"thermo_rheological": ThermoRheologicalElement,
+                                              "power_flow": PowerFlowElement}[wrapper]
+        return element.from_dict(core)
+    return ViscoelasticElement.from_dict(core)
 
 
 #: Largest |shift_per_c * (T - reference_c)| applied: the core's clock runs at most e^10 faster or slower than real
@@ -281,9 +295,7 @@ class ThermoRheologicalElement(ViscoelasticElement):
     def from_dict(cls, d: Mapping[str, Any]) -> Self:
         """The element from a model-file mapping."""
         check_keys("thermo_rheological", d, cls.KEYS)
-        if not isinstance(d["core"], dict):
-            raise ModelError(f"thermo_rheological: core must be a mapping (a viscoelastic core), got {short_repr(d['core'])}")
-        return cls(ViscoelasticElement.from_dict(d["core"]), d["shift_per_c"], d["reference_c"])
+        return cls(wrapped_core_from_dict("thermo_rheological", d["core"]), d["shift_per_c"], d["reference_c"])
 
 
 class _FlowState(TypedDict):
@@ -416,11 +428,7 @@ class PowerFlowElement(ViscoelasticElement):
     def from_dict(cls, d: Mapping[str, Any]) -> Self:
         """The element from a model-file mapping."""
         check_keys("power_flow", d, cls.KEYS, cls.OPTIONAL)
-        core = d["core"]
-        if not isinstance(core, dict):
-            raise ModelError(f"power_flow: core must be a mapping (a viscoelastic core), got {short_repr(core)}")
-        inner = (ThermoRheologicalElement.from_dict(core) if core.get("type") == "thermo_rheological"
-                 else ViscoelasticElement.from_dict(core))
+        inner = wrapped_core_from_dict("power_flow", d["core"], ("thermo_rheological",))
         return cls(inner, d["flow_rate_v_per_s"], d["flow_exponent"], d["flow_force_scale_n"], d.get("flow_yield_n", 0.0))
 
 
@@ -555,7 +563,7 @@ class KneeKelvinElement(ViscoelasticElement):
             # F + stiffness * sum g_k max(F - knee_k, 0) = force0 + stiffness * (y - settled): rising in F (each
             # running sum of g above -1 / stiffness, by the check on the core's instantaneous compliance)
             target = force0 + stiffness * (y - settled_v)
-            force, slope, below = target, 1.0, 0.0  # below: the left side at the knee passed, less its slope * knee
+            slope, below = 1.0, 0.0  # the left side is slope * F + below between the knees passed and the next
             for knee, g in zip(knees, gains):
                 if target <= below + slope * knee:
                     break
@@ -587,11 +595,5 @@ class KneeKelvinElement(ViscoelasticElement):
     def from_dict(cls, d: Mapping[str, Any]) -> Self:
         """The element from a model-file mapping."""
         check_keys("knee_kelvin", d, cls.KEYS)
-        core = d["core"]
-        if not isinstance(core, dict):
-            raise ModelError(f"knee_kelvin: core must be a mapping (a viscoelastic core), got {short_repr(core)}")
-        kind = core.get("type")
-        inner: ViscoelasticElement = (ThermoRheologicalElement.from_dict(core) if kind == "thermo_rheological"
-                                      else PowerFlowElement.from_dict(core) if kind == "power_flow"
-                                      else ViscoelasticElement.from_dict(core))
+        inner = wrapped_core_from_dict("knee_kelvin", d["core"], ("thermo_rheological", "power_flow"))
         return cls(inner, d["knees_n"], d["knee_compliances_v_per_n"], d["knee_tau_s"])

@@ -23,7 +23,7 @@ from .base import (
     short_repr,
     stream_backward,
 )
-from .core import KneeKelvinElement, ViscoelasticElement
+from .core import KneeKelvinElement, ViscoelasticElement, wrapped_core_from_dict
 
 if TYPE_CHECKING:  # for annotations only: at run time the Preisach model loads when first used
     from ..preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
@@ -493,9 +493,7 @@ class BridgeHysteresisElement(Frozen):
     def from_dict(cls, d: Mapping[str, Any]) -> Self:
         """The element from a model-file mapping."""
         check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
-        if not isinstance(d["core"], dict):
-            raise ModelError(f"{cls.kind}: core must be a mapping (a viscoelastic core), got {short_repr(d['core'])}")
-        return cls(ViscoelasticElement.from_dict(d["core"]), d["radii_n"], d["weights_v_per_n"],
+        return cls(wrapped_core_from_dict(cls.kind, d["core"]), d["radii_n"], d["weights_v_per_n"],
                    d.get("linear_v_per_n", 0.0), d.get("history_max_n", 0.0))
 
 

@@ -1,5 +1,5 @@
 """The chain elements the discrepancy workflow adds: Prandtl-Ishlinskii hysteresis, thermal lag, polynomial gain
-and drift. Forward, batch backward and streaming agree; model files carry them; random parameters."""
+and drift, a zero that jumps. Forward, batch backward and streaming agree; model files carry them; random parameters."""
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
@@ -7,7 +7,8 @@ from hypothesis import given, settings, strategies as st
 from polyforce_ros.model_file import SensorModel, load_model, save_model
 from polyforce_ros.physics.chain import (
     ELEMENT_TYPES, ExponentialDriftElement, ModelError, OffsetElement, PlayHysteresisElement, PolynomialDriftElement,
-    PolynomialGainElement, SensorChain, SplineDriftElement, ThermalLagElement, ViscoelasticElement, play_operator,
+    PolynomialGainElement, SensorChain, SplineDriftElement, StepDriftElement, ThermalLagElement, ViscoelasticElement,
+    play_operator,
 )
 from polyforce_ros.physics.viscoelastic import PAPER_BURGERS
 
@@ -64,7 +65,17 @@ def _elements(seed):
             _monotone_gain(rng),
             ExponentialDriftElement(amplitude_v=rng.uniform(-0.1, 0.1), tau_s=rng.uniform(10, 100)),
             SplineDriftElement(knots_s=np.sort(rng.uniform(0.5, 1.0, 4)) * np.arange(1, 5) * 3.0,
-                               values_v=rng.uniform(-0.05, 0.05, 4))]
+                               values_v=rng.uniform(-0.05, 0.05, 4)),
+            _random_jumps(rng)]
+
+
+def _random_jumps(rng):
+    """A zero that jumps 1-6 times within the first 25 s, half the time with a settling part."""
+    n = int(rng.integers(1, 7))
+    times = np.sort(rng.uniform(0.5, 25.0, n)) + 1e-3 * np.arange(n)
+    settling = rng.uniform() < 0.5
+    return StepDriftElement(times, rng.uniform(-0.05, 0.05, n), rng.uniform(0.5, 20.0) if settling else None,
+                            rng.uniform(-0.05, 0.05, n) if settling else None)
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -117,7 +128,7 @@ def test_model_file_round_trip_and_chain_inverse(tmp_path, seed):
     rng = np.random.default_rng(seed)
     elements = _elements(seed)
     chain = SensorChain([elements[0], ViscoelasticElement(PAPER_BURGERS), elements[4], elements[1], elements[2], elements[3],
-                         elements[5], OffsetElement(0.03)])
+                         elements[5], elements[7], OffsetElement(0.03)])
     path = save_model(tmp_path / "m.yaml", SensorModel(chain, {"source": "test"}))
     loaded = load_model(path).chain
     assert [e.to_dict() for e in loaded.elements] == [e.to_dict() for e in chain.elements]
@@ -125,7 +136,8 @@ def test_model_file_round_trip_and_chain_inverse(tmp_path, seed):
     f = 5 * f / f.max()
     v = loaded.forward(t, f, aux)
     np.testing.assert_allclose(loaded.backward(t, v, aux), f, atol=1e-6)
-    assert set(ELEMENT_TYPES) >= {"play_hysteresis", "thermal_lag", "polynomial_drift", "polynomial_gain", "exponential_drift"}
+    assert set(ELEMENT_TYPES) >= {"play_hysteresis", "thermal_lag", "polynomial_drift", "polynomial_gain", "exponential_drift",
+                                  "step_drift"}
     del rng
 
 
@@ -137,6 +149,14 @@ def test_model_file_round_trip_and_chain_inverse(tmp_path, seed):
     ({"type": "play_hysteresis", "linear_weight": 1.0, "radii": "0.1", "weights": [0.1]}, "list"),
     ({"type": "thermal_lag", "coefficient_v_per_c": 0.01, "reference_c": 24.0, "tau_s": -1.0}, "tau_s"),
     ({"type": "polynomial_drift", "rate_v_per_s": 0.0, "curvature_v_per_s2": 1e9, "cubic_v_per_s3": 0.0}, "curvature"),
+    ({"type": "step_drift", "times_s": [2.0, 1.0], "steps_v": [0.1, 0.1]}, "increasing"),
+    ({"type": "step_drift", "times_s": [0.0], "steps_v": [0.1]}, "> 0"),
+    ({"type": "step_drift", "times_s": [1.0], "steps_v": [0.1], "recovery_tau_s": 5.0}, "together"),
+    ({"type": "step_drift", "times_s": [1.0], "steps_v": [0.1], "recovery_tau_s": 5.0, "recoveries_v": [0.1, 0.2]},
+     "same length"),
+    ({"type": "step_drift", "times_s": [1.0], "steps_v": [0.1], "recovery_tau_s": 0.0, "recoveries_v": [0.1]},
+     "recovery_tau_s"),
+    ({"type": "step_drift", "times_s": [1.0], "steps_v": [1e4]}, "steps_v"),
 ])
 def test_bad_element_mappings_are_model_errors(mapping, message):
     with pytest.raises(ModelError, match=message):

@@ -287,6 +287,8 @@ def _example_chains():
         "polynomial_gain": ELEMENT_TYPES["polynomial_gain"](quadratic_per_v=0.05, cubic_per_v2=0.01, quartic_per_v3=0.0),
         "polynomial_drift": ELEMENT_TYPES["polynomial_drift"](rate_v_per_s=1e-4, curvature_v_per_s2=1e-7, cubic_v_per_s3=0.0),
         "spline_drift": ELEMENT_TYPES["spline_drift"](knots_s=[100.0, 200.0, 300.0], values_v=[0.01, -0.02, 0.005]),
+        "step_drift": ELEMENT_TYPES["step_drift"](times_s=[50.0, 120.0], steps_v=[0.01, -0.02], recovery_tau_s=20.0,
+                                                  recoveries_v=[0.005, 0.0]),
     }
     chains = {}
     for kind in ELEMENT_TYPES:

@@ -39,7 +39,7 @@ from ..physics.chain import (
     BridgeHysteresisElement, Element, ExponentialDriftElement, FrictionElement, KneeKelvinElement, PlayHysteresisElement,
     PolynomialDriftElement,
     PolynomialGainElement, ViscoelasticElement,
-    SensorLagElement, SplineDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
+    SensorLagElement, SplineDriftElement, StepDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
     PowerFlowElement,
     ThermoRheologicalElement,
     TransportDelayElement, lagged_temperature_c, play_operator,
@@ -450,7 +450,35 @@ def _spline_knots_s(duration_s: float, intervals: int) -> FloatArray:
     return np.linspace(0.0, duration_s, intervals + 1)[1:]
 
 
+#: Settling times [s] searched for the part of each jump of the zero that settles (the ``jumps`` variant of
+#: offset_drift): a charge leaking away, a film drying, a surge decaying; the polish refines within them.
+JUMP_SETTLE_S = (2.0, 100.0)
+#: The part of a jump that settles, at most this many times the jump the residual shows (a gap between lines 0.5 s
+#: either side of it, which a fast settling has already shrunk).
+JUMP_SETTLE_BOUND = 3.0
+
+
+def _jump_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
+    """A step at each of the record's zero jumps (:attr:`.signals.Signals.zero_jumps`) and, in the ``jumps``
+    variant, beside it a decay of time ``param``: the part of the jump that settles, at most
+    :data:`JUMP_SETTLE_BOUND` times the jump the residual shows (with the blocks around a jump left out only the
+    decay's tail is seen, and a free coefficient fitted to it predicts the block as a jump many times too large)."""
+    cols: list[Col] = []
+    for j, jump in enumerate(sig.zero_jumps):
+        age = sig.t - jump.at_s
+        on = (age >= 0.0).astype(float)
+        # a ridge, as on a spline's knots: with the blocks between two jumps left out only their sum is seen
+        cols.append((f"jump{j}", on, -np.inf, np.inf, "additive", "jump"))
+        if variant == "jumps":
+            bound = JUMP_SETTLE_BOUND * abs(jump.size_v)
+            cols.append((f"settle{j}", on * np.exp(-np.maximum(age, 0.0) / parameter(param)), -bound, bound,
+                         "additive", "jump"))
+    return cols
+
+
 def _drift_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
+    if variant in ("steps", "jumps"):
+        return _jump_columns(sig, variant, param)
     s = (sig.t - sig.t0) / sig.duration_s
     if variant.startswith("spline"):  # ridge on the knot values: small where the data say little
         basis = SplineDriftElement.basis(sig.t - sig.t0, _spline_knots_s(sig.duration_s, int(variant[6:])))
@@ -463,6 +491,16 @@ def _drift_columns(sig: Signals, variant: str, param: Optional[float]) -> list[C
 
 def _drift_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     d = sig.duration_s
+    if variant in ("steps", "jumps"):
+        if not sig.zero_jumps:
+            return []
+        times = [jump.at_s - sig.t0 for jump in sig.zero_jumps]
+        steps = [float(np.clip(coef.get(f"jump{j}", 0.0), -1e3, 1e3)) for j in range(len(times))]
+        if variant == "steps":
+            return [("late", StepDriftElement(times_s=times, steps_v=steps))]
+        settles = [float(np.clip(coef.get(f"settle{j}", 0.0), -1e3, 1e3)) for j in range(len(times))]
+        return [("late", StepDriftElement(times_s=times, steps_v=steps, recovery_tau_s=parameter(param),
+                                          recoveries_v=settles))]
     if variant.startswith("spline"):
         m = int(variant[6:])
         values = [float(np.clip(coef.get(f"knot{j}", 0.0), -1e3, 1e3)) for j in range(m)]
@@ -574,7 +612,12 @@ def _thermal_grid(variant: str, sig: Signals) -> list[Optional[float]]:
 
 
 def _drift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
-    """Time constants (s) of a settling drift, 5 % to the whole record; none for the other variants."""
+    """Time constants (s) of a settling drift, 5 % to the whole record, or of the part of a jump that settles
+    (:data:`JUMP_SETTLE_S`); none for the other variants. A record without zero jumps has no ``steps`` or ``jumps``."""
+    if variant in ("steps", "jumps") and not sig.zero_jumps:
+        return []
+    if variant == "jumps":
+        return _log_grid(*JUMP_SETTLE_S, 5)
     return [sig.duration_s * f for f in (0.05, 0.1, 0.2, 0.35, 0.6, 1.0)] if variant == "settling" else [None]
 
 
@@ -639,8 +682,8 @@ EFFECTS: dict[str, Effect] = {
         to_elements=_shift_elements, needs_temperature=True),
     "offset_drift": Effect(
         "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",),
-        ("polynomial_drift", "exponential_drift", "spline_drift"),
-        variants=("polynomial", "settling", *(f"spline{m}" for m in SPLINE_INTERVALS)), grid=_drift_grid,
+        ("polynomial_drift", "exponential_drift", "spline_drift", "step_drift"),
+        variants=("polynomial", "settling", *(f"spline{m}" for m in SPLINE_INTERVALS), "steps", "jumps"), grid=_drift_grid,
         columns=_drift_columns, to_elements=_drift_elements),
 }
 

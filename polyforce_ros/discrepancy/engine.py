@@ -22,7 +22,9 @@ Procedure (:func:`diagnose`):
    polished by :func:`~polyforce_ros.physics.fitting.multistart_least_squares`.
    Each gap in the record that can hide load history gets a bounded offset
    step of its own in every model, and a bounded decay of each fast
-   retardation of the base core (:func:`_gap_steps`).
+   retardation of the base core (:func:`_gap_steps`). Where the base's
+   residual jumps while its core's output does not (:func:`_zero_jumps`),
+   the ``steps`` and ``jumps`` variants of an offset drift put theirs.
 4. **Forward selection.** Every effect of the registry (:mod:`.effects`) that
    applies is added in turn to the current model (each variant, each value of
    its nonlinear parameter on its grid) and scored out of sample. The best is
@@ -84,6 +86,7 @@ module runs them in order.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import partial
 from typing import Any, Callable, Collection, Optional, Sequence
@@ -102,7 +105,7 @@ from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, rate_
                       with_friction_deadband, with_friction_share, with_safe_bandwidth)
 from .refit import base_structure, refine, settle
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
-from .residual import excess, noise_floor, out_of_sample, shown_share, unexplained_test, where
+from .residual import excess, noise_floor, out_of_sample, shown_share, unexplained_test, where, zero_jumps
 from .resonance import ModeFit, choose_mode, with_mode
 from .result import Diagnosis
 from .selection import Candidate, Selection
@@ -168,6 +171,15 @@ def _signals(rec: Record, force_n: FloatArray, fit_rate_hz: float) -> _Record:
                        temp_full if has_temp else None, t0=t0, duration_s=duration_s, temp_ref=t_ref, span_f=span_f,
                        f_smooth=f_smooth)
     return _Record(t, temp_full if has_temp else None, sig, sig_full, valid, bin_of_sample)
+
+
+def _zero_jumps(data: _Record, sig: Signals, base_fit: Fit, fit_mse: float) -> None:
+    """Find where the base's residual at the fit rate jumps while its core's output does not
+    (:func:`.residual.zero_jumps`), and give those jumps to the record at both rates (``sig``, the fit rate's with
+    the base as reference core, too): every offset drift of the ``steps`` and ``jumps`` variants steps there."""
+    jumps = zero_jumps(sig.t, sig.v - fitted(sig, base_fit), sig.core_output,
+                         sig.valid if sig.valid is not None else np.ones(sig.t.size, dtype=bool), math.sqrt(fit_mse))
+    data.fit_rate.zero_jumps = data.full_rate.zero_jumps = sig.zero_jumps = jumps
 
 
 def _skipped(base: str, has_temperature: bool) -> dict[str, str]:
@@ -433,6 +445,7 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     floor = noise.floor_v
     base_core = core_model(st, base_fit.coef_map)
     fitter.sig = refresh_ref(data.fit_rate, base_core)
+    _zero_jumps(data, fitter.sig, base_fit, noise.fit_mse)
     skipped = _skipped(base, has_temp)
     # 4. forward selection, backward check and swap
     selection = Selection(fitter, base_fit, noise.fit_mse, has_temp, min_confidence, min_excess_share, say,

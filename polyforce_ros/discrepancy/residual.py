@@ -16,16 +16,16 @@ from typing import Any, Mapping
 
 import numpy as np
 import numpy.typing as npt
-from scipy import stats
+from scipy import ndimage, stats
 
 from ..physics.chain import lagged_temperature_c
 from ..physics.identification import block_average
 from .design import Fit, Fitter, design
 from .effects import Col, lag_columns
-from .signals import FloatArray, IntArray, Signals, noise_std
+from .signals import MIN_GAP_S, FloatArray, IntArray, Signals, ZeroJump, noise_std
 
 __all__ = ["noise_std", "NoiseFloor", "noise_floor", "excess", "ljung_box", "band_structure", "Unexplained",
-           "unexplained_test", "out_of_sample", "where", "drift_follows_load", "slow_response_columns"]
+           "unexplained_test", "out_of_sample", "where", "drift_follows_load", "slow_response_columns", "zero_jumps"]
 
 
 # ----------------------------------------------------------------------------- the noise floor
@@ -334,3 +334,117 @@ def slow_response_columns(sig: Signals) -> list[Col]:
         sig.record_cache[key] = [(c[0], np.ascontiguousarray(c[1], dtype=float), *c[2:]) for c in cols]
     out: list[Col] = sig.record_cache[key]
     return out
+
+
+# ----------------------------------------------------------------------------- jumps of the zero
+
+#: A jump of the zero is sought as the gap between two straight lines, each fitted over JUMP_SIDE_S [s] on one side
+#: and carried JUMP_GUARD_S [s] across to the instant between them: a smooth residual (creep, a drift, a kink at a
+#: load reversal) carries both lines to the same level there, a step does not, and whatever settles within the guard
+#: (a slip of 20-100 ms, a wetting of 0.5 s, a lag's transient) does not move either line.
+JUMP_SIDE_S = 3.0
+JUMP_GUARD_S = 0.5
+#: Standard deviations of the gap, under the white noise at the fit rate, a jump must exceed: with ~N / side
+#: independent gaps per record, 6 keeps a false jump below 1e-6 per record.
+JUMP_SIGMAS = 6.0
+#: Most jumps kept (the largest): each is one column, two with its settling.
+MAX_JUMPS = 24
+
+
+def _line_end_weights(n: int, beyond: int) -> FloatArray:
+    """Weights that give a least-squares line through ``n`` equally spaced samples at ``beyond`` samples after the
+    last (a linear map of the samples: the line's value there)."""
+    x = np.arange(n, dtype=float)
+    xm = x.mean()
+    return np.asarray(1.0 / n + (x - xm) * (n - 1 + beyond - xm) / float(np.sum((x - xm) ** 2)), dtype=float)
+
+
+def _line_gaps(y: FloatArray, n: int, g: int) -> FloatArray:
+    """At each sample k, the line through y[k+g : k+g+n] minus the line through y[k-g-n+1 : k-g+1], both carried to
+    k; NaN where either window leaves the record."""
+    w = _line_end_weights(n, g)
+    windows = np.lib.stride_tricks.sliding_window_view(y, n)
+    from_left, from_right = windows @ w, windows @ w[::-1]
+    out = np.full(y.size, np.nan)
+    k = np.arange(n - 1 + g, y.size - g - n + 1)
+    out[k] = from_right[k + g] - from_left[k - g - n + 1]
+    return out
+
+
+def zero_jumps(t_s: FloatArray, resid_v: FloatArray, core_v: FloatArray, valid: npt.ArrayLike,
+               sigma_v: float) -> tuple[ZeroJump, ...]:
+    """Where, and by how much, the residual ``resid_v`` of a model jumps while its core's output ``core_v`` does
+    not (in time order).
+
+    The gap between the lines either side (:data:`JUMP_SIDE_S`, :data:`JUMP_GUARD_S`), once what the gaps of the
+    core's output and of its square explain is taken out, must exceed :data:`JUMP_SIGMAS` of its scale (what white
+    noise of ``sigma_v`` gives it, or its robust spread over the record if larger). The largest first, its size
+    taken out of the residual, none other within a window of it, at most :data:`MAX_JUMPS`; each placed where a
+    single step splits the samples within the guard best. A step within a guard of a gap of ``MIN_GAP_S`` or more
+    is not kept (every model gives a gap its own step).
+
+    Parameters
+    ----------
+    t_s : (n,) ndarray
+        Uniform times [s] (the fit rate's grid).
+    resid_v, core_v : (n,) ndarray
+        The model's residual and its core's output [V].
+    valid : (n,) array of bool
+        Samples that hold data (the others hold the record interpolated).
+    sigma_v : float
+        The residual's white noise at this rate [V].
+    """
+    t, r, x = (np.asarray(a, dtype=float) for a in (t_s, resid_v, core_v))
+    ok = np.asarray(valid, dtype=bool)
+    if t.size < 8 or not (math.isfinite(sigma_v) and sigma_v > 0.0):
+        return ()
+    dt = float(np.median(np.diff(t)))
+    n, g = max(int(round(JUMP_SIDE_S / dt)), 4), max(int(round(JUMP_GUARD_S / dt)), 1)
+    if t.size < 2 * (n + g) + 1:
+        return ()
+    # a bin left empty by stamp jitter holds the interpolated record; a gap of MIN_GAP_S or more has its own step
+    # in every model: a step there is sought like any other (so that it takes its side lobes with it) but not kept
+    gaps = ndimage.binary_opening(~ok, structure=np.ones(max(int(round(MIN_GAP_S / dt)) - 1, 1), dtype=bool))
+    at_gap = np.convolve(gaps.astype(float), np.ones(2 * g + 1), mode="same") > 0.0
+    usable = np.isfinite(_line_gaps(r, n, g))
+    if usable.sum() < 8:
+        return ()
+    # where the load moves sharply the core's output bends too, and a gain the base lacks (a few per cent, or a
+    # curvature) moves the residual's lines with it: what the gaps of the core's output and of its square explain
+    # is not a jump of the zero
+    scale = max(float(np.ptp(x)), 1e-12)
+    gaps_x = np.column_stack([_line_gaps(x / scale, n, g), _line_gaps((x / scale) ** 2, n, g)])[usable]
+    # the gap's scale under white noise, or its robust scale over the record when the residual is not white (a
+    # misfit's slow structure moves the lines apart too): a jump stands out of both
+    white = sigma_v * math.sqrt(2.0 * float(np.sum(_line_end_weights(n, g) ** 2)))
+    raw, inlier = _line_gaps(r, n, g)[usable], np.ones(int(usable.sum()), dtype=bool)
+    for _ in range(3):  # the gain fitted on the gaps that are not jumps (jumps would lend the core's bends a share)
+        beta = np.linalg.lstsq(gaps_x[inlier], raw[inlier], rcond=None)[0]
+        rest = raw - gaps_x @ beta
+        spread = 1.4826 * float(np.median(np.abs(rest - np.median(rest))))
+        height = JUMP_SIGMAS * max(white, spread)
+        inlier = np.abs(rest) <= height
+    bends = gaps_x @ beta
+    # a step inside one window tilts that line, so the gap has side lobes of the other sign within a window of the
+    # jump, and what settles after it bends the lines there: the largest jump first, taken out of the residual
+    # before the next is sought, and none other within a window of it
+    jumps: list[ZeroJump] = []
+    free = usable.copy()
+    while len(jumps) < MAX_JUMPS and free.any():
+        gap = np.zeros(t.size)
+        gap[usable] = _line_gaps(r, n, g)[usable] - bends
+        gap[~free] = 0.0
+        k = int(np.argmax(np.abs(gap)))
+        if abs(gap[k]) <= height:
+            break
+        seg = r[k - g:k + g + 1]
+        m = np.arange(1, seg.size)  # split before seg[m]: CUSUM of a single step
+        c = np.cumsum(seg)
+        left, right = c[m - 1] / m, (c[-1] - c[m - 1]) / (seg.size - m)
+        best = int(m[np.argmax(np.abs(right - left) * np.sqrt(m * (seg.size - m)))])
+        at = k - g + best
+        if not (at_gap[k] or at_gap[at]):  # a step at a gap is placed no better than within a guard of it
+            jumps.append(ZeroJump(0.5 * float(t[at - 1] + t[at]), float(gap[k])))
+        r = r - gap[k] * (np.arange(t.size) >= at)  # the gap is the jump's size (means would take the load's moves)
+        free[max(k - n - 2 * g, 0):k + n + 2 * g + 1] = False  # the lobes reach a window from the step
+    return tuple(sorted(jumps, key=lambda j: j.at_s))

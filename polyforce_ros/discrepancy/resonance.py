@@ -35,8 +35,8 @@ import numpy.typing as npt
 from scipy import optimize, signal
 
 from ..physics.chain import (ExponentialDriftElement, OffsetDriftElement, OffsetElement, PolynomialDriftElement,
-                             ResonanceElement, SensorChain, SensorLagElement, SplineDriftElement, ThermalDriftElement,
-                             ThermalLagElement, TransportDelayElement)
+                             ResonanceElement, SensorChain, SensorLagElement, SplineDriftElement, StepDriftElement,
+                             ThermalDriftElement, ThermalLagElement, TransportDelayElement)
 from ..physics.expconv import lag_cascade
 from .effects import LAG_DELAY_RANGE_S
 from .residual import excess, passes
@@ -52,7 +52,7 @@ LOWEST_MODE_HZ = 2.0
 
 #: Elements that follow a mechanical mode in the chain (the signal conditioning, the slow terms, the offset).
 _AFTER_MODE = (SensorLagElement, TransportDelayElement, ThermalDriftElement, ThermalLagElement, PolynomialDriftElement,
-               ExponentialDriftElement, SplineDriftElement, OffsetDriftElement, OffsetElement)
+               ExponentialDriftElement, SplineDriftElement, StepDriftElement, OffsetDriftElement, OffsetElement)
 
 
 @dataclass(frozen=True)

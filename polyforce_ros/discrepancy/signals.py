@@ -14,8 +14,8 @@ import numpy.typing as npt
 
 from ..physics.viscoelastic import ViscoelasticModel
 
-__all__ = ["FloatArray", "BoolArray", "IntArray", "GapStep", "Signals", "uniform_blocks", "record_gaps", "noise_std", "MIN_GAP_S",
-           "MAX_GAPS"]
+__all__ = ["FloatArray", "BoolArray", "IntArray", "GapStep", "ZeroJump", "Signals", "uniform_blocks", "record_gaps",
+           "noise_std", "MIN_GAP_S", "MAX_GAPS"]
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
@@ -55,6 +55,22 @@ class GapStep:
         return [self.state_bound_v * -math.expm1(-self.length_s / tau) for tau in self.decay_taus_s]
 
 
+@dataclass(frozen=True)
+class ZeroJump:
+    """A jump of the zero that a residual shows.
+
+    Attributes
+    ----------
+    at_s : float
+        When [s, the record's clock].
+    size_v : float
+        How large [V]: the gap between the residual's lines either side (:func:`.residual.zero_jumps`).
+    """
+
+    at_s: float
+    size_v: float
+
+
 @dataclass
 class Signals:
     """The record at one rate, with what design columns need.
@@ -84,6 +100,9 @@ class Signals:
     span_f, span_x : float
         Force span [N] and span of ``x_ref`` [V] at the fit rate: the play radii scale with them (the same at every
         rate of one reference core).
+    zero_jumps : tuple of ZeroJump
+        Where the base model's residual jumps while its core's output does not (:func:`.residual.zero_jumps`): where
+        the ``steps`` and ``jumps`` variants of an offset drift put theirs.
     cache : dict
         Design columns made from these signals (new with every reference core).
     record_cache : dict
@@ -104,6 +123,7 @@ class Signals:
     span_f: float = 1.0
     span_x: float = 1.0
     gap_steps: tuple[GapStep, ...] = ()
+    zero_jumps: tuple[ZeroJump, ...] = ()
     cache: dict[Any, Any] = field(default_factory=dict, init=False, repr=False)
     record_cache: dict[Any, Any] = field(default_factory=dict, repr=False)
 

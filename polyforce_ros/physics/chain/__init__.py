@@ -26,6 +26,7 @@ from .drift import (
                    OffsetDriftElement,
                    PolynomialDriftElement,
                    SplineDriftElement,
+                   StepDriftElement,
                    ThermalDriftElement,
                    ThermalLagElement,
                    lagged_temperature_c,
@@ -43,5 +44,6 @@ __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "Forwar
            "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement",
            "FrictionElement",
            "ThermalLagElement",
-           "ExponentialDriftElement", "SplineDriftElement", "PolynomialGainElement", "PolynomialDriftElement",
+           "ExponentialDriftElement", "SplineDriftElement", "StepDriftElement",
+           "PolynomialGainElement", "PolynomialDriftElement",
            "lagged_temperature_c", "ELEMENT_TYPES", "SensorChain", "ChainStream"]

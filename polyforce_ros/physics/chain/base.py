@@ -256,6 +256,11 @@ PARAMETER_BOUNDS = {
     # spline drift: knot times (s after the first sample) and the drift there (V)
     "knots_s": (1e-6, 1e9, "s", "knot times after the first sample, up to 30 years"),
     "values_v": (-1e3, 1e3, "V", "beyond any amplifier output"),
+    # a zero that jumps: the jumps' times (s after the first sample), what each leaves (V) and the part that settles
+    "times_s": (1e-6, 1e9, "s", "jump times after the first sample, up to 30 years"),
+    "steps_v": (-1e3, 1e3, "V", "beyond any amplifier output"),
+    "recoveries_v": (-1e3, 1e3, "V", "beyond any amplifier output"),
+    "recovery_tau_s": (1e-3, 1e6, "s", "a settling faster than 1 ms is part of the jump; up to 11.6 days"),
     "curvature_v_per_s2": (-1e3, 1e3, "V/s^2", "over 24 h at most 7.5e12 V: finite"),
     "cubic_v_per_s3": (-1e3, 1e3, "V/s^3", "over 24 h at most 6.5e17 V: finite"),
 }

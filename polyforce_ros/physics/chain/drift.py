@@ -14,10 +14,12 @@ from .base import (
     FloatArray,
     FloatOrArray,
     FunctionStream,
+    ModelError,
     Numbers,
     SimpleElement,
     abscissae_and_values,
     check_keys,
+    check_number,
     temperature_c_of,
 )
 
@@ -276,6 +278,71 @@ class PolynomialDriftElement(_TimeDriftElement):
 
     def _term(self, s: FloatOrArray) -> FloatOrArray:
         return s * (self.rate_v_per_s + s * (self.curvature_v_per_s2 + s * self.cubic_v_per_s3))
+
+
+class StepDriftElement(_TimeDriftElement):
+    """Load-independent zero that jumps (a zero shift: a charge, a splash, a slipping clamp, a switched ground
+    loop), each jump settling part of the way back:
+    y = x + sum_i H(s - times_s[i]) (steps_v[i] + recoveries_v[i] exp(-(s - times_s[i]) / recovery_tau_s)).
+
+    Parameters (model file keys)
+    ----------------------------
+    times_s : list of float > 0, strictly increasing
+        Times of the jumps after the first sample, s.
+    steps_v : list of float
+        What each jump leaves for good, V (same length).
+    recovery_tau_s : float > 0, optional
+        Time constant of the part of each jump that settles, s (with ``recoveries_v``).
+    recoveries_v : list of float, optional
+        The part of each jump that settles, V (same length as ``times_s``; none: every jump stays whole).
+
+    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare): a record's jumps say
+    nothing about the next record, so the runtime subtracts them only on the clock of the record they came from.
+    """
+
+    kind = "step_drift"
+    KEYS = ("times_s", "steps_v")
+    OPTIONAL_KEYS = ("recovery_tau_s", "recoveries_v")
+    times_s: FloatArray
+    steps_v: FloatArray
+    recovery_tau_s: Optional[float]
+    recoveries_v: Optional[FloatArray]
+
+    def __init__(self, times_s: Numbers, steps_v: Numbers, recovery_tau_s: Optional[float] = None,
+                 recoveries_v: Optional[Numbers] = None) -> None:
+        times, steps = abscissae_and_values(self.kind, "times_s", times_s, "steps_v", steps_v)
+        if (recovery_tau_s is None) != (recoveries_v is None):
+            raise ModelError(f"{self.kind}: recovery_tau_s and recoveries_v come together")
+        tau: Optional[float] = None
+        recoveries: Optional[FloatArray] = None
+        if recovery_tau_s is not None:
+            tau = check_number(self.kind, "recovery_tau_s", recovery_tau_s, positive=True)
+            _, recoveries = abscissae_and_values(self.kind, "times_s", times_s, "recoveries_v", recoveries_v)
+        self._freeze(times_s=times, steps_v=steps, recovery_tau_s=tau, recoveries_v=recoveries)
+
+    def _term(self, s: FloatOrArray) -> FloatOrArray:
+        age = np.asarray(s, dtype=float)[..., None] - self.times_s  # s since each jump
+        on = age >= 0.0
+        total = np.where(on, self.steps_v, 0.0)
+        if self.recovery_tau_s is not None and self.recoveries_v is not None:
+            total = total + np.where(on, self.recoveries_v * np.exp(-np.maximum(age, 0.0) / self.recovery_tau_s), 0.0)
+        drift_v: FloatArray = np.sum(total, axis=-1)
+        return drift_v if drift_v.ndim else float(drift_v)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The element as a model-file mapping."""
+        out: dict[str, Any] = {"type": self.kind, "times_s": [float(v) for v in self.times_s],
+                               "steps_v": [float(v) for v in self.steps_v]}
+        if self.recovery_tau_s is not None and self.recoveries_v is not None:
+            out["recovery_tau_s"] = float(self.recovery_tau_s)
+            out["recoveries_v"] = [float(v) for v in self.recoveries_v]
+        return out
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> Self:
+        """The element from a model-file mapping."""
+        check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL_KEYS)
+        return cls(d["times_s"], d["steps_v"], d.get("recovery_tau_s"), d.get("recoveries_v"))
 
 
 def _spline_from_zero(knots_s: FloatArray, values: FloatArray) -> Any:

@@ -21,6 +21,7 @@ from .drift import (
     OffsetDriftElement,
     PolynomialDriftElement,
     SplineDriftElement,
+    StepDriftElement,
     ThermalDriftElement,
     ThermalLagElement,
 )
@@ -53,7 +54,8 @@ for _element in (GainElement, NonlinearGainElement, SensorLagElement, TransportD
                  ThermalDriftElement,
                  ThermalSensitivityElement, OffsetDriftElement, PreisachElement, PlayHysteresisElement, BridgeHysteresisElement,
                  FrictionElement,
-                 ThermalLagElement, PolynomialDriftElement, PolynomialGainElement, ExponentialDriftElement, SplineDriftElement):
+                 ThermalLagElement, PolynomialDriftElement, PolynomialGainElement, ExponentialDriftElement, SplineDriftElement,
+                 StepDriftElement):
     ELEMENT_TYPES[_element.kind] = _element
 
 

@@ -453,26 +453,27 @@ def _spline_knots_s(duration_s: float, intervals: int) -> FloatArray:
 #: Settling times [s] searched for the part of each jump of the zero that settles (the ``jumps`` variant of
 #: offset_drift): a charge leaking away, a film drying, a surge decaying; the polish refines within them.
 JUMP_SETTLE_S = (2.0, 100.0)
-#: The part of a jump that settles, at most this many times the jump the residual shows (a gap between lines 0.5 s
-#: either side of it, which a fast settling has already shrunk).
+#: The share of each jump (as the residual shows it) that settles, within +-this: one share for every jump (one
+#: mechanism), so that a jump whose blocks are left out is predicted from the others, not from its decay's tail.
 JUMP_SETTLE_BOUND = 3.0
 
 
 def _jump_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
     """A step at each of the record's zero jumps (:attr:`.signals.Signals.zero_jumps`) and, in the ``jumps``
-    variant, beside it a decay of time ``param``: the part of the jump that settles, at most
-    :data:`JUMP_SETTLE_BOUND` times the jump the residual shows (with the blocks around a jump left out only the
-    decay's tail is seen, and a free coefficient fitted to it predicts the block as a jump many times too large)."""
-    cols: list[Col] = []
-    for j, jump in enumerate(sig.zero_jumps):
-        age = sig.t - jump.at_s
-        on = (age >= 0.0).astype(float)
+    variant, one column beside them: every jump's size (as the residual shows it) decaying with time ``param``, whose
+    coefficient is the share of each jump that settles."""
+    key = ("jump steps", sig.zero_jumps)
+    if key not in sig.cache:  # the same for every settling time
         # a ridge, as on a spline's knots: with the blocks between two jumps left out only their sum is seen
-        cols.append((f"jump{j}", on, -np.inf, np.inf, "additive", "jump"))
-        if variant == "jumps":
-            bound = JUMP_SETTLE_BOUND * abs(jump.size_v)
-            cols.append((f"settle{j}", on * np.exp(-np.maximum(age, 0.0) / parameter(param)), -bound, bound,
-                         "additive", "jump"))
+        sig.cache[key] = [(f"jump{j}", (sig.t >= jump.at_s).astype(float), -np.inf, np.inf, "additive", "jump")
+                          for j, jump in enumerate(sig.zero_jumps)]
+    cols: list[Col] = list(sig.cache[key])
+    if variant == "jumps" and sig.zero_jumps:
+        settle = np.zeros_like(sig.t)
+        for jump in sig.zero_jumps:
+            age = sig.t - jump.at_s
+            settle += np.where(age >= 0.0, jump.size_v * np.exp(-np.maximum(age, 0.0) / parameter(param)), 0.0)
+        cols.append(("settle", settle, -JUMP_SETTLE_BOUND, JUMP_SETTLE_BOUND, "additive", None))
     return cols
 
 
@@ -498,7 +499,8 @@ def _drift_elements(coef: Mapping[str, float], variant: str, param: Optional[flo
         steps = [float(np.clip(coef.get(f"jump{j}", 0.0), -1e3, 1e3)) for j in range(len(times))]
         if variant == "steps":
             return [("late", StepDriftElement(times_s=times, steps_v=steps))]
-        settles = [float(np.clip(coef.get(f"settle{j}", 0.0), -1e3, 1e3)) for j in range(len(times))]
+        share = float(np.clip(coef.get("settle", 0.0), -JUMP_SETTLE_BOUND, JUMP_SETTLE_BOUND))
+        settles = [float(np.clip(share * jump.size_v, -1e3, 1e3)) for jump in sig.zero_jumps]
         return [("late", StepDriftElement(times_s=times, steps_v=steps, recovery_tau_s=parameter(param),
                                           recoveries_v=settles))]
     if variant.startswith("spline"):
@@ -684,6 +686,7 @@ EFFECTS: dict[str, Effect] = {
         "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",),
         ("polynomial_drift", "exponential_drift", "spline_drift", "step_drift"),
         variants=("polynomial", "settling", *(f"spline{m}" for m in SPLINE_INTERVALS), "steps", "jumps"), grid=_drift_grid,
+        extends={"jumps": "steps"},
         columns=_drift_columns, to_elements=_drift_elements),
 }
 

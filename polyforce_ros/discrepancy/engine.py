@@ -175,10 +175,13 @@ def _signals(rec: Record, force_n: FloatArray, fit_rate_hz: float) -> _Record:
 
 def _zero_jumps(data: _Record, sig: Signals, base_fit: Fit, fit_mse: float) -> None:
     """Find where the base's residual at the fit rate jumps while its core's output does not
-    (:func:`.residual.zero_jumps`), and give those jumps to the record at both rates (``sig``, the fit rate's with
-    the base as reference core, too): every offset drift of the ``steps`` and ``jumps`` variants steps there."""
+    (:func:`.residual.zero_jumps`; not at a gap that has its own step), and give those jumps to the record at both
+    rates (``sig``, the fit rate's with the base as reference core, too): every offset drift of the ``steps`` and
+    ``jumps`` variants steps there."""
+    stepped = [(gap.at_s - 0.5 * gap.length_s, gap.at_s + 0.5 * gap.length_s) for gap in sig.gap_steps]
     jumps = zero_jumps(sig.t, sig.v - fitted(sig, base_fit), sig.core_output,
-                         sig.valid if sig.valid is not None else np.ones(sig.t.size, dtype=bool), math.sqrt(fit_mse))
+                       sig.valid if sig.valid is not None else np.ones(sig.t.size, dtype=bool), math.sqrt(fit_mse),
+                       stepped)
     data.fit_rate.zero_jumps = data.full_rate.zero_jumps = sig.zero_jumps = jumps
 
 
@@ -445,7 +448,8 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     floor = noise.floor_v
     base_core = core_model(st, base_fit.coef_map)
     fitter.sig = refresh_ref(data.fit_rate, base_core)
-    _zero_jumps(data, fitter.sig, base_fit, noise.fit_mse)
+    if "offset_drift" in catalogue:
+        _zero_jumps(data, fitter.sig, base_fit, noise.fit_mse)
     skipped = _skipped(base, has_temp)
     # 4. forward selection, backward check and swap
     selection = Selection(fitter, base_fit, noise.fit_mse, has_temp, min_confidence, min_excess_share, say,

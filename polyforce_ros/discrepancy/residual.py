@@ -3,6 +3,8 @@
 * :func:`noise_floor` (stage 1 of :func:`.engine.diagnose`): the white noise of the bridge voltage and of the
   reference force, from second differences of the raw samples, the reference's through the base fit's
   instantaneous compliance.
+* :func:`zero_jumps` (stage 3): where the base's residual jumps while its core's output does not (where the
+  ``steps`` and ``jumps`` variants of an offset drift put theirs).
 * :func:`drift_follows_load` (stage 4): whether a fitted offset drift moves the residual at rest as it does under
   load, as a drift in time does.
 * :func:`unexplained_test` (stage 5): the out-of-sample residual at the record's rate (:func:`out_of_sample`)
@@ -12,7 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -344,8 +346,8 @@ def slow_response_columns(sig: Signals) -> list[Col]:
 #: (a slip of 20-100 ms, a wetting of 0.5 s, a lag's transient) does not move either line.
 JUMP_SIDE_S = 3.0
 JUMP_GUARD_S = 0.5
-#: Standard deviations of the gap, under the white noise at the fit rate, a jump must exceed: with ~N / side
-#: independent gaps per record, 6 keeps a false jump below 1e-6 per record.
+#: Standard deviations of the gap, under the white noise at the fit rate, a jump must exceed: the gaps of a record
+#: are nearly independent a window apart (~170 per 10 minutes), and 6 keeps a false jump near 1e-7 per such gap.
 JUMP_SIGMAS = 6.0
 #: Most jumps kept (the largest): each is one column, two with its settling.
 MAX_JUMPS = 24
@@ -371,44 +373,46 @@ def _line_gaps(y: FloatArray, n: int, g: int) -> FloatArray:
     return out
 
 
-def zero_jumps(t_s: FloatArray, resid_v: FloatArray, core_v: FloatArray, valid: npt.ArrayLike,
-               sigma_v: float) -> tuple[ZeroJump, ...]:
+def zero_jumps(t_s: FloatArray, resid_v: FloatArray, core_v: FloatArray, valid: npt.ArrayLike, sigma_v: float,
+               stepped_gaps_s: Sequence[tuple[float, float]] = ()) -> tuple[ZeroJump, ...]:
     """Where, and by how much, the residual ``resid_v`` of a model jumps while its core's output ``core_v`` does
     not (in time order).
 
     The gap between the lines either side (:data:`JUMP_SIDE_S`, :data:`JUMP_GUARD_S`), once what the gaps of the
     core's output and of its square explain is taken out, must exceed :data:`JUMP_SIGMAS` of its scale (what white
     noise of ``sigma_v`` gives it, or its robust spread over the record if larger). The largest first, its size
-    taken out of the residual, none other within a window of it, at most :data:`MAX_JUMPS`; each placed where a
-    single step splits the samples within the guard best. A step within a guard of a gap of ``MIN_GAP_S`` or more
-    is not kept (every model gives a gap its own step).
+    taken out of the residual, none other within a window and a guard of it (its side lobes), at most
+    :data:`MAX_JUMPS`; each placed where one step splits the residual (less that gain and curvature) best within a
+    guard of the peak. A step
+    at a gap that every model gives a step of its own (``stepped_gaps_s``) is sought like the others but not kept;
+    near a stretch without samples (0.1 s or five bins at least) only a step at it is kept: across the stretch the
+    record is interpolated, and the residual bends at its ends.
 
     Parameters
     ----------
     t_s : (n,) ndarray
         Uniform times [s] (the fit rate's grid).
     resid_v, core_v : (n,) ndarray
-        The model's residual and its core's output [V].
+        The model's residual and its core's output [V], finite.
     valid : (n,) array of bool
-        Samples that hold data (the others hold the record interpolated).
+        Bins that hold samples (the others hold the record interpolated).
     sigma_v : float
         The residual's white noise at this rate [V].
+    stepped_gaps_s : sequence of (float, float)
+        (start, end) [s] of each gap the models give a step of their own.
     """
     t, r, x = (np.asarray(a, dtype=float) for a in (t_s, resid_v, core_v))
     ok = np.asarray(valid, dtype=bool)
-    if t.size < 8 or not (math.isfinite(sigma_v) and sigma_v > 0.0):
+    if t.size < 8 or not (math.isfinite(sigma_v) and sigma_v >= 0.0):
         return ()
     dt = float(np.median(np.diff(t)))
+    if not dt > 0.0:
+        return ()
     n, g = max(int(round(JUMP_SIDE_S / dt)), 4), max(int(round(JUMP_GUARD_S / dt)), 1)
     if t.size < 2 * (n + g) + 1:
         return ()
-    # a bin left empty by stamp jitter holds the interpolated record; a gap of MIN_GAP_S or more has its own step
-    # in every model: a step there is sought like any other (so that it takes its side lobes with it) but not kept
-    gaps = ndimage.binary_opening(~ok, structure=np.ones(max(int(round(MIN_GAP_S / dt)) - 1, 1), dtype=bool))
-    at_gap = np.convolve(gaps.astype(float), np.ones(2 * g + 1), mode="same") > 0.0
-    usable = np.isfinite(_line_gaps(r, n, g))
-    if usable.sum() < 8:
-        return ()
+    raw_gaps = _line_gaps(r, n, g)
+    usable = np.isfinite(raw_gaps)
     # where the load moves sharply the core's output bends too, and a gain the base lacks (a few per cent, or a
     # curvature) moves the residual's lines with it: what the gaps of the core's output and of its square explain
     # is not a jump of the zero
@@ -417,34 +421,59 @@ def zero_jumps(t_s: FloatArray, resid_v: FloatArray, core_v: FloatArray, valid: 
     # the gap's scale under white noise, or its robust scale over the record when the residual is not white (a
     # misfit's slow structure moves the lines apart too): a jump stands out of both
     white = sigma_v * math.sqrt(2.0 * float(np.sum(_line_end_weights(n, g) ** 2)))
-    raw, inlier = _line_gaps(r, n, g)[usable], np.ones(int(usable.sum()), dtype=bool)
+    raw, inlier = raw_gaps[usable], np.ones(int(usable.sum()), dtype=bool)
+    height = 0.0
     for _ in range(3):  # the gain fitted on the gaps that are not jumps (jumps would lend the core's bends a share)
         beta = np.linalg.lstsq(gaps_x[inlier], raw[inlier], rcond=None)[0]
         rest = raw - gaps_x @ beta
         spread = 1.4826 * float(np.median(np.abs(rest - np.median(rest))))
         height = JUMP_SIGMAS * max(white, spread)
         inlier = np.abs(rest) <= height
-    bends = gaps_x @ beta
+    if not height > 0.0:
+        return ()
+    gap = np.zeros(t.size)
+    gap[usable] = rest
+    bends = np.zeros(t.size)
+    bends[usable] = gaps_x @ beta
+    misfit = np.column_stack([x / scale, (x / scale) ** 2]) @ beta  # the same, on the residual itself (gaps are linear)
+
+    def within(mask: npt.NDArray[np.bool_], reach: int) -> npt.NDArray[np.bool_]:
+        return np.convolve(mask.astype(float), np.ones(2 * reach + 1), mode="same") > 0.5
+
+    stepped = np.zeros(t.size, dtype=bool)
+    for start, end in stepped_gaps_s:
+        stepped |= (t >= start) & (t <= end)
+    stepped = within(stepped, g)
+    empty = ndimage.binary_opening(~ok, structure=np.ones(max(int(math.ceil(MIN_GAP_S / dt)), 5), dtype=bool))
+    at_empty, near_empty = within(empty, g), within(empty, n + g)
     # a step inside one window tilts that line, so the gap has side lobes of the other sign within a window of the
     # jump, and what settles after it bends the lines there: the largest jump first, taken out of the residual
-    # before the next is sought, and none other within a window of it
+    # (the gap there recomputed) before the next is sought, and none other within a window and a guard of it
     jumps: list[ZeroJump] = []
     free = usable.copy()
-    while len(jumps) < MAX_JUMPS and free.any():
-        gap = np.zeros(t.size)
-        gap[usable] = _line_gaps(r, n, g)[usable] - bends
-        gap[~free] = 0.0
-        k = int(np.argmax(np.abs(gap)))
+    reach = n + 2 * g
+    for _ in range(4 * MAX_JUMPS):  # steps at gaps cost a pass each but are not kept: bounded all the same
+        if len(jumps) == MAX_JUMPS or not free.any():
+            break
+        k = int(np.argmax(np.where(free, np.abs(gap), 0.0)))
         if abs(gap[k]) <= height:
             break
-        seg = r[k - g:k + g + 1]
-        m = np.arange(1, seg.size)  # split before seg[m]: CUSUM of a single step
+        # the step splits the residual, less the gain and curvature the gaps showed, best within a guard of the peak
+        # (the residual itself would take the load's own edges nearby)
+        size = float(gap[k])
+        lo, hi = max(k - 2 * g, 0), min(k + 2 * g + 1, t.size)
+        seg = r[lo:hi] - misfit[lo:hi]
+        m = np.arange(max(k - g - lo, 1), min(k + g - lo, seg.size - 1) + 1)  # split before seg[m]
         c = np.cumsum(seg)
         left, right = c[m - 1] / m, (c[-1] - c[m - 1]) / (seg.size - m)
-        best = int(m[np.argmax(np.abs(right - left) * np.sqrt(m * (seg.size - m)))])
-        at = k - g + best
-        if not (at_gap[k] or at_gap[at]):  # a step at a gap is placed no better than within a guard of it
-            jumps.append(ZeroJump(0.5 * float(t[at - 1] + t[at]), float(gap[k])))
-        r = r - gap[k] * (np.arange(t.size) >= at)  # the gap is the jump's size (means would take the load's moves)
-        free[max(k - n - 2 * g, 0):k + n + 2 * g + 1] = False  # the lobes reach a window from the step
+        at = lo + int(m[np.argmax(np.abs(right - left) * np.sqrt(m * (seg.size - m)))])
+        if not (stepped[k] or stepped[at]) and (at_empty[at] or not near_empty[k]):
+            jumps.append(ZeroJump(0.5 * float(t[at - 1] + t[at]), size))
+        r = r - size * (np.arange(t.size) >= at)  # the gap is the jump's size (means would take the load's moves)
+        # the statistic changes only where a window holds the step
+        a, b = max(at - 2 * (n + g), 0), min(at + 2 * (n + g) + 1, t.size)
+        local = _line_gaps(r[a:b], n, g)
+        part = np.isfinite(local) & usable[a:b]
+        gap[a:b][part] = local[part] - bends[a:b][part]
+        free[max(k - reach, 0):k + reach + 1] = False
     return tuple(sorted(jumps, key=lambda j: j.at_s))

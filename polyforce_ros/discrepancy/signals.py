@@ -64,7 +64,8 @@ class ZeroJump:
     at_s : float
         When [s, the record's clock].
     size_v : float
-        How large [V]: the gap between the residual's lines either side (:func:`.residual.zero_jumps`).
+        How large [V]: the gap between the residual's lines either side, less what the core's bends explain there
+        (:func:`.residual.zero_jumps`); a part that settles within the guard is not in it.
     """
 
     at_s: float

@@ -1,5 +1,5 @@
 """Offset drifts: with temperature (immediate or lagged) and with time (linear, polynomial, exponential,
-spline).
+spline, jumps).
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ if TYPE_CHECKING:  # for annotations only: at run time scipy.interpolate loads w
     from scipy.interpolate import CubicSpline
 
 __all__ = ["ThermalDriftElement", "OffsetDriftElement", "ThermalLagElement", "ExponentialDriftElement",
-           "PolynomialDriftElement", "SplineDriftElement", "ThermalForwardState", "thermal_forward_state",
+           "PolynomialDriftElement", "SplineDriftElement", "StepDriftElement", "ThermalForwardState", "thermal_forward_state",
            "lagged_temperature_c", "LaggedTemperatureStream", "thermal_zero"]
 
 
@@ -296,8 +296,9 @@ class StepDriftElement(_TimeDriftElement):
     recoveries_v : list of float, optional
         The part of each jump that settles, V (same length as ``times_s``; none: every jump stays whole).
 
-    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare): a record's jumps say
-    nothing about the next record, so the runtime subtracts them only on the clock of the record they came from.
+    t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare), like the other time
+    drifts: the runtime subtracts the jumps at the same times after every reset, though a record's jumps say nothing
+    about the next record's. A diagnosis saves them so that its model compensates the record it came from.
     """
 
     kind = "step_drift"
@@ -307,6 +308,8 @@ class StepDriftElement(_TimeDriftElement):
     steps_v: FloatArray
     recovery_tau_s: Optional[float]
     recoveries_v: Optional[FloatArray]
+    _left_v: FloatArray      # what the jumps up to each leave for good (0 before the first) [V]
+    _settling_v: FloatArray  # what still settles just after each jump [V]
 
     def __init__(self, times_s: Numbers, steps_v: Numbers, recovery_tau_s: Optional[float] = None,
                  recoveries_v: Optional[Numbers] = None) -> None:
@@ -318,16 +321,25 @@ class StepDriftElement(_TimeDriftElement):
         if recovery_tau_s is not None:
             tau = check_number(self.kind, "recovery_tau_s", recovery_tau_s, positive=True)
             _, recoveries = abscissae_and_values(self.kind, "times_s", times_s, "recoveries_v", recoveries_v)
-        self._freeze(times_s=times, steps_v=steps, recovery_tau_s=tau, recoveries_v=recoveries)
+        # what the jumps leave for good up to each, and what still settles just after each (the parts settle with
+        # one time, so their sum decays as one: A_j = A_j-1 exp(-(t_j - t_j-1) / tau) + r_j)
+        settling = np.zeros(times.size)
+        if tau is not None and recoveries is not None:
+            decay = np.exp(-np.diff(times, prepend=times[0]) / tau)
+            for j in range(times.size):
+                settling[j] = (settling[j - 1] * decay[j] if j else 0.0) + recoveries[j]
+        self._freeze(times_s=times, steps_v=steps, recovery_tau_s=tau, recoveries_v=recoveries,
+                     _left_v=np.concatenate([[0.0], np.cumsum(steps)]), _settling_v=settling)
 
     def _term(self, s: FloatOrArray) -> FloatOrArray:
-        age = np.asarray(s, dtype=float)[..., None] - self.times_s  # s since each jump
-        on = age >= 0.0
-        total = np.where(on, self.steps_v, 0.0)
-        if self.recovery_tau_s is not None and self.recoveries_v is not None:
-            total = total + np.where(on, self.recoveries_v * np.exp(-np.maximum(age, 0.0) / self.recovery_tau_s), 0.0)
-        drift_v: FloatArray = np.sum(total, axis=-1)
-        return drift_v if drift_v.ndim else float(drift_v)
+        s_arr = np.asarray(s, dtype=float)
+        last = np.searchsorted(self.times_s, s_arr, side="right") - 1  # the last jump at or before s; -1: none yet
+        drift_v: FloatArray = self._left_v[last + 1]
+        if self.recovery_tau_s is not None:
+            j = np.maximum(last, 0)
+            age = np.maximum(s_arr - self.times_s[j], 0.0)
+            drift_v = drift_v + np.where(last >= 0, self._settling_v[j] * np.exp(-age / self.recovery_tau_s), 0.0)
+        return drift_v if np.ndim(drift_v) else float(drift_v)
 
     def to_dict(self) -> dict[str, Any]:
         """The element as a model-file mapping."""

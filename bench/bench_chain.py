@@ -109,7 +109,9 @@ def chain_latency(in_stamp_ns, in_value, out_value, out_ns, t0_ns, t1_ns, frames
     Returns ``p50_us``/``p99_us``/``max_us`` (stamp -> first command carrying the sample), ``hist`` (1 us
     bins, for :func:`pooled_p99_ratio`), ``lat_us``, ``frames``, ``delivered`` (distinct measured samples
     whose command arrived), ``delivered_share``, ``delivered_untimed``, ``commands``,
-    ``unmatched_commands`` (non-zero commands arriving from t0_ns on that no ``wrench`` explains) and
+    ``unmatched_commands`` (non-zero commands arriving in [t0_ns, t1_ns) that no ``wrench`` explains; after
+    t1_ns the arms are being stopped, and a stage that exits can leave the sink without its last
+    ``wrench`` messages while the next stage already passed them on) and
     ``stamp_agrees`` (None without stamps).
     """
     in_stamp_ns, out_ns = np.asarray(in_stamp_ns, dtype=np.int64), np.asarray(out_ns, dtype=np.int64)
@@ -135,7 +137,8 @@ def chain_latency(in_stamp_ns, in_value, out_value, out_ns, t0_ns, t1_ns, frames
     out = dict(percentiles(lat_us, ""), hist=np.histogram(lat_us, HIST_EDGES_US)[0], lat_us=lat_us,
                frames=int(frames), delivered=delivered, delivered_untimed=untimed,
                delivered_share=float(delivered / frames) if frames else float("nan"),
-               commands=int(out_value.size), unmatched_commands=int(np.sum(unmatched & (out_ns >= t0_ns))))
+               commands=int(out_value.size),
+               unmatched_commands=int(np.sum(unmatched & (out_ns >= t0_ns) & (out_ns < t1_ns))))
     out["stamp_agrees"] = None
     if out_stamp_ns is not None and hit.any():
         out["stamp_agrees"] = float(np.mean(out_stamp_ns[hit] == in_stamp_ns[idx[hit]]))

@@ -29,6 +29,7 @@ from .physics.metrics import error_summary
 from .sim import profiles
 from .sim.sensor import BridgeSimulator
 from .runtime import CompensatorConfig
+from .runtime.compensator import time_drifts, time_drifts_note
 from .runtime.sources import SerialSourceConfig, SimSourceConfig
 from .workflows import CalibrationConfig, compensate_record
 
@@ -115,7 +116,8 @@ def cmd_compensate(args: argparse.Namespace) -> int:
 
     model = load_model(args.model or default_model_path())
     config = CompensatorConfig(force_limit_n=args.force_limit, auto_tare=not args.no_auto_tare,
-                               max_noise_gain=args.max_noise_gain, noise_gain_rate_hz=args.rate)
+                               max_noise_gain=args.max_noise_gain, noise_gain_rate_hz=args.rate,
+                               apply_time_drifts=args.apply_time_drifts)
     gain = check_noise_gain(model.chain, config.noise_gain_rate_hz, config.max_noise_gain)  # exit 2 when refused
     print(f"model noise gain {gain.gain_n_per_v:.3g} N/V rms at {gain.rate_hz:g} Hz (max_noise_gain "
           f"{config.max_noise_gain:g}; most from {gain.element}); latency {1e3 * model.chain.latency_s:.1f} ms",
@@ -209,6 +211,9 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
         print(f"  - {line}")
     if args.save_model:
         print(f"augmented model written to {args.save_model}")
+        note = time_drifts_note(time_drifts(diag.chain))
+        if note:
+            print(f"note: compensate and compensation_node: {note}")
     return 0
 
 
@@ -292,6 +297,9 @@ def build_parser() -> argparse.ArgumentParser:
                       help="write OUT as a rosbag2 bag directory (OUT/OUT_0.mcap + metadata.yaml)")
     comp.add_argument("--no-auto-tare", action="store_true",
                       help="do not zero the bridge offset at the first rest (like the node's auto_tare: false)")
+    comp.add_argument("--apply-time-drifts", action="store_true",
+                      help="apply the model's time drifts from the record's first sample (like the node's "
+                           "apply_time_drifts; by default they are left out, with a warning)")
     comp.add_argument("--max-noise-gain", type=float, default=CompensatorConfig.max_noise_gain,
                       help="refuse (exit 2) a model whose inverse turns white bridge noise into more than this force, "
                            "N per V rms, like the node's max_noise_gain (default %(default)s)")

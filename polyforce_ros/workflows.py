@@ -286,6 +286,8 @@ def compensate_bag(in_path: str | Path, out_path: str | Path, model: SensorModel
     if not used.any():
         raise bags.BagError(f"{in_path}: no usable samples on {contract.BRIDGE_VOLTAGE}")
     warnings = list(bag.warnings) + runtime_warnings(compensator.counts)
+    if compensator.time_drifts_note:
+        warnings.append(compensator.time_drifts_note)
     if temperature_log is None and model.chain.needs_temperature:
         warnings.append(f"the model follows temperature but {in_path} holds no {contract.TEMPERATURE}: not corrected")
     with bags.BagWriter(out_path, directory=directory) as writer:

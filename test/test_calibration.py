@@ -118,6 +118,29 @@ def test_cli_compensate_adds_wrench_stamped_like_raw(creep_bags, tmp_path):
     assert polyforce("compensate", str(out), str(tmp_path / "again.mcap")).returncode == 2  # already has wrench
 
 
+def test_cli_compensate_leaves_a_models_time_drift_out_with_a_warning_unless_asked(creep_bags, tmp_path):
+    from polyforce_ros import bags
+    from polyforce_ros.model_file import SensorModel, save_model
+    from polyforce_ros.physics.chain import SensorChain, StepDriftElement
+    from polyforce_ros.physics.viscoelastic import compensate
+
+    plain = SensorChain.from_model(PAPER_BURGERS, offset_v=0.0)
+    model = tmp_path / "drift.yaml"
+    save_model(model, SensorModel(SensorChain([*plain.elements, StepDriftElement([1.0], [0.05])])))
+    forces = {}
+    for flag in ("", "--apply-time-drifts"):
+        out = tmp_path / f"out{flag}.mcap"
+        proc = polyforce("compensate", str(creep_bags["burgers"]), str(out), "--no-auto-tare", "--model", str(model),
+                         *([flag] if flag else []))
+        assert proc.returncode == 0, proc.stderr
+        assert ("time drifts are left out (step_drift)" in proc.stderr) == (not flag), proc.stderr
+        forces[flag] = bags.read_bag(out)[bags.WRENCH].fields["force_z"]
+    raw = bags.read_bag(creep_bags["burgers"])[bags.BRIDGE_VOLTAGE]
+    t = (raw.stamp_ns - raw.stamp_ns[0]) * 1e-9
+    np.testing.assert_allclose(forces[""], compensate(PAPER_BURGERS, t, raw.fields["position"]), atol=1e-9)
+    assert np.abs(forces["--apply-time-drifts"] - forces[""])[t > 1.5].min() > 0.1  # N: 50 mV at ~4.8 N/V, and more
+
+
 def test_calibration_node_service_then_compensation_node_loads_it(creep_bags, tmp_path):
     out = tmp_path / "node_model.yaml"
     with ros() as h:

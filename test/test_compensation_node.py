@@ -314,3 +314,24 @@ def test_sensor_serial_of_the_model_against_the_live_device(tmp_path):
         assert node.set_parameters([Parameter("require_matching_sensor", value=False)])[0].successful
         assert min(forces(h, probe)) > 1.0
         assert node._publish_diagnostics().level == DiagnosticStatus.OK
+
+
+@pytest.mark.parametrize("apply", [False, True])
+def test_a_models_time_drift_is_left_out_unless_apply_time_drifts(tmp_path, apply):
+    """A step drift of 50 mV at 0.1 s: left out by default (a zero that never moves reads as zero force), the
+    node's own parameter applies it (the step reads as force)."""
+    from polyforce_ros.physics.chain import OffsetElement, StepDriftElement, ViscoelasticElement
+
+    path = tmp_path / "drift.yaml"
+    save_model(path, SensorModel(SensorChain([ViscoelasticElement(PAPER_BURGERS), StepDriftElement([0.1], [0.05]),
+                                              OffsetElement(0.0)])))
+    n = 300
+    with ros() as h:
+        node, probe = start(h, stale_timeout_s=30.0, model_file=str(path), apply_time_drifts=apply)
+        send_all(h, probe, T0_NS + np.arange(n) * 1_000_000, np.zeros(n), expect=n)
+        forces = np.array([w.wrench.force.z for w in probe.sample_wrenches()])
+    assert node.compensator.time_drifts_left_out == (() if apply else ("step_drift",))
+    if apply:
+        assert forces[-1] < -0.1  # N: the record's jump, subtracted from a zero that never moved
+    else:
+        assert np.abs(forces).max() < 1e-9

@@ -497,3 +497,33 @@ def test_drift_tracking_re_zeroes_a_bridge_hysteresis_model_in_one_window():
     _, out = comp.run(np.round(t * 1e9).astype(np.int64), volts)
     assert comp.counts["drift_corrections"] >= 1
     assert abs(out[(t > 1.2) & (t < 2.0)].mean()) < 0.01  # N: the first correction took the whole offset error
+
+
+def _time_drifts():
+    from polyforce_ros.physics.chain import (ExponentialDriftElement, OffsetDriftElement, PolynomialDriftElement,
+                                             SplineDriftElement, StepDriftElement)
+
+    return [OffsetDriftElement(rate_v_per_s=2e-3), ExponentialDriftElement(amplitude_v=0.05, tau_s=0.5),
+            PolynomialDriftElement(rate_v_per_s=1e-3, curvature_v_per_s2=2e-3, cubic_v_per_s3=1e-3),
+            SplineDriftElement([0.5, 1.0, 1.5], [0.02, -0.03, 0.04]), StepDriftElement([0.7, 1.2], [0.04, -0.02])]
+
+
+@pytest.mark.parametrize("drift", _time_drifts(), ids=lambda e: e.kind)
+def test_time_drifts_are_left_out_unless_asked_and_replay_after_every_reset_when_asked(drift):
+    """A time drift describes its record: by default the runtime compensates as without it and names it; asked
+    to apply it, the runtime subtracts it again from each reset on (what the default avoids)."""
+    with_drift = SensorChain([*CHAIN.elements, drift])
+    stamps, receive = stream_1khz(2000)
+    volts = np.zeros(stamps.size)  # an unloaded sensor whose zero does not move
+    config = CompensatorConfig(auto_tare=False)
+    plain, left_out = Compensator(CHAIN, config), Compensator(with_drift, config)
+    assert left_out.time_drifts_left_out == (drift.kind,) and drift.kind in left_out.time_drifts_note
+    assert plain.time_drifts_left_out == () and plain.time_drifts_note == ""
+    np.testing.assert_array_equal(left_out.run(stamps, volts, receive)[1], plain.run(stamps, volts, receive)[1])
+    applied = Compensator(with_drift, CompensatorConfig(auto_tare=False, apply_time_drifts=True))
+    assert applied.time_drifts_left_out == ()
+    first = applied.run(stamps[:1000], volts[:1000], receive[:1000])[1]
+    assert np.abs(first).max() > 1e-3  # N: the drift is subtracted from a zero that never moved
+    applied.reset()
+    again = applied.run(stamps[1000:], volts[1000:], receive[1000:])[1]
+    np.testing.assert_allclose(again, first, atol=1e-9)  # the same phantom force, from the reset on

@@ -132,6 +132,8 @@ class _CompensationLogic(PolyforceNode):
         gain = comp.noise_gain
         self.get_logger().info(f"model noise gain {gain.gain_n_per_v:.3g} N/V rms at {gain.rate_hz:g} Hz "
                                f"(max_noise_gain {comp.config.max_noise_gain:g}; most from {gain.element})")
+        if comp.time_drifts_note:
+            self.get_logger().warning(comp.time_drifts_note)
 
     @property
     def _comp(self) -> Compensator:

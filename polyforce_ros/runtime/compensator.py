@@ -60,7 +60,7 @@ from typing import Any, Mapping, Optional
 import numpy as np
 import numpy.typing as npt
 
-from ..physics.chain import BridgeHysteresisElement, ModelError, SensorChain
+from ..physics.chain import BridgeHysteresisElement, ModelError, SensorChain, TimeDriftElement
 from ..physics.noise_gain import NoiseGain, backward_noise_gain
 from ..settings import setting
 from ..stamps import REANCHOR_AFTER_S, STAMP_TOLERANCE_S, ConsistentRun
@@ -117,6 +117,10 @@ class CompensatorConfig:
         "10: 2 mV of noise reaches the master as at most 0.02 N", 0.1, 1e6, read_only=True)
     noise_gain_rate_hz: float = setting(
         1000.0, "Sample rate at which max_noise_gain is judged (Hz)", 1.0, 1e6, read_only=True)
+    apply_time_drifts: bool = setting(
+        False, "Apply the model's time drifts (offset, exponential, polynomial, spline and step drifts) from the first "
+        "sample after each start, ~/reset or tare; off by default: they describe the record they were fitted on, and "
+        "would replay its drift (a polynomial without bound) after every reset", read_only=True)
     drift_tracking: bool = setting(
         False, "Re-zero the bridge offset whenever the force rests inside +-drift_band_n for drift_window_s "
         "(tracks slow baseline drift; off by default: it would also zero a real steady load that small)")
@@ -127,6 +131,20 @@ class CompensatorConfig:
     def names(cls) -> tuple[str, ...]:
         """Field names: the compensation node declares a parameter of each name."""
         return tuple(f.name for f in fields(cls))
+
+
+def time_drifts(chain: SensorChain) -> tuple[str, ...]:
+    """The kinds of the chain's time drifts (elements that run on the time since a start or reset), in order."""
+    return tuple(e.kind for e in chain.elements if isinstance(e, TimeDriftElement))
+
+
+def time_drifts_note(kinds: tuple[str, ...]) -> str:
+    """Why the runtime leaves these time drifts out, for a log line ('' for none)."""
+    if not kinds:
+        return ""
+    return (f"the model's time drifts are left out ({', '.join(kinds)}): they describe the record they were fitted "
+            "on; tare and drift_tracking follow the zero (apply_time_drifts applies them from each start, reset or "
+            "tare)")
 
 
 class _Configured:
@@ -311,7 +329,12 @@ class Compensator(_Configured):
         """
         self.noise_gain = check_noise_gain(chain, self.config.noise_gain_rate_hz, self.config.max_noise_gain)
         self.chain = chain
-        self._stream = chain.streaming()
+        #: the model's time drifts the stream leaves out (``apply_time_drifts`` off), by kind
+        self.time_drifts_left_out = () if self.config.apply_time_drifts else time_drifts(chain)
+        in_use = chain
+        if self.time_drifts_left_out:
+            in_use = SensorChain([e for e in chain.elements if not isinstance(e, TimeDriftElement)])
+        self._stream = in_use.streaming()
         core = chain.viscoelastic
         g0 = core.relaxation().g0_n_per_v if core is not None else 1.0
         # plays at the bridge rest inside their bands at a steady force: only their linear part adds to the
@@ -320,6 +343,11 @@ class Compensator(_Configured):
         self._g0 = g0 / (1.0 + g0 * linear_v_per_n)
         self._update_shift()
         self._restart()
+
+    @property
+    def time_drifts_note(self) -> str:
+        """What the model's left-out time drifts mean, for a log line ('' when none is left out)."""
+        return time_drifts_note(self.time_drifts_left_out)
 
     def _update_shift(self) -> None:
         # what the input is moved by before the chain's inverse (its own offset element stays as it is);

@@ -29,6 +29,7 @@ from .drift import (
                    StepDriftElement,
                    ThermalDriftElement,
                    ThermalLagElement,
+                   TimeDriftElement,
                    lagged_temperature_c,
 )
 from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
@@ -44,6 +45,6 @@ __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "Forwar
            "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement",
            "FrictionElement",
            "ThermalLagElement",
-           "ExponentialDriftElement", "SplineDriftElement", "StepDriftElement",
+           "ExponentialDriftElement", "SplineDriftElement", "StepDriftElement", "TimeDriftElement",
            "PolynomialGainElement", "PolynomialDriftElement",
            "lagged_temperature_c", "ELEMENT_TYPES", "SensorChain", "ChainStream"]

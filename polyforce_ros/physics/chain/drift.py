@@ -27,7 +27,8 @@ if TYPE_CHECKING:  # for annotations only: at run time scipy.interpolate loads w
     from scipy.interpolate import CubicSpline
 
 __all__ = ["ThermalDriftElement", "OffsetDriftElement", "ThermalLagElement", "ExponentialDriftElement",
-           "PolynomialDriftElement", "SplineDriftElement", "StepDriftElement", "ThermalForwardState", "thermal_forward_state",
+           "PolynomialDriftElement", "SplineDriftElement", "StepDriftElement", "TimeDriftElement", "ThermalForwardState",
+           "thermal_forward_state",
            "lagged_temperature_c", "LaggedTemperatureStream", "thermal_zero"]
 
 
@@ -136,9 +137,12 @@ class _DriftForwardState(TypedDict):
     t_first: Optional[float]  # s; None before the first sample
 
 
-class _TimeDriftElement(SimpleElement):
+class TimeDriftElement(SimpleElement):
     """Base of the load-independent drifts: y = x + _term(t - t_first), t_first the first sample of the
-    record (forward, batch backward) or after a reset (streaming); subclasses define ``_term(s)`` (V)."""
+    record (forward, batch backward) or after a reset (streaming); subclasses define ``_term(s)`` (V).
+
+    A time drift describes the record it was fitted on: the runtime leaves it out unless asked
+    (``apply_time_drifts``)."""
 
     def _term(self, s: FloatOrArray) -> FloatOrArray:
         """The drift [V] at ``s`` [s] after the first sample: a float for a float, an array for an array."""
@@ -176,7 +180,7 @@ class _TimeDriftElement(SimpleElement):
         return FunctionStream(step, lambda: first.update(t=None))
 
 
-class OffsetDriftElement(_TimeDriftElement):
+class OffsetDriftElement(TimeDriftElement):
     """Load-independent baseline drift: y = x + rate_v_per_s * (t - t_first).
 
     t_first is the first sample of the record (forward, batch backward) or the
@@ -246,7 +250,7 @@ class ThermalLagElement(SimpleElement):
         return FunctionStream(step, lag.reset)
 
 
-class ExponentialDriftElement(_TimeDriftElement):
+class ExponentialDriftElement(TimeDriftElement):
     """Baseline drift that settles: y = x + amplitude_v * (1 - exp(-(t - t_first) / tau_s)).
 
     t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare).
@@ -263,7 +267,7 @@ class ExponentialDriftElement(_TimeDriftElement):
 
 
 
-class PolynomialDriftElement(_TimeDriftElement):
+class PolynomialDriftElement(TimeDriftElement):
     """Load-independent baseline drift of any smooth shape:
     y = x + rate_v_per_s * s + curvature_v_per_s2 * s**2 + cubic_v_per_s3 * s**3, s = t - t_first.
 
@@ -280,7 +284,7 @@ class PolynomialDriftElement(_TimeDriftElement):
         return s * (self.rate_v_per_s + s * (self.curvature_v_per_s2 + s * self.cubic_v_per_s3))
 
 
-class StepDriftElement(_TimeDriftElement):
+class StepDriftElement(TimeDriftElement):
     """Load-independent zero that jumps (a zero shift: a charge, a splash, a slipping clamp, a switched ground
     loop), each jump settling part of the way back:
     y = x + sum_i H(s - times_s[i]) (steps_v[i] + recoveries_v[i] exp(-(s - times_s[i]) / recovery_tau_s)).
@@ -297,8 +301,8 @@ class StepDriftElement(_TimeDriftElement):
         The part of each jump that settles, V (same length as ``times_s``; none: every jump stays whole).
 
     t_first as in :class:`OffsetDriftElement` (first sample, or first after a reset/tare), like the other time
-    drifts: the runtime subtracts the jumps at the same times after every reset, though a record's jumps say nothing
-    about the next record's. A diagnosis saves them so that its model compensates the record it came from.
+    drifts. A record's jumps say nothing about the next record's: a diagnosis saves them so that its model describes
+    the record it came from, and the runtime leaves them out unless ``apply_time_drifts``.
     """
 
     kind = "step_drift"
@@ -366,7 +370,7 @@ def _spline_from_zero(knots_s: FloatArray, values: FloatArray) -> Any:
                        bc_type="natural")
 
 
-class SplineDriftElement(_TimeDriftElement):
+class SplineDriftElement(TimeDriftElement):
     """Load-independent baseline drift of a wandering shape (a slow random walk, humidity events):
     y = x + S(t - t_first), S the natural cubic spline through (knots_s[i], values_v[i]), S = 0 at s = 0.
 

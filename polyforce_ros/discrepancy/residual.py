@@ -450,6 +450,7 @@ def zero_jumps(t_s: FloatArray, resid_v: FloatArray, core_v: FloatArray, valid: 
     # jump, and what settles after it bends the lines there: the largest jump first, taken out of the residual
     # (the gap there recomputed) before the next is sought, and none other within a window and a guard of it
     jumps: list[ZeroJump] = []
+    r = r.copy()  # the jumps found are taken out of it as the search goes
     free = usable.copy()
     reach = n + 2 * g
     for _ in range(4 * MAX_JUMPS):  # steps at gaps cost a pass each but are not kept: bounded all the same
@@ -469,7 +470,7 @@ def zero_jumps(t_s: FloatArray, resid_v: FloatArray, core_v: FloatArray, valid: 
         at = lo + int(m[np.argmax(np.abs(right - left) * np.sqrt(m * (seg.size - m)))])
         if not (stepped[k] or stepped[at]) and (at_empty[at] or not near_empty[k]):
             jumps.append(ZeroJump(0.5 * float(t[at - 1] + t[at]), size))
-        r = r - size * (np.arange(t.size) >= at)  # the gap is the jump's size (means would take the load's moves)
+        r[at:] -= size  # the gap is the jump's size (means would take the load's moves)
         # the statistic changes only where a window holds the step
         a, b = max(at - 2 * (n + g), 0), min(at + 2 * (n + g) + 1, t.size)
         local = _line_gaps(r[a:b], n, g)

@@ -108,6 +108,19 @@ def test_spline_drift_basis_is_the_element_linear_in_its_values(seed):
     np.testing.assert_allclose(SplineDriftElement.basis(t - t[0], knots) @ values, drift, atol=1e-12)
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_step_drift_basis_is_the_element_linear_in_its_steps(seed):
+    # the fitter's step columns and the saved element are one rule (a jump at a sample's own time included)
+    rng = np.random.default_rng(seed)
+    t, x, aux = _signals(seed)
+    times = np.sort(rng.choice(t[1:] - t[0], int(rng.integers(1, 6)), replace=False))
+    steps = rng.uniform(-0.1, 0.1, times.size)
+    element = StepDriftElement(times_s=times, steps_v=steps)
+    drift = element.forward(t, x, aux) - x
+    assert np.abs(drift).max() > 1e-3
+    np.testing.assert_allclose(StepDriftElement.basis(t - t[0], times) @ steps, drift, atol=1e-12)
+
+
 def test_play_hysteresis_is_a_loop_and_history_starts_at_rest():
     e = PlayHysteresisElement(1.0, [0.2, 0.5], [0.3, 0.2], history_max=2.0)
     t = np.linspace(0, 4, 401)

@@ -465,8 +465,9 @@ def _jump_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
     key = ("jump steps", sig.zero_jumps)
     if key not in sig.cache:  # the same for every settling time
         # a ridge, as on a spline's knots: with the blocks between two jumps left out only their sum is seen
-        sig.cache[key] = [(f"jump{j}", (sig.t >= jump.at_s).astype(float), -np.inf, np.inf, "additive", "jump")
-                          for j, jump in enumerate(sig.zero_jumps)]
+        steps = StepDriftElement.basis(sig.t - sig.t0, [jump.at_s - sig.t0 for jump in sig.zero_jumps])
+        sig.cache[key] = [(f"jump{j}", steps[:, j], -np.inf, np.inf, "additive", "jump")
+                          for j in range(steps.shape[1])]
     cols: list[Col] = list(sig.cache[key])
     if variant == "jumps" and sig.zero_jumps:
         settle = np.zeros_like(sig.t)

@@ -345,6 +345,12 @@ class StepDriftElement(TimeDriftElement):
             drift_v = drift_v + np.where(last >= 0, self._settling_v[j] * np.exp(-age / self.recovery_tau_s), 0.0)
         return drift_v if np.ndim(drift_v) else float(drift_v)
 
+    @staticmethod
+    def basis(s: Numbers, times_s: Numbers) -> FloatArray:
+        """The jumps' steps as columns: column i is 1 from ``times_s[i]`` on, s (s) after the first sample, and 0
+        before (a fitter's design columns; the drift without recoveries is ``basis @ steps_v``)."""
+        return (np.asarray(s, dtype=float)[:, None] >= np.asarray(times_s, dtype=float)[None, :]).astype(float)
+
     def to_dict(self) -> dict[str, Any]:
         """The element as a model-file mapping."""
         out: dict[str, Any] = {"type": self.kind, "times_s": [float(v) for v in self.times_s],

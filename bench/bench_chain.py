@@ -111,7 +111,7 @@ def chain_latency(in_stamp_ns, in_value, out_value, out_ns, t0_ns, t1_ns, frames
     whose command arrived), ``delivered_share``, ``delivered_untimed``, ``commands``,
     ``unmatched_commands`` (non-zero commands arriving in [t0_ns, t1_ns) that no ``wrench`` explains; after
     t1_ns the arms are being stopped, and a stage that exits can leave the sink without its last
-    ``wrench`` messages while the next stage already passed them on) and
+    ``wrench`` messages while the next stage already passed them on; those are ``unmatched_after_window``) and
     ``stamp_agrees`` (None without stamps).
     """
     in_stamp_ns, out_ns = np.asarray(in_stamp_ns, dtype=np.int64), np.asarray(out_ns, dtype=np.int64)
@@ -138,7 +138,8 @@ def chain_latency(in_stamp_ns, in_value, out_value, out_ns, t0_ns, t1_ns, frames
                frames=int(frames), delivered=delivered, delivered_untimed=untimed,
                delivered_share=float(delivered / frames) if frames else float("nan"),
                commands=int(out_value.size),
-               unmatched_commands=int(np.sum(unmatched & (out_ns >= t0_ns) & (out_ns < t1_ns))))
+               unmatched_commands=int(np.sum(unmatched & (out_ns >= t0_ns) & (out_ns < t1_ns))),
+               unmatched_after_window=int(np.sum(unmatched & (out_ns >= t1_ns))))
     out["stamp_agrees"] = None
     if out_stamp_ns is not None and hit.any():
         out["stamp_agrees"] = float(np.mean(out_stamp_ns[hit] == in_stamp_ns[idx[hit]]))
@@ -299,7 +300,7 @@ def interleaved_pairs(exe, pairs, seconds, rate_hz, relays, tmp, log=print):
             log(f"{kind:<5} p50 {r['p50_us']:7.0f} us  p99 {r['p99_us']:7.0f} us  max {r['max_us']:8.0f} us  "
                 f"delivered {r['delivered']} of {r['frames']} ({100 * r['delivered_share']:.2f} %, untimed "
                 f"{r['delivered_untimed']})  `wrench` {r['wrenches']}, commands {r['commands']}, "
-                f"unmatched {r['unmatched_commands']}  "
+                f"unmatched {r['unmatched_commands']} (after the window {r['unmatched_after_window']})  "
                 f"flowing after {r['warmup_s']:.1f} s  load {r['load1']:.1f}  stamp -> `wrench` at the sink: "
                 f"p50 {r['to_wrench_p50_us']:.0f} us, max {r['to_wrench_max_us']:.0f} us"
                 + (f"  stamps agree {100 * r['stamp_agrees']:.2f} %" if kind == "relay" else ""))

@@ -55,6 +55,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     kinds = " -> ".join(e.kind for e in sensor.elements)
     print(f"sensor truth: {truth.model} ({kinds})  noise {args.noise_v * 1e3:.2f} mV, {truth.adc_bits}-bit ADC")
     print(f"compensation model: {args.model or default_model_path()}")
+    if time_drifts_note(time_drifts(model.chain)):  # the sensor drifts as the model says; the runtime does not follow
+        print(f"note: {time_drifts_note(time_drifts(model.chain))}", file=sys.stderr)
     _header()
     names = [args.profile] if args.profile != "all" else ["needle_insertion", "step", "sawtooth", "creep"]
     ok = True
@@ -298,8 +300,9 @@ def build_parser() -> argparse.ArgumentParser:
     comp.add_argument("--no-auto-tare", action="store_true",
                       help="do not zero the bridge offset at the first rest (like the node's auto_tare: false)")
     comp.add_argument("--apply-time-drifts", action="store_true",
-                      help="apply the model's time drifts from the record's first sample (like the node's "
-                           "apply_time_drifts; by default they are left out, with a warning)")
+                      help="apply the model's time drifts (like the node's apply_time_drifts; by default they are "
+                           "left out, with a warning), from the first sample after the start-up zeroing, or from the "
+                           "record's first with --no-auto-tare")
     comp.add_argument("--max-noise-gain", type=float, default=CompensatorConfig.max_noise_gain,
                       help="refuse (exit 2) a model whose inverse turns white bridge noise into more than this force, "
                            "N per V rms, like the node's max_noise_gain (default %(default)s)")

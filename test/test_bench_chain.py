@@ -52,6 +52,7 @@ def test_chain_latency_counts_each_measured_sample_once_from_its_stamp():
     # commands the sink cannot explain are counted in the window only (8.5 arrives after it, at 8.1 ms)
     s = bench_chain.chain_latency(stamps[:4], values[:4], cmd_values, cmd_ns, 2 * MS, 8 * MS, 6, out_stamp_ns=cmd_stamps)
     assert s["lat_us"].tolist() == pytest.approx([400.0, 200.0, 600.0, 100.0, 200.0]) and s["unmatched_commands"] == 3
+    assert s["unmatched_after_window"] == 1
     # a command carrying another sample's stamp shows in stamp_agrees
     cmd_stamps[3] = 4 * MS
     assert bench_chain.chain_latency(stamps, values, cmd_values, cmd_ns, 2 * MS, 8 * MS, 6,

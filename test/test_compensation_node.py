@@ -151,6 +151,12 @@ def test_model_reload_by_parameter_and_by_file_change(tmp_path):
         send_all(h, probe, [T0_NS], [0.1], expect=1)
         status = node._publish_diagnostics()
         assert status.level == DiagnosticStatus.WARN and "previous model kept" in status.message
+        # a model the compensator refuses (time drifts alone) changes nothing the node says of its model either
+        drifts = tmp_path / "drifts.yaml"
+        drifts.write_text("format: polyforce_model/1\nelements: [{type: offset_drift, rate_v_per_s: 0.001}]\n")
+        refused = node.set_parameters([Parameter("model_file", value=str(drifts))])[0]
+        assert not refused.successful and "only time drifts" in refused.reason
+        assert node.model.chain.viscoelastic == PAPER_BURGERS and node._model_path == str(path)
 
 
 def test_stale_input_gives_zero_wrench_and_error_then_recovers():

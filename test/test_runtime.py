@@ -6,7 +6,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from polyforce_ros.physics.chain import OffsetElement, SensorChain
+from polyforce_ros.physics.chain import ModelError, OffsetElement, SensorChain
 from polyforce_ros.physics.viscoelastic import PAPER_BURGERS, compensate
 from polyforce_ros.runtime import Compensator, CompensatorConfig, SampleGate
 from polyforce_ros.runtime.compensator import ACCEPT, ACCEPT_FRESH
@@ -527,3 +527,66 @@ def test_time_drifts_are_left_out_unless_asked_and_replay_after_every_reset_when
     applied.reset()
     again = applied.run(stamps[1000:], volts[1000:], receive[1000:])[1]
     np.testing.assert_allclose(again, first, atol=1e-9)  # the same phantom force, from the reset on
+
+
+def test_the_noise_gain_guard_judges_the_chain_the_runtime_runs():
+    """A drift moves a nonlinear gain's working point: the guard (and the gain the node reports) must be the chain
+    in use, without the drift by default and with it when asked."""
+    from polyforce_ros.physics.chain import PolynomialGainElement, StepDriftElement, ViscoelasticElement
+    from polyforce_ros.physics.noise_gain import backward_noise_gain
+
+    plain = SensorChain([ViscoelasticElement(PAPER_BURGERS),
+                         PolynomialGainElement(quadratic_per_v=0.3, cubic_per_v2=0.0, quartic_per_v3=0.0),
+                         OffsetElement(0.0)])
+    drifted = SensorChain([*plain.elements, StepDriftElement([0.001], [-0.8])])
+    without, with_drift = (backward_noise_gain(c, 1000.0).gain_n_per_v for c in (plain, drifted))
+    assert abs(without - with_drift) > 0.5  # N/V: the drift matters to the probe
+    assert Compensator(drifted).noise_gain.gain_n_per_v == pytest.approx(without, rel=1e-9)
+    applied = Compensator(drifted, CompensatorConfig(apply_time_drifts=True))
+    assert applied.noise_gain.gain_n_per_v == pytest.approx(with_drift, rel=1e-9)
+    # the limit between the two: refused only as the runtime would run it
+    limit = 0.5 * (without + with_drift)
+    refuses = with_drift > limit
+    for apply in (False, True):
+        config = CompensatorConfig(apply_time_drifts=apply, max_noise_gain=limit)
+        if refuses == apply:
+            with pytest.raises(ModelError, match="max_noise_gain"):
+                Compensator(drifted, config)
+        else:
+            Compensator(drifted, config)
+
+
+def test_a_refused_chain_leaves_the_one_in_use_whole():
+    """A model of time drifts alone has nothing to compensate with: refused, and the compensator keeps its chain,
+    its stream, its offset and what its output is."""
+    from polyforce_ros.physics.chain import PolynomialDriftElement, StepDriftElement
+
+    comp = Compensator(SensorChain.from_model(PAPER_BURGERS, offset_v=0.1), CompensatorConfig(auto_tare=False))
+    stamps, receive = stream_1khz(400)
+    volts = 0.1 + volts_of(stamps)
+    before = comp.run(stamps[:200], volts[:200], receive[:200])[1]
+    chain, gain = comp.chain, comp.noise_gain
+    drifts_only = SensorChain([PolynomialDriftElement(rate_v_per_s=1e-3, curvature_v_per_s2=0.0, cubic_v_per_s3=0.0),
+                               StepDriftElement([1.0], [0.01])])
+    with pytest.raises(ModelError, match="only time drifts"):
+        comp.set_chain(drifts_only)
+    assert comp.chain is chain and comp.noise_gain is gain and comp.offset_v == pytest.approx(0.1)
+    after = comp.run(stamps[200:], volts[200:], receive[200:])[1]
+    reference = Compensator(SensorChain.from_model(PAPER_BURGERS, offset_v=0.1), CompensatorConfig(auto_tare=False))
+    np.testing.assert_allclose(np.concatenate([before, after]), reference.run(stamps, volts, receive)[1], atol=1e-12)
+    # asked to apply them, the same model is a chain like any other (drifts only: force = what the bridge says)
+    Compensator(drifts_only, CompensatorConfig(apply_time_drifts=True))
+
+
+def test_changing_the_drift_or_guard_settings_rebuilds_the_chain_in_use_or_refuses_and_keeps_them():
+    from polyforce_ros.physics.chain import StepDriftElement
+
+    comp = Compensator(SensorChain([*CHAIN.elements, StepDriftElement([0.1], [0.05])]))
+    assert comp.time_drifts_left_out == ("step_drift",)
+    comp.configure(apply_time_drifts=True)
+    assert comp.time_drifts_left_out == () and comp.config.apply_time_drifts
+    with pytest.raises(ModelError, match="max_noise_gain"):
+        comp.configure(max_noise_gain=1.0)  # the paper sensor passes noise at 4.8 N/V
+    assert comp.config.max_noise_gain == CompensatorConfig.max_noise_gain and comp.config.apply_time_drifts
+    comp.configure(apply_time_drifts=False, tare_window=10)
+    assert comp.time_drifts_left_out == ("step_drift",) and comp.config.tare_window == 10

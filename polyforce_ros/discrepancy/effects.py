@@ -471,9 +471,8 @@ def _jump_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
     cols: list[Col] = list(sig.cache[key])
     if variant == "jumps" and sig.zero_jumps:
         settle = np.zeros_like(sig.t)
-        for jump in sig.zero_jumps:
-            age = sig.t - jump.at_s
-            settle += np.where(age >= 0.0, jump.size_v * np.exp(-np.maximum(age, 0.0) / parameter(param)), 0.0)
+        for (_, step, *_), jump in zip(cols, sig.zero_jumps):
+            settle += step * jump.size_v * np.exp(-np.maximum(sig.t - jump.at_s, 0.0) / parameter(param))
         cols.append(("settle", settle, -JUMP_SETTLE_BOUND, JUMP_SETTLE_BOUND, "additive", None))
     return cols
 

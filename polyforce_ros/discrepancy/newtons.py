@@ -3,7 +3,10 @@
 A model can predict the bridge voltage well and still be a dangerous compensator:
 the compensation runs it backward, and an inverse that rises with frequency
 turns bridge noise into force. Every diagnosis therefore also runs its models
-the way ``compensation_node`` does (:meth:`SensorChain.backward`) on the record:
+backward (:meth:`SensorChain.backward`) on the record, its time drifts applied
+from the record's first sample (the runtime applies them only with
+``apply_time_drifts``), and judges their noise gain on the chain the runtime
+runs (:func:`~polyforce_ros.runtime.compensator.runtime_chain`):
 
 * :func:`force_quality`: the compensated force of the record's left-out blocks
   (each block compensated by the model fitted without it) against the reference,
@@ -25,6 +28,7 @@ import numpy as np
 from ..physics.chain import FrictionElement, SensorChain, SensorLagElement
 from ..physics.noise_gain import NoiseGain, backward_noise_gain, white_noise_gain
 from ..runtime import CompensatorConfig
+from ..runtime.compensator import runtime_chain
 
 __all__ = ["ForceQuality", "force_quality", "with_safe_bandwidth", "with_filter", "fold_chains", "rate_of", "FILTER_FACTORS",
            "with_friction_deadband", "DEADBAND_SIGMAS", "with_friction_share", "FRICTION_INVERSE_SHARES", "runtime_guard"]
@@ -174,7 +178,7 @@ def with_safe_bandwidth(chain: SensorChain, t_s: np.ndarray, voltage_v: np.ndarr
     best: Optional[tuple[int, float]] = None
     for key in [(1, 0.0)] + [(order, f) for order in (1, 2) for f in FILTER_FACTORS if f > 0]:
         candidate = with_filter(chain, key[1], key[0])
-        gains[key] = [white_noise_gain(candidate, r) for r in rates]
+        gains[key] = [white_noise_gain(runtime_chain(candidate), r) for r in rates]  # as the runtime runs it
         with np.errstate(all="ignore"):
             tried[key] = _errors(candidate.backward(t_s, voltage_v, aux), late)[0]
         if max(gains[key]) <= SAVE_MARGIN * max_noise_gain and (best is None or tried[key] < tried[best]):
@@ -198,7 +202,7 @@ def runtime_guard(chain: SensorChain, record_rate_hz: float) -> dict[str, Any]:
     ``max_noise_gain`` newtons per volt of bridge output) is refused for its core alone: the node then needs a
     raised ``max_noise_gain``, which the diagnosis says rather than saving a model the node silently refuses."""
     limit, runtime_hz = CompensatorConfig.max_noise_gain, CompensatorConfig.noise_gain_rate_hz
-    gains = {f"{rate:g}": backward_noise_gain(chain, rate).gain_n_per_v
+    gains = {f"{rate:g}": backward_noise_gain(runtime_chain(chain), rate).gain_n_per_v
              for rate in sorted({float(runtime_hz), float(record_rate_hz)})}
     return {"max_noise_gain": limit, "noise_gain_rate_hz": runtime_hz, "noise_gain_n_per_v": gains,
             "accepted": gains[f"{runtime_hz:g}"] <= limit}

@@ -16,6 +16,7 @@ from .. import bags
 from ..model_file import default_model_path, load_model
 from ..physics.metrics import error_summary
 from ..record import load_record
+from ..runtime.compensator import time_drifts, time_drifts_note
 from ..workflows import compensate_record
 from . import fsr_preisach, polymer_sarrus_sensor, thinfilm_muscle
 from .common import Row, Section, Settings, figure, finite_or_text
@@ -38,6 +39,8 @@ def evaluate_bag(path: str | Path, model_path: Optional[str | Path] = None) -> S
         warnings.append(f"bridge offset: {out.zeroing}")
     if not used.all():
         warnings.append(f"{int((~used).sum())} samples gave no force (see the compensator's rules)")
+    if time_drifts_note(time_drifts(model.chain)):
+        warnings.append(time_drifts_note(time_drifts(model.chain)))
     t, force, static, comp = t[used], force[used], out.static_n[used], out.compensated_n[used]
     es, ec = error_summary(force, static), error_summary(force, comp)
     section = Section(f"Recorded bag {Path(path).name}", notes=[f"model: {model_path or default_model_path()}"] + warnings)

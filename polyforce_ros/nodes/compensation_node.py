@@ -44,7 +44,7 @@ from std_srvs.srv import Trigger
 from ..model_file import SensorModel, default_model_path, load_model
 from ..physics.chain import ModelError
 from ..runtime import Compensator, CompensatorConfig
-from ..runtime.compensator import WARN_COUNTERS
+from ..runtime.compensator import WARN_COUNTERS, time_drifts
 from .. import contract
 from .common import (ERROR, OK, WARN, CreatePublisher, ManagedNode, PolyforceNode, RosLifecycleNode, data_qos, declare,
                      declare_qos, declare_settings, latched_qos, ns_to_stamp, run, send_last_zero, stamp_to_ns)
@@ -119,21 +119,25 @@ class _CompensationLogic(PolyforceNode):
     def _load_model(self, path_param: str) -> None:
         path = str(Path(path_param).expanduser()) if path_param else str(default_model_path())
         model = load_model(path)
-        self.model, self._model_path = model, path
-        self._model_mtime = _mtime(path)
-        self._needs_temperature = model.chain.needs_temperature
         comp = self.compensator
+        # the compensator first: a model it refuses changes nothing here either
         if comp is None:
             config = CompensatorConfig(**{name: self.p[name] for name in CompensatorConfig.names()})
             comp = self.compensator = Compensator(model.chain, config)
         else:
             comp.set_chain(model.chain)  # a tare is kept; the history belongs to the old model
+        self.model, self._model_path = model, path
+        self._model_mtime = _mtime(path)
+        self._needs_temperature = model.chain.needs_temperature
         self._check_sensor()
         gain = comp.noise_gain
         self.get_logger().info(f"model noise gain {gain.gain_n_per_v:.3g} N/V rms at {gain.rate_hz:g} Hz "
                                f"(max_noise_gain {comp.config.max_noise_gain:g}; most from {gain.element})")
         if comp.time_drifts_note:
             self.get_logger().warning(comp.time_drifts_note)
+        elif comp.config.apply_time_drifts and time_drifts(model.chain):
+            self.get_logger().info(f"applying the model's time drifts ({', '.join(time_drifts(model.chain))}) from "
+                                   "each start, reset or tare (apply_time_drifts)")
 
     @property
     def _comp(self) -> Compensator:
@@ -387,6 +391,7 @@ class _CompensationLogic(PolyforceNode):
                       offset_v=comp.offset_v, tared=comp.tare_offset_v is not None,
                       auto_tare=comp.auto_tare_status,
                       noise_gain_n_per_v=comp.noise_gain.gain_n_per_v,
+                      time_drifts_left_out=", ".join(comp.time_drifts_left_out) or "none",
                       sensor_serial=self.live_serial if self.live_serial is not None else "unknown",
                       model_sensor_serial=self.model_serial or "none", sensor_check=sensor_check)
         return self.diag.publish(level, message, values)

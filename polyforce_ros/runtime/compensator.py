@@ -143,8 +143,26 @@ def time_drifts_note(kinds: tuple[str, ...]) -> str:
     if not kinds:
         return ""
     return (f"the model's time drifts are left out ({', '.join(kinds)}): they describe the record they were fitted "
-            "on; tare and drift_tracking follow the zero (apply_time_drifts applies them from each start, reset or "
-            "tare)")
+            "on; the zero is set by the start-up zeroing and ~/tare, and followed at rest only with drift_tracking "
+            "(apply_time_drifts applies them from each start, reset or tare)")
+
+
+def runtime_chain(chain: SensorChain, apply_time_drifts: bool = False) -> SensorChain:
+    """The chain the runtime runs for ``chain``: without its time drifts unless ``apply_time_drifts`` (the one
+    home of that rule: the compensator, its noise-gain guard and the diagnosis's judgement of the runtime use it).
+
+    Raises
+    ------
+    ModelError
+        The chain holds nothing but time drifts (nothing is left to compensate with).
+    """
+    if apply_time_drifts or not time_drifts(chain):
+        return chain
+    kept = [e for e in chain.elements if not isinstance(e, TimeDriftElement)]
+    if not kept:
+        raise ModelError(f"the model holds only time drifts ({', '.join(time_drifts(chain))}): nothing is left to "
+                         "compensate with unless apply_time_drifts")
+    return SensorChain(kept)
 
 
 class _Configured:
@@ -287,6 +305,7 @@ class Compensator(_Configured):
 
     _rest_since_ns: Optional[int]   # start of the current rest (drift tracking), ns; None = not resting
     noise_gain: NoiseGain           # of the chain in use, at noise_gain_rate_hz (set with the chain)
+    _checked_with: tuple[bool, float, float]  # apply_time_drifts, max_noise_gain, rate: what the chain in use was built with
 
     def __init__(self, chain: SensorChain, config: CompensatorConfig = CompensatorConfig()) -> None:
         self.config = config
@@ -317,6 +336,14 @@ class Compensator(_Configured):
             self._recent_v = deque(self._recent_v, maxlen=int(config.tare_window))
         if not config.auto_tare and self.auto_tare_status != "off":
             self._auto, self.auto_tare_status, self.auto_tare_failed = None, "off", False
+        checked = self._checked_with
+        if (config.apply_time_drifts, config.max_noise_gain, config.noise_gain_rate_hz) != checked:
+            try:  # the chain in use is built, and guarded, with these settings
+                self.set_chain(self.chain)
+            except ModelError:
+                self._config = replace(config, apply_time_drifts=checked[0], max_noise_gain=checked[1],
+                                       noise_gain_rate_hz=checked[2])
+                raise
 
     def set_chain(self, chain: SensorChain) -> None:
         """Use another model; the history restarts (it belongs to the old model), a tare is kept.
@@ -327,20 +354,21 @@ class Compensator(_Configured):
             The chain's inverse amplifies white bridge noise more than ``max_noise_gain`` (the
             model in use, if any, is kept).
         """
-        self.noise_gain = check_noise_gain(chain, self.config.noise_gain_rate_hz, self.config.max_noise_gain)
-        self.chain = chain
-        #: the model's time drifts the stream leaves out (``apply_time_drifts`` off), by kind
-        self.time_drifts_left_out = () if self.config.apply_time_drifts else time_drifts(chain)
-        in_use = chain
-        if self.time_drifts_left_out:
-            in_use = SensorChain([e for e in chain.elements if not isinstance(e, TimeDriftElement)])
-        self._stream = in_use.streaming()
+        cfg = self.config
+        # everything is built before anything is kept: a refused chain leaves the one in use whole
+        in_use = runtime_chain(chain, cfg.apply_time_drifts)
+        gain = check_noise_gain(in_use, cfg.noise_gain_rate_hz, cfg.max_noise_gain)
+        stream = in_use.streaming()
         core = chain.viscoelastic
         g0 = core.relaxation().g0_n_per_v if core is not None else 1.0
         # plays at the bridge rest inside their bands at a steady force: only their linear part adds to the
         # instantaneous compliance that turns a resting force into an offset error
         linear_v_per_n = sum(e.linear_v_per_n for e in chain.elements if isinstance(e, BridgeHysteresisElement))
+        self.noise_gain, self.chain, self._stream = gain, chain, stream
+        #: the model's time drifts the stream leaves out (``apply_time_drifts`` off), by kind
+        self.time_drifts_left_out = () if in_use is chain else time_drifts(chain)
         self._g0 = g0 / (1.0 + g0 * linear_v_per_n)
+        self._checked_with = (cfg.apply_time_drifts, cfg.max_noise_gain, cfg.noise_gain_rate_hz)
         self._update_shift()
         self._restart()
 

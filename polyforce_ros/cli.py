@@ -55,8 +55,9 @@ def cmd_simulate(args: argparse.Namespace) -> int:
     kinds = " -> ".join(e.kind for e in sensor.elements)
     print(f"sensor truth: {truth.model} ({kinds})  noise {args.noise_v * 1e3:.2f} mV, {truth.adc_bits}-bit ADC")
     print(f"compensation model: {args.model or default_model_path()}")
-    if time_drifts_note(time_drifts(model.chain)):  # the sensor drifts as the model says; the runtime does not follow
-        print(f"note: {time_drifts_note(time_drifts(model.chain))}", file=sys.stderr)
+    note = time_drifts_note(time_drifts(model.chain))  # the sensor drifts as the model says; the runtime does not follow
+    if note:
+        print(f"note: {note}", file=sys.stderr)
     _header()
     names = [args.profile] if args.profile != "all" else ["needle_insertion", "step", "sawtooth", "creep"]
     ok = True
@@ -113,14 +114,16 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
 
 
 def cmd_compensate(args: argparse.Namespace) -> int:
-    from .runtime.compensator import check_noise_gain
+    from .runtime.compensator import check_noise_gain, runtime_chain
     from .workflows import compensate_bag
 
     model = load_model(args.model or default_model_path())
     config = CompensatorConfig(force_limit_n=args.force_limit, auto_tare=not args.no_auto_tare,
                                max_noise_gain=args.max_noise_gain, noise_gain_rate_hz=args.rate,
                                apply_time_drifts=args.apply_time_drifts)
-    gain = check_noise_gain(model.chain, config.noise_gain_rate_hz, config.max_noise_gain)  # exit 2 when refused
+    # the chain the runtime runs, as the compensator will judge it; exit 2 when refused
+    gain = check_noise_gain(runtime_chain(model.chain, config.apply_time_drifts), config.noise_gain_rate_hz,
+                            config.max_noise_gain)
     print(f"model noise gain {gain.gain_n_per_v:.3g} N/V rms at {gain.rate_hz:g} Hz (max_noise_gain "
           f"{config.max_noise_gain:g}; most from {gain.element}); latency {1e3 * model.chain.latency_s:.1f} ms",
           file=sys.stderr)

@@ -141,6 +141,24 @@ def test_cli_compensate_leaves_a_models_time_drift_out_with_a_warning_unless_ask
     assert np.abs(forces["--apply-time-drifts"] - forces[""])[t > 1.5].min() > 0.1  # N: 50 mV at ~4.8 N/V, and more
 
 
+def test_cli_compensate_judges_the_noise_gain_of_the_chain_it_runs(creep_bags, tmp_path):
+    # a drift moves a nonlinear gain's working point: with it the inverse passes noise at ~24 N/V, without it (as
+    # compensate runs by default) at 4.8 N/V; a limit of 10 refuses the model only when the drift is applied
+    from polyforce_ros.model_file import SensorModel, save_model
+    from polyforce_ros.physics.chain import (OffsetElement, PolynomialGainElement, SensorChain, StepDriftElement,
+                                             ViscoelasticElement)
+
+    model = tmp_path / "drift.yaml"
+    save_model(model, SensorModel(SensorChain([
+        ViscoelasticElement(PAPER_BURGERS), PolynomialGainElement(quadratic_per_v=0.3, cubic_per_v2=0.0, quartic_per_v3=0.0),
+        OffsetElement(0.0), StepDriftElement([0.001], [0.8])])))
+    for flag, code in (("", 0), ("--apply-time-drifts", 2)):
+        proc = polyforce("compensate", str(creep_bags["burgers"]), str(tmp_path / f"out{flag}.mcap"), "--model",
+                         str(model), *([flag] if flag else []))
+        assert proc.returncode == code, proc.stderr
+        assert ("above max_noise_gain" in proc.stderr) == bool(code), proc.stderr
+
+
 def test_calibration_node_service_then_compensation_node_loads_it(creep_bags, tmp_path):
     out = tmp_path / "node_model.yaml"
     with ros() as h:

@@ -39,8 +39,9 @@ def evaluate_bag(path: str | Path, model_path: Optional[str | Path] = None) -> S
         warnings.append(f"bridge offset: {out.zeroing}")
     if not used.all():
         warnings.append(f"{int((~used).sum())} samples gave no force (see the compensator's rules)")
-    if time_drifts_note(time_drifts(model.chain)):
-        warnings.append(time_drifts_note(time_drifts(model.chain)))
+    note = time_drifts_note(time_drifts(model.chain))
+    if note:
+        warnings.append(note)
     t, force, static, comp = t[used], force[used], out.static_n[used], out.compensated_n[used]
     es, ec = error_summary(force, static), error_summary(force, comp)
     section = Section(f"Recorded bag {Path(path).name}", notes=[f"model: {model_path or default_model_path()}"] + warnings)

@@ -133,11 +133,12 @@ class _CompensationLogic(PolyforceNode):
         gain = comp.noise_gain
         self.get_logger().info(f"model noise gain {gain.gain_n_per_v:.3g} N/V rms at {gain.rate_hz:g} Hz "
                                f"(max_noise_gain {comp.config.max_noise_gain:g}; most from {gain.element})")
+        applied = time_drifts(model.chain) if comp.config.apply_time_drifts else ()
         if comp.time_drifts_note:
             self.get_logger().warning(comp.time_drifts_note)
-        elif comp.config.apply_time_drifts and time_drifts(model.chain):
-            self.get_logger().info(f"applying the model's time drifts ({', '.join(time_drifts(model.chain))}) from "
-                                   "each start, reset or tare (apply_time_drifts)")
+        elif applied:
+            self.get_logger().info(f"applying the model's time drifts ({', '.join(applied)}) from each start, reset "
+                                   "or tare (apply_time_drifts)")
 
     @property
     def _comp(self) -> Compensator:

@@ -189,12 +189,20 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
           f"noise floor {diag.noise_floor_v:.3e} V")
     if diag.unexplained["present"]:
         print(f"unexplained: structured residual {diag.unexplained['rms_v']:.3e} V that no catalogue effect describes")
-    for label, key in (("base model", "base"), ("saved model", "saved")):
-        q = diag.newtons[key]
-        print(f"compensated force, left-out blocks, {label}: RMSE {q['rmse_n']:.4f} N "
-              f"({q['rmse_percent_full_scale']:.2f} % FS), largest error {q['max_error_n']:.4f} N "
-              f"({q['max_error_percent_full_scale']:.2f} % FS), R2 {q['r2']:.4f}; noise gain "
-              f"{q['noise_gain_n_per_v']:.3g} N/V at {q['noise_gain']['rate_hz']:g} Hz")
+    runtime_view = diag.newtons.get("saved_runtime")
+    for label, q in (("base model", diag.newtons["base"]), ("saved model", diag.newtons["saved"]),
+                     ("saved model as the runtime runs it (time drifts left out)", runtime_view)):
+        if q and "rmse_n" in q:
+            print(f"compensated force, left-out blocks, {label}: RMSE {q['rmse_n']:.4f} N "
+                  f"({q['rmse_percent_full_scale']:.2f} % FS), largest error {q['max_error_n']:.4f} N "
+                  f"({q['max_error_percent_full_scale']:.2f} % FS), R2 {q['r2']:.4f}; noise gain "
+                  f"{q['noise_gain_n_per_v']:.3g} N/V at {q['noise_gain']['rate_hz']:g} Hz")
+    if runtime_view and "refused" in runtime_view:
+        print(f"warning: compensate and compensation_node refuse the saved model by default: {runtime_view['refused']}")
+    elif runtime_view and runtime_view["worse_than_base"]:
+        print("warning: as compensate and compensation_node run it by default (time drifts left out), the saved model "
+              f"compensates this record worse than the base ({runtime_view['rmse_n']:.4f} N against "
+              f"{diag.newtons['base']['rmse_n']:.4f} N RMSE): its other effects were fitted beside the drift")
     if diag.newtons.get("lag_bandwidth"):
         bw = diag.newtons["lag_bandwidth"]
         print(f"sensor lag inverted with a bandwidth: filter {bw['filter_factor']:g} x tau, order {bw['filter_order']}, "
@@ -350,7 +358,9 @@ def build_parser() -> argparse.ArgumentParser:
                     "compensated force of the left-out blocks against the reference (rmse_n, max_error_n, their % of "
                     "full scale, r2) and the inverse's white-noise gain (noise_gain_n_per_v, its frequency response); "
                     "lag_bandwidth: the filter time and added delay of a sensor lag's inverse; friction_inverse_share: "
-                    "the share of a friction its inverse adds back, chosen by the compensated force; runtime_guard: the "
+                    "the share of a friction its inverse adds back, chosen by the compensated force; saved_runtime: "
+                    "the same figures for the saved model as compensate and the node run it by default (time drifts "
+                    "left out), when it holds one; runtime_guard: the "
                     "saved model's noise gain against the runtime's default max_noise_gain (accepted or not); "
                     "rejected: effects not "
                     "saved because they compensate the force worse than the base}. The saved model's provenance "

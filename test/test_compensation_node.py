@@ -323,9 +323,10 @@ def test_sensor_serial_of_the_model_against_the_live_device(tmp_path):
 
 
 @pytest.mark.parametrize("apply", [False, True])
-def test_a_models_time_drift_is_left_out_unless_apply_time_drifts(tmp_path, apply):
-    """A step drift of 50 mV at 0.1 s: left out by default (a zero that never moves reads as zero force), the
-    node's own parameter applies it (the step reads as force)."""
+def test_a_models_time_drift_is_left_out_unless_apply_time_drifts(tmp_path, apply, capfd):
+    """A step drift of 50 mV at 0.1 s: left out by default (a zero that never moves reads as zero force, and the
+    log warns that it is left out), the node's own parameter applies it (the step reads as force, and the log says
+    so)."""
     from polyforce_ros.physics.chain import OffsetElement, StepDriftElement, ViscoelasticElement
 
     path = tmp_path / "drift.yaml"
@@ -337,6 +338,10 @@ def test_a_models_time_drift_is_left_out_unless_apply_time_drifts(tmp_path, appl
         send_all(h, probe, T0_NS + np.arange(n) * 1_000_000, np.zeros(n), expect=n)
         forces = np.array([w.wrench.force.z for w in probe.sample_wrenches()])
     assert node.compensator.time_drifts_left_out == (() if apply else ("step_drift",))
+    log = capfd.readouterr().err
+    left_out = "the model's time drifts are left out (step_drift)"
+    assert (left_out in log and "WARN" in next(line for line in log.splitlines() if left_out in line)) is not apply
+    assert ("applying the model's time drifts (step_drift)" in log) is apply
     if apply:
         assert forces[-1] < -0.1  # N: the record's jump, subtracted from a zero that never moved
     else:

@@ -885,3 +885,76 @@ def test_a_candidate_that_fails_beside_the_named_shapes_is_retried_with_them_rec
     assert cand.retried is retry_justified
     assert cand.fit is (again if retry_justified else added)
     assert ("retry viscous_flow with the shapes named before it re-chosen" in said) is retry_justified
+
+
+def _settling_zero_record():
+    """A random burgers sensor whose zero settles by 30 mV over a minute (200 Hz, 300 s, no temperature)."""
+    from polyforce_ros.physics.chain import ExponentialDriftElement
+
+    return _chain_record([ExponentialDriftElement(amplitude_v=0.03, tau_s=60.0)], 151, rate_hz=200.0,
+                         duration_s=300.0, temperature=False)[0]
+
+
+def test_a_saved_time_drift_is_also_judged_as_the_runtime_runs_it():
+    """The runtime leaves a model's time drifts out by default, so a diagnosis that names one also reports the
+    saved model's compensated force without it (``saved_runtime``): what the haptic master receives. On a record
+    whose zero settles by 30 mV, that force still carries the drift (worse than the saved figure, about as bad as
+    the base, which never held the drift) and matches the record compensated by the runtime's chain of the
+    saved model; the printout and the report show it."""
+    from polyforce_ros.physics.noise_gain import backward_noise_gain
+    from polyforce_ros.runtime.compensator import runtime_chain, time_drifts
+
+    rec = _settling_zero_record()
+    diag = diagnose(rec, base="burgers")
+    assert time_drifts(diag.chain), (diag.missing_effects, diag.chain)
+    view, saved, base = diag.newtons["saved_runtime"], diag.newtons["saved"], diag.newtons["base"]
+    assert view["time_drifts_left_out"] == list(time_drifts(diag.chain))
+    assert view["rmse_n"] > 2.0 * saved["rmse_n"]
+    assert view["worse_than_base"] is (view["rmse_n"] > base["rmse_n"])
+    full = runtime_chain(diag.chain).backward(rec.t_s, rec.voltage_v)
+    assert view["rmse_n"] == pytest.approx(error_summary(rec.force_n, full)["rmse_n"], rel=0.25)
+    assert view["noise_gain_n_per_v"] == pytest.approx(
+        backward_noise_gain(runtime_chain(diag.chain), view["noise_gain"]["rate_hz"]).gain_n_per_v, rel=1e-9)
+
+
+def test_diagnose_prints_reports_and_saves_the_runtime_view_of_a_time_drift(tmp_path):
+    """``polyforce diagnose`` on a bag of that record: the printout gives the force as the runtime runs it, the
+    warning when it is worse than the base, and (with ``--save-model``) the note that the runtime leaves the drift
+    out; the report's table and the model's provenance carry the same figure."""
+    import subprocess
+    import sys
+
+    from polyforce_ros.model_file import load_model
+    from polyforce_ros.sim.recording import write_bench_bag
+
+    import json
+
+    rec = _settling_zero_record()
+    bag, model, report, out = tmp_path / "drift.mcap", tmp_path / "model.yaml", tmp_path / "report", tmp_path / "d.json"
+    write_bench_bag(bag, rec.t_s, rec.force_n, rec.voltage_v)
+    proc = subprocess.run([sys.executable, "-m", "polyforce_ros.cli", "diagnose", str(bag), "--base", "burgers",
+                           "--save-model", str(model), "--report", str(report), "--json", str(out)],
+                          capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    view = json.loads(out.read_text())["newtons"]["saved_runtime"]
+    runtime_line = next(line for line in proc.stdout.splitlines() if "as the runtime runs it (time drifts left out)" in line)
+    assert f"RMSE {view['rmse_n']:.4f} N" in runtime_line
+    assert ("warning: as compensate and compensation_node run it by default" in proc.stdout) is view["worse_than_base"]
+    assert "note: compensate and compensation_node: the model's time drifts are left out" in proc.stdout
+    assert "| saved, as the runtime runs it (time drifts left out) |" in (report / "report.md").read_text()
+    figures = load_model(model).provenance["compensated_force"]["saved_runtime"]
+    assert figures["rmse_n"] == pytest.approx(view["rmse_n"]) and figures["time_drifts_left_out"]
+
+
+def test_a_model_of_no_drift_has_no_runtime_view_and_one_the_runtime_refuses_says_so():
+    """Without a time drift the runtime runs the saved chain itself (no second figure); a chain of time drifts
+    alone is refused by the runtime, and the runtime view names why rather than scoring it."""
+    from polyforce_ros.discrepancy.engine import _Judgement, _runtime_view
+    from polyforce_ros.physics.chain import ExponentialDriftElement, SensorChain
+
+    rec, _ = _chain_record([], 152, rate_hz=200.0, duration_s=200.0, temperature=False)
+    assert "saved_runtime" not in diagnose(rec, base="burgers").newtons
+    drift_only = SensorChain([ExponentialDriftElement(amplitude_v=0.01, tau_s=10.0)])
+    view = _runtime_view(_Judgement(drift_only, {}, np.zeros(0), np.zeros(0), False), None, None, np.zeros(0, int),
+                         rec.t_s, rec.voltage_v, rec.force_n, None, lambda c: c, 1.0)
+    assert "only time drifts" in view["refused"] and view["time_drifts_left_out"] == ["exponential_drift"]

@@ -94,9 +94,10 @@ from typing import Any, Callable, Collection, Optional, Sequence
 import numpy as np
 from scipy import ndimage
 
-from ..physics.chain import FrictionElement, SensorChain
+from ..physics.chain import FrictionElement, ModelError, SensorChain
 from ..record import Record  # the record type diagnose takes (re-exported)
 from ..runtime import CompensatorConfig
+from ..runtime.compensator import runtime_chain, time_drifts
 from .design import (BASES, BLOCKS_PER_FOLD, Fit, Fitter, Structure, Term, build_chain, core_model, fitted,
                      fold_of, predict, refresh_ref)
 from .effects import EFFECTS as REGISTRY, NAMES, lag_stages
@@ -305,7 +306,28 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
         judged.newtons["latency_s"] = judged.chain.latency_s
         judged.newtons.pop("friction_inverse_share", None)  # nothing of it is saved
     judged.newtons["runtime_guard"] = runtime_guard(judged.chain, rate_of(t))
+    if time_drifts(judged.chain) and not judged.rejected:
+        judged.newtons["saved_runtime"] = _runtime_view(judged, fit, sig, fold_rec, t, rec.voltage_v, force_n, rec_temp,
+                                                        partial(_as_saved, finish=finish, noise_v=noise_v,
+                                                                factor=factor, order=order, share=chosen_share),
+                                                        base_q.rmse_n)
     return judged
+
+
+def _runtime_view(judged: _Judgement, fit: Fit, sig: Signals, fold_rec: IntArray, t: FloatArray, voltage_v: FloatArray,
+                  force_n: FloatArray, temperature_c: Optional[FloatArray],
+                  as_saved: Callable[[SensorChain], SensorChain], base_rmse_n: float) -> dict[str, Any]:
+    """The saved model judged as the runtime runs it by default (:func:`.runtime_chain`: its time drifts left out,
+    no zeroing): what the haptic master receives from this record, beside ``saved`` (drifts applied). A model of
+    time drifts alone is refused by the runtime; its figure says so."""
+    try:
+        runs = runtime_chain(judged.chain)
+        chains = fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names, fit.coef_folds,
+                             lambda c: runtime_chain(as_saved(c)))
+    except ModelError as exc:
+        return {"refused": str(exc), "time_drifts_left_out": list(time_drifts(judged.chain))}
+    q = force_quality(chains, fold_rec, t, voltage_v, force_n, temperature_c, noise_chain=runs).to_dict()
+    return {**q, "time_drifts_left_out": list(time_drifts(judged.chain)), "worse_than_base": not q["rmse_n"] <= base_rmse_n}
 
 
 def _at_full_rate(full_rate: Signals, sig: Signals) -> Signals:

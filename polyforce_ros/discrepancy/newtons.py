@@ -5,8 +5,9 @@ the compensation runs it backward, and an inverse that rises with frequency
 turns bridge noise into force. Every diagnosis therefore also runs its models
 backward (:meth:`SensorChain.backward`) on the record, its time drifts applied
 from the record's first sample (the runtime applies them only with
-``apply_time_drifts``), and judges their noise gain on the chain the runtime
-runs (:func:`~polyforce_ros.runtime.compensator.runtime_chain`):
+``apply_time_drifts``; a saved model that holds one is also judged without
+them, as the runtime runs it), and judges their noise gain on the chain the
+runtime runs (:func:`~polyforce_ros.runtime.compensator.runtime_chain`):
 
 * :func:`force_quality`: the compensated force of the record's left-out blocks
   (each block compensated by the model fitted without it) against the reference,

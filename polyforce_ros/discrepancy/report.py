@@ -120,13 +120,22 @@ def write_report(diag: Diagnosis, rec: Record, out_dir: PathLike, bag_name: str 
     lines += ["## Compensated force (what the haptic master receives)", "",
               "| model | RMSE [N] | RMSE [% FS] | largest error [N] | largest [% FS] | R2 | noise gain [N/V] |",
               "|---|---|---|---|---|---|---|"]
-    for label, q in (("base", base_q), ("saved", saved_q)):
+    runtime_q = diag.newtons.get("saved_runtime") or {}
+    for label, q in (("base", base_q), ("saved", saved_q), ("saved, as the runtime runs it (time drifts left out)",
+                                                             runtime_q)):
+        if "rmse_n" not in q:
+            continue
         lines.append(f"| {label} | {q['rmse_n']:.4f} | {q['rmse_percent_full_scale']:.2f} | {q['max_error_n']:.4f} | "
                      f"{q['max_error_percent_full_scale']:.2f} | {q['r2']:.4f} | {q['noise_gain_n_per_v']:.3g} |")
     if diag.newtons.get("lag_bandwidth"):
         bw = diag.newtons["lag_bandwidth"]
         lines += ["", f"The sensor lag is inverted with a bandwidth: filter time {bw['filter_factor']:g} x its time "
                       f"constant, roll-off of order {bw['filter_order']}, added delay {1e3 * bw['added_delay_s']:.1f} ms."]
+    if "refused" in runtime_q:
+        lines += ["", f"The runtime refuses the saved model by default: {runtime_q['refused']}."]
+    elif runtime_q.get("worse_than_base"):
+        lines += ["", "As the runtime runs it by default (time drifts left out), the saved model compensates this "
+                      "record worse than the base: its other effects were fitted beside the drift."]
     if diag.newtons.get("rejected"):
         lines += ["", f"Not saved: {', '.join(diag.newtons['rejected']['effects'])} (they compensate the force worse "
                       "than the base)."]
@@ -172,7 +181,7 @@ def run(bag: PathLike, base: str, json_path: Optional[PathLike] = None, report_d
                       "noise_floor_v": diag.noise_floor_v,
                       "unexplained": {"present": bool(diag.unexplained["present"]), "rms_v": float(diag.unexplained["rms_v"])},
                       "compensated_force": {k: {m: v for m, v in diag.newtons[k].items() if m != "noise_gain"}
-                                            for k in ("base", "saved")},
+                                            for k in ("base", "saved", "saved_runtime") if k in diag.newtons},
                       "noise_gain": diag.newtons["saved"]["noise_gain"]}
         if sensor_serial and str(sensor_serial).strip():  # compensation_node compares it with the live device's
             provenance["sensor_serial"] = str(sensor_serial).strip()

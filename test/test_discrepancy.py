@@ -555,6 +555,19 @@ def test_a_drift_in_time_holds_at_rest_and_a_drift_that_follows_the_load_does_no
     assert drift_follows_load(sig, np.zeros_like(t), smooth, min_runs=3)
 
 
+@given(st_.lists(st_.booleans(), max_size=60), st_.integers(0, 40))
+def test_near_marks_every_sample_within_reach_of_a_marked_one(mask, reach):
+    """residual.near against its definition, sample by sample, for any mask and reach (a reach longer than the
+    record too: the answer keeps the record's length)."""
+    from polyforce_ros.discrepancy.residual import near
+
+    mask = np.array(mask, dtype=bool)
+    marked = np.flatnonzero(mask)
+    want = np.array([bool(marked.size) and bool(np.min(np.abs(marked - i)) <= reach) for i in range(mask.size)],
+                    dtype=bool)
+    assert np.array_equal(near(mask, reach), want)
+
+
 @settings(max_examples=40, deadline=None)
 @given(seed=st_.integers(0, 2 ** 31 - 1))
 def test_zero_jumps_are_found_where_the_zero_jumps_and_nowhere_else(seed):

@@ -27,7 +27,7 @@ from .effects import Col, lag_columns
 from .signals import MIN_GAP_S, FloatArray, IntArray, Signals, ZeroJump, noise_std
 
 __all__ = ["noise_std", "NoiseFloor", "noise_floor", "excess", "ljung_box", "band_structure", "Unexplained",
-           "unexplained_test", "out_of_sample", "where", "drift_follows_load", "slow_response_columns", "zero_jumps"]
+           "unexplained_test", "out_of_sample", "where", "drift_follows_load", "slow_response_columns", "zero_jumps", "near"]
 
 
 # ----------------------------------------------------------------------------- the noise floor
@@ -373,6 +373,15 @@ def _line_gaps(y: FloatArray, n: int, g: int) -> FloatArray:
     return out
 
 
+def near(mask: npt.ArrayLike, reach: int) -> npt.NDArray[np.bool_]:
+    """Samples within ``reach`` samples of a true one of ``mask`` (a binary dilation; outside the array is false)."""
+    mask = np.asarray(mask, dtype=bool)
+    if reach <= 0 or mask.size == 0:
+        return mask.copy()
+    out: npt.NDArray[np.bool_] = ndimage.binary_dilation(mask, structure=np.ones(2 * int(reach) + 1, dtype=bool))
+    return out
+
+
 def zero_jumps(t_s: FloatArray, resid_v: FloatArray, core_v: FloatArray, valid: npt.ArrayLike, sigma_v: float,
                stepped_gaps_s: Sequence[tuple[float, float]] = ()) -> tuple[ZeroJump, ...]:
     """Where, and by how much, the residual ``resid_v`` of a model jumps while its core's output ``core_v`` does
@@ -437,15 +446,12 @@ def zero_jumps(t_s: FloatArray, resid_v: FloatArray, core_v: FloatArray, valid: 
     bends[usable] = gaps_x @ beta
     misfit = np.column_stack([x / scale, (x / scale) ** 2]) @ beta  # the same, on the residual itself (gaps are linear)
 
-    def within(mask: npt.NDArray[np.bool_], reach: int) -> npt.NDArray[np.bool_]:
-        return np.convolve(mask.astype(float), np.ones(2 * reach + 1), mode="same") > 0.5
-
     stepped = np.zeros(t.size, dtype=bool)
     for start, end in stepped_gaps_s:
         stepped |= (t >= start) & (t <= end)
-    stepped = within(stepped, g)
+    stepped = near(stepped, g)
     empty = ndimage.binary_opening(~ok, structure=np.ones(max(int(math.ceil(MIN_GAP_S / dt)), 5), dtype=bool))
-    at_empty, near_empty = within(empty, g), within(empty, n + g)
+    at_empty, near_empty = near(empty, g), near(empty, n + g)
     # a step inside one window tilts that line, so the gap has side lobes of the other sign within a window of the
     # jump, and what settles after it bends the lines there: the largest jump first, taken out of the residual
     # (the gap there recomputed) before the next is sought, and none other within a window and a guard of it

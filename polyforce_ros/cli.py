@@ -199,10 +199,9 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
                   f"{q['noise_gain_n_per_v']:.3g} N/V at {q['noise_gain']['rate_hz']:g} Hz")
     if runtime_view and "refused" in runtime_view:
         print(f"warning: compensate and compensation_node refuse the saved model by default: {runtime_view['refused']}")
-    elif runtime_view and runtime_view["worse_than_base"]:
-        print("warning: as compensate and compensation_node run it by default (time drifts left out), the saved model "
-              f"compensates this record worse than the base ({runtime_view['rmse_n']:.4f} N against "
-              f"{diag.newtons['base']['rmse_n']:.4f} N RMSE): its other effects were fitted beside the drift")
+    elif runtime_view:
+        print(f"  this record's drift left in that force: {runtime_view['drift_in_force_rms_n']:.4f} N rms (live, the "
+              "start-up zeroing and ~/tare set the zero, and drift_tracking follows it at rest)")
     if diag.newtons.get("lag_bandwidth"):
         bw = diag.newtons["lag_bandwidth"]
         print(f"sensor lag inverted with a bandwidth: filter {bw['filter_factor']:g} x tau, order {bw['filter_order']}, "

@@ -309,25 +309,28 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     if time_drifts(judged.chain) and not judged.rejected:
         judged.newtons["saved_runtime"] = _runtime_view(judged, fit, sig, fold_rec, t, rec.voltage_v, force_n, rec_temp,
                                                         partial(_as_saved, finish=finish, noise_v=noise_v,
-                                                                factor=factor, order=order, share=chosen_share),
-                                                        base_q.rmse_n)
+                                                                factor=factor, order=order, share=chosen_share))
     return judged
 
 
 def _runtime_view(judged: _Judgement, fit: Fit, sig: Signals, fold_rec: IntArray, t: FloatArray, voltage_v: FloatArray,
                   force_n: FloatArray, temperature_c: Optional[FloatArray],
-                  as_saved: Callable[[SensorChain], SensorChain], base_rmse_n: float) -> dict[str, Any]:
+                  as_saved: Callable[[SensorChain], SensorChain]) -> dict[str, Any]:
     """The saved model judged as the runtime runs it by default (:func:`.runtime_chain`: its time drifts left out,
-    no zeroing): what the haptic master receives from this record, beside ``saved`` (drifts applied). A model of
-    time drifts alone is refused by the runtime; its figure says so."""
+    no zeroing): the force the haptic master would receive from this record, the record's own drift left in it
+    (``drift_in_force_rms_n``: what the drifts applied take out, which live the start-up zeroing, ``~/tare`` and
+    ``drift_tracking`` follow instead). A model of time drifts alone is refused by the runtime; its figure says so."""
+    kinds = list(time_drifts(judged.chain))
     try:
         runs = runtime_chain(judged.chain)
         chains = fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names, fit.coef_folds,
                              lambda c: runtime_chain(as_saved(c)))
     except ModelError as exc:
-        return {"refused": str(exc), "time_drifts_left_out": list(time_drifts(judged.chain))}
-    q = force_quality(chains, fold_rec, t, voltage_v, force_n, temperature_c, noise_chain=runs).to_dict()
-    return {**q, "time_drifts_left_out": list(time_drifts(judged.chain)), "worse_than_base": not q["rmse_n"] <= base_rmse_n}
+        return {"refused": str(exc), "time_drifts_left_out": kinds}
+    q = force_quality(chains, fold_rec, t, voltage_v, force_n, temperature_c, noise_chain=runs)
+    left_in = q.force_n - judged.force_after_n
+    return {**q.to_dict(), "time_drifts_left_out": kinds,
+            "drift_in_force_rms_n": float(np.sqrt(np.mean(left_in ** 2))) if left_in.size else float("nan")}
 
 
 def _at_full_rate(full_rate: Signals, sig: Signals) -> Signals:

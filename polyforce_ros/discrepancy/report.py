@@ -133,9 +133,11 @@ def write_report(diag: Diagnosis, rec: Record, out_dir: PathLike, bag_name: str 
                       f"constant, roll-off of order {bw['filter_order']}, added delay {1e3 * bw['added_delay_s']:.1f} ms."]
     if "refused" in runtime_q:
         lines += ["", f"The runtime refuses the saved model by default: {runtime_q['refused']}."]
-    elif runtime_q.get("worse_than_base"):
-        lines += ["", "As the runtime runs it by default (time drifts left out), the saved model compensates this "
-                      "record worse than the base: its other effects were fitted beside the drift."]
+    elif runtime_q:
+        lines += ["", f"As the runtime runs it by default, the saved model leaves its time drifts "
+                      f"({', '.join(runtime_q['time_drifts_left_out'])}) out: this record's drift stays in the force "
+                      f"({runtime_q['drift_in_force_rms_n']:.4f} N rms); live, the start-up zeroing and ~/tare set the "
+                      "zero, and drift_tracking follows it at rest."]
     if diag.newtons.get("rejected"):
         lines += ["", f"Not saved: {', '.join(diag.newtons['rejected']['effects'])} (they compensate the force worse "
                       "than the base)."]

@@ -192,14 +192,12 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     runtime_view = diag.newtons.get("saved_runtime")
     for label, q in (("base model", diag.newtons["base"]), ("saved model", diag.newtons["saved"]),
                      ("saved model as the runtime runs it (time drifts left out)", runtime_view)):
-        if q and "rmse_n" in q:
+        if q:
             print(f"compensated force, left-out blocks, {label}: RMSE {q['rmse_n']:.4f} N "
                   f"({q['rmse_percent_full_scale']:.2f} % FS), largest error {q['max_error_n']:.4f} N "
                   f"({q['max_error_percent_full_scale']:.2f} % FS), R2 {q['r2']:.4f}; noise gain "
                   f"{q['noise_gain_n_per_v']:.3g} N/V at {q['noise_gain']['rate_hz']:g} Hz")
-    if runtime_view and "refused" in runtime_view:
-        print(f"warning: compensate and compensation_node refuse the saved model by default: {runtime_view['refused']}")
-    elif runtime_view:
+    if runtime_view:
         print(f"  this record's drift left in that force: {runtime_view['drift_in_force_rms_n']:.4f} N rms (live, the "
               "start-up zeroing and ~/tare set the zero, and drift_tracking follows it at rest)")
     if diag.newtons.get("lag_bandwidth"):

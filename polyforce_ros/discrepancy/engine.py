@@ -94,7 +94,7 @@ from typing import Any, Callable, Collection, Optional, Sequence
 import numpy as np
 from scipy import ndimage
 
-from ..physics.chain import FrictionElement, ModelError, SensorChain
+from ..physics.chain import FrictionElement, SensorChain
 from ..record import Record  # the record type diagnose takes (re-exported)
 from ..runtime import CompensatorConfig
 from ..runtime.compensator import runtime_chain, time_drifts
@@ -319,17 +319,13 @@ def _runtime_view(judged: _Judgement, fit: Fit, sig: Signals, fold_rec: IntArray
     """The saved model judged as the runtime runs it by default (:func:`.runtime_chain`: its time drifts left out,
     no zeroing): the force the haptic master would receive from this record, the record's own drift left in it
     (``drift_in_force_rms_n``: what the drifts applied take out, which live the start-up zeroing, ``~/tare`` and
-    ``drift_tracking`` follow instead). A model of time drifts alone is refused by the runtime; its figure says so."""
-    kinds = list(time_drifts(judged.chain))
-    try:
-        runs = runtime_chain(judged.chain)
-        chains = fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names, fit.coef_folds,
-                             lambda c: runtime_chain(as_saved(c)))
-    except ModelError as exc:
-        return {"refused": str(exc), "time_drifts_left_out": kinds}
-    q = force_quality(chains, fold_rec, t, voltage_v, force_n, temperature_c, noise_chain=runs)
+    ``drift_tracking`` follow instead). The saved chain always keeps its core, so the runtime never refuses it as
+    a model of time drifts alone."""
+    chains = fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names, fit.coef_folds,
+                         lambda c: runtime_chain(as_saved(c)))
+    q = force_quality(chains, fold_rec, t, voltage_v, force_n, temperature_c, noise_chain=runtime_chain(judged.chain))
     left_in = q.force_n - judged.force_after_n
-    return {**q.to_dict(), "time_drifts_left_out": kinds,
+    return {**q.to_dict(), "time_drifts_left_out": list(time_drifts(judged.chain)),
             "drift_in_force_rms_n": float(np.sqrt(np.mean(left_in ** 2))) if left_in.size else float("nan")}
 
 

@@ -123,7 +123,7 @@ def write_report(diag: Diagnosis, rec: Record, out_dir: PathLike, bag_name: str 
     runtime_q = diag.newtons.get("saved_runtime") or {}
     for label, q in (("base", base_q), ("saved", saved_q), ("saved, as the runtime runs it (time drifts left out)",
                                                              runtime_q)):
-        if "rmse_n" not in q:
+        if not q:
             continue
         lines.append(f"| {label} | {q['rmse_n']:.4f} | {q['rmse_percent_full_scale']:.2f} | {q['max_error_n']:.4f} | "
                      f"{q['max_error_percent_full_scale']:.2f} | {q['r2']:.4f} | {q['noise_gain_n_per_v']:.3g} |")
@@ -131,9 +131,7 @@ def write_report(diag: Diagnosis, rec: Record, out_dir: PathLike, bag_name: str 
         bw = diag.newtons["lag_bandwidth"]
         lines += ["", f"The sensor lag is inverted with a bandwidth: filter time {bw['filter_factor']:g} x its time "
                       f"constant, roll-off of order {bw['filter_order']}, added delay {1e3 * bw['added_delay_s']:.1f} ms."]
-    if "refused" in runtime_q:
-        lines += ["", f"The runtime refuses the saved model by default: {runtime_q['refused']}."]
-    elif runtime_q:
+    if runtime_q:
         lines += ["", f"As the runtime runs it by default, the saved model leaves its time drifts "
                       f"({', '.join(runtime_q['time_drifts_left_out'])}) out: this record's drift stays in the force "
                       f"({runtime_q['drift_in_force_rms_n']:.4f} N rms); live, the start-up zeroing and ~/tare set the "

@@ -931,13 +931,12 @@ def test_diagnose_prints_reports_and_saves_the_runtime_view_of_a_time_drift(tmp_
     """``polyforce diagnose`` on a bag of that record: the printout gives the force as the runtime runs it, the
     drift it leaves in, and (with ``--save-model``) the note that the runtime leaves the drift
     out; the report's table and the model's provenance carry the same figure."""
+    import json
     import subprocess
     import sys
 
     from polyforce_ros.model_file import load_model
     from polyforce_ros.sim.recording import write_bench_bag
-
-    import json
 
     rec, _ = _settling_zero_record()
     bag, model, report, out = tmp_path / "drift.mcap", tmp_path / "model.yaml", tmp_path / "report", tmp_path / "d.json"

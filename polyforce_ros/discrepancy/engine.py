@@ -279,14 +279,18 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
     shares = FRICTION_INVERSE_SHARES if "friction" in named else (1.0,)
     share_rmse_n: dict[str, float] = {}
     chosen_share = 1.0
+
+    def saved_folds(share: float, runs: Callable[[SensorChain], SensorChain] = lambda c: c) -> list[SensorChain]:
+        """One chain per fold as the saved model (friction inverse share ``share``), then ``runs``, runs it."""
+        as_saved = partial(_as_saved, finish=finish, noise_v=noise_v, factor=factor, order=order, share=share)
+        return fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names, fit.coef_folds,
+                           lambda c: runs(as_saved(c)))
+
     if named:
         full = chain
         for share in shares:
             shared = with_friction_share(full, share)  # the chain saved with this share, whose noise gain is reported
-            q = force_quality(fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names, fit.coef_folds,
-                                          partial(_as_saved, finish=finish, noise_v=noise_v, factor=factor,
-                                                  order=order, share=share)),
-                              fold_rec, t, rec.voltage_v, force_n, rec_temp, noise_chain=shared)
+            q = force_quality(saved_folds(share), fold_rec, t, rec.voltage_v, force_n, rec_temp, noise_chain=shared)
             share_rmse_n[f"{share:g}"] = q.rmse_n
             if share == shares[0] or q.rmse_n < saved_q.rmse_n:
                 saved_q, chain, chosen_share = q, shared, share
@@ -307,26 +311,22 @@ def _judge_in_newtons(rec: Record, force_n: FloatArray, data: _Record, fold_rec:
         judged.newtons.pop("friction_inverse_share", None)  # nothing of it is saved
     judged.newtons["runtime_guard"] = runtime_guard(judged.chain, rate_of(t))
     if time_drifts(judged.chain) and not judged.rejected:
-        judged.newtons["saved_runtime"] = _runtime_view(judged, fit, sig, fold_rec, t, rec.voltage_v, force_n, rec_temp,
-                                                        partial(_as_saved, finish=finish, noise_v=noise_v,
-                                                                factor=factor, order=order, share=chosen_share))
+        judged.newtons["saved_runtime"] = _runtime_view(judged, saved_folds(chosen_share, runtime_chain), fold_rec, t,
+                                                        rec.voltage_v, force_n, rec_temp)
     return judged
 
 
-def _runtime_view(judged: _Judgement, fit: Fit, sig: Signals, fold_rec: IntArray, t: FloatArray, voltage_v: FloatArray,
-                  force_n: FloatArray, temperature_c: Optional[FloatArray],
-                  as_saved: Callable[[SensorChain], SensorChain]) -> dict[str, Any]:
+def _runtime_view(judged: _Judgement, chains: Sequence[SensorChain], fold_rec: IntArray, t: FloatArray,
+                  voltage_v: FloatArray, force_n: FloatArray, temperature_c: Optional[FloatArray]) -> dict[str, Any]:
     """The saved model judged as the runtime runs it by default (:func:`.runtime_chain`: its time drifts left out,
     no zeroing): the force the haptic master would receive from this record, the record's own drift left in it
     (``drift_in_force_rms_n``: what the drifts applied take out, which live the start-up zeroing, ``~/tare`` and
     ``drift_tracking`` follow instead). The saved chain always keeps its core, so the runtime never refuses it as
-    a model of time drifts alone."""
-    chains = fold_chains(lambda m: build_chain(fit.structure, m, sig), fit.names, fit.coef_folds,
-                         lambda c: runtime_chain(as_saved(c)))
+    a model of time drifts alone. ``chains``: the saved model's chain of each fold, as the runtime runs it."""
     q = force_quality(chains, fold_rec, t, voltage_v, force_n, temperature_c, noise_chain=runtime_chain(judged.chain))
     left_in = q.force_n - judged.force_after_n
     return {**q.to_dict(), "time_drifts_left_out": list(time_drifts(judged.chain)),
-            "drift_in_force_rms_n": float(np.sqrt(np.mean(left_in ** 2))) if left_in.size else float("nan")}
+            "drift_in_force_rms_n": float(np.sqrt(np.mean(left_in ** 2)))}
 
 
 def _at_full_rate(full_rate: Signals, sig: Signals) -> Signals:

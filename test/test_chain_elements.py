@@ -248,19 +248,26 @@ def _bridge_family(seed):
     kind = sorted(MODEL_TYPES)[seed % len(MODEL_TYPES)]
     n_parameters = len(MODEL_TYPES[kind].parameter_names())
     core = MODEL_TYPES[kind].from_vector(np.exp(rng.uniform(np.log(2.0), np.log(400.0), n_parameters)))
-    m = int(rng.integers(1, 12))
+    # plays on the force (seed % 3 == 0), scaled plays whose bands grow with the load (2), or both (1)
+    m = int(rng.integers(1, 12)) if seed % 3 < 2 else 0
     radii = np.sort(rng.uniform(0.01, 3.0, m)) + 1e-3 * np.arange(m)
     weights = rng.uniform(0.0, 0.05, m) * rng.choice([0.0, 1.0], m, p=[0.2, 0.8])
+    k = int(rng.integers(1, 10)) if seed % 3 > 0 else 0
+    scaled = np.sort(rng.uniform(0.003, 1.5, k)) + 1e-3 * np.arange(k)
+    scaled_weights = rng.uniform(0.0, 0.05, k) * rng.choice([0.0, 1.0], k, p=[0.2, 0.8])
     element = BridgeHysteresisElement(ViscoelasticElement(core), radii, weights, linear_v_per_n=float(rng.uniform(0, 0.01)),
-                                      history_max_n=float(rng.choice([0.0, rng.uniform(0.5, 8.0)])))
+                                      history_max_n=float(rng.choice([0.0, rng.uniform(0.5, 8.0)])),
+                                      scaled_radii=scaled, scaled_weights_v_per_n=scaled_weights,
+                                      floor_n=float(rng.uniform(0.01, 1.0)) if k else 0.0)
     dt = np.abs(1e-3 + rng.normal(0.0, 2e-4, 6000))
     dt[3000] = 0.5  # a gap
     t = np.cumsum(dt)
-    force = 5.0 + 4.0 * np.sin(2 * np.pi * t / rng.uniform(0.5, 4.0)) + rng.normal(0.0, 0.05, t.size)
+    centre = 5.0 if seed % 2 else 0.0  # a push, or a push and a pull through zero
+    force = centre + 4.0 * np.sin(2 * np.pi * t / rng.uniform(0.5, 4.0)) + rng.normal(0.0, 0.05, t.size)
     return element, t, force
 
 
-@pytest.mark.parametrize("seed", range(14))
+@pytest.mark.parametrize("seed", range(18))
 def test_bridge_hysteresis_inverts_exactly_streams_like_batch_and_runs_in_blocks(seed):
     element, t, force = _bridge_family(seed)
     chain = SensorChain([element, OffsetElement(0.05)])
@@ -302,8 +309,38 @@ def test_bridge_hysteresis_opens_a_loop_the_core_alone_does_not_and_its_inverse_
     np.testing.assert_allclose(element.backward(t, with_loop), force, rtol=0, atol=1e-8)
 
 
+def test_scaled_plays_open_a_loop_that_grows_with_the_load_and_the_inverse_closes_it():
+    from polyforce_ros.physics.chain import BridgeHysteresisElement
+
+    scaled = np.geomspace(0.005, 0.05, 6)  # every band crossed 2 N and 8 N away from a reversal
+    element = BridgeHysteresisElement(ViscoelasticElement(PAPER_BURGERS), scaled_radii=scaled,
+                                      scaled_weights_v_per_n=np.full(6, 0.004), floor_n=0.1)
+    t = np.arange(0.0, 40.0, 1e-3)
+    force = 10.0 * np.abs(((t / 10.0) % 2.0) - 1.0)[::-1]  # 0-10 N sawtooth, 20 s period
+    extra = element.forward(t, force) - ViscoelasticElement(PAPER_BURGERS).forward(t, force)
+    up, down = np.gradient(force) > 0, np.gradient(force) < 0
+    width = {}
+    for level in (2.0, 8.0):
+        at = np.abs(force - level) < 0.05
+        width[level] = extra[at & down].mean() - extra[at & up].mean()
+    # floor (sinh(u + r) - sinh(u - r)) = 2 sqrt(F**2 + floor**2) sinh r: a band of about +-r F, four times as wide
+    # at 8 N as at 2 N (a plain play's is the same width at both)
+    for level in (2.0, 8.0):
+        assert width[level] == pytest.approx(2.0 * np.hypot(level, 0.1) * np.sum(0.004 * np.sinh(scaled)), rel=0.03)
+    np.testing.assert_allclose(element.backward(t, element.forward(t, force)), force, rtol=0, atol=1e-8)
+
+
 @pytest.mark.parametrize("bad, words", [
     ({"core": {"type": "burgers"}, "radii_n": [0.1], "weights_v_per_n": [0.01]}, "missing keys"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}}, "needs radii_n"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "scaled_radii": [0.1], "scaled_weights_v_per_n": [0.01]},
+     "floor_n > 0"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "scaled_radii": [0.1], "scaled_weights_v_per_n": [-0.01],
+      "floor_n": 0.1}, "scaled_weights_v_per_n"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "scaled_radii": [3.0], "scaled_weights_v_per_n": [0.01],
+      "floor_n": 0.1}, "scaled_radii"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "scaled_radii": [0.1, 0.2], "scaled_weights_v_per_n": [0.01],
+      "floor_n": 0.1}, "same length"),
     ({"core": 3.0, "radii_n": [0.1], "weights_v_per_n": [0.01]}, "mapping"),
     ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "radii_n": [0.1, 0.2], "weights_v_per_n": [0.01, -0.02]},
      r"weights_v_per_n\[0\] \+ \.\.\."),
@@ -416,6 +453,17 @@ def test_bridge_hysteresis_history_settled_start_stop_type_and_static_gain_again
     np.testing.assert_allclose(stop.backward(t, stop.forward(t, force)), force, rtol=0, atol=1e-7)
     chain = SensorChain([element, OffsetElement(0.0)])
     assert chain.static_gain_v_per_n() == pytest.approx(PAPER_BURGERS.static_gain_v_per_n() + w.sum())
+    # scaled plays: plays on asinh(F / floor) after the same history, back through floor sinh
+    scaled, ws, floor = np.array([0.05, 0.3]), np.array([0.02, 0.01]), 0.3
+    u_history = play_operator(np.arcsinh(np.array([0.0, 6.0, 0.0]) / floor), scaled)[-1]
+    term = floor * np.sinh(play_operator(np.arcsinh(force / floor), scaled, u_history)) @ ws
+    both = BridgeHysteresisElement(core, radii, w, history_max_n=6.0, scaled_radii=scaled, scaled_weights_v_per_n=ws,
+                                   floor_n=floor)
+    np.testing.assert_allclose(both.forward(t, force),
+                               expected + term - floor * np.sinh(u_history) @ ws, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(both.backward(t, both.forward(t, force)), force, rtol=0, atol=1e-7)
+    assert SensorChain([both]).static_gain_v_per_n() == pytest.approx(
+        PAPER_BURGERS.static_gain_v_per_n() + w.sum() + np.cosh(scaled) @ ws)
     with pytest.raises(ValueError, match="non-decreasing"):
         element.backward(t[::-1], expected)
 

@@ -255,3 +255,40 @@ def test_a_polynomial_gain_is_inverted_on_its_rising_branch_and_saturates_beyond
         if abs(end) < 100.0:  # past the turn (within any bridge's reach): the reading of the end, or more, is the end
             past = float(gain.forward(None, np.array([end]))[0]) + np.sign(end) * beyond
             assert gain.backward(None, np.array([past]))[0] == pytest.approx(end, abs=1e-9 * (1 + abs(end)))
+
+
+def _fit(variant, names, coef_folds, sse_folds):
+    from polyforce_ros.discrepancy.design import Fit, Structure, Term
+
+    folds = [np.asarray(c, dtype=float) for c in coef_folds]
+    coef = np.mean(folds, axis=0)
+    sse = np.asarray(sse_folds, dtype=float)
+    return Fit(Structure("burgers", (10.0,), (Term("hysteresis", variant),)), list(names), np.ones(len(names)), coef,
+               folds, sse, float(sse.mean()), float(sse.mean()), 1000, 0.0)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_scaled_plays_beside_the_bridge_are_kept_by_their_summed_weight_not_each_weight(seed):
+    """The scaled plays' weights are one distribution, most of them at zero: a fit that extends the bridge's plays with
+    them is kept when their sum lies 3 jackknife standard errors from zero (and it beats the bridge's fit), dropped
+    when the sum does not, whatever each weight's own error."""
+    from polyforce_ros.discrepancy.selection import SIGNIFICANT_SE, Selection
+    from polyforce_ros.physics.fitting import block_jackknife_standard_errors
+
+    rng = np.random.default_rng(seed)
+    n_folds = 5
+    smaller = _fit("bridge", ["j0", "play0", "offset"], [[0.2, 0.01, 0.02]] * n_folds, np.full(n_folds, 2.0))
+    # two weights whose folds trade against each other: each uncertain alone, their sum certain
+    trade = rng.uniform(0.5, 1.0) * np.array([1.0, -1.0, 1.0, -1.0, 0.0])
+    total = rng.uniform(0.01, 0.02)
+    certain = [[0.2, 0.01, 0.02, total / 2 + 0.02 * d, total / 2 - 0.02 * d, 0.0] for d in trade]
+    names = ["j0", "play0", "offset", "scaled0", "scaled1", "scaled2"]
+    larger = _fit("bridge_scaled", names, certain, np.full(n_folds, 1.0))
+    folds = np.array(certain)[:, 3:5]
+    assert np.all(np.abs(folds.mean(axis=0)) < SIGNIFICANT_SE * block_jackknife_standard_errors(folds))  # each alone
+    noisy = [[0.2, 0.01, 0.02, 0.02 * d, -0.01 * d + 1e-3, 0.0] for d in trade]  # a sum the folds disagree on
+    unsure = _fit("bridge_scaled", names, noisy, np.full(n_folds, 1.0))
+    selection = Selection(None, smaller, floor_mse=0.5, has_temperature=False, min_confidence=0.8,  # type: ignore[arg-type]
+                          min_excess_share=0.3, say=lambda s: None)
+    kept = selection._nested([smaller, larger, unsure], "hysteresis")
+    assert [f is larger or f is smaller for f in kept] == [True, True]  # by identity: a Fit's arrays have no truth value

@@ -309,7 +309,9 @@ def _example_chains():
                                         OffsetElement(0.02)])
         elif kind == "bridge_hysteresis":  # the core and its plays in one element
             chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(PAPER_BURGERS), [0.1, 0.5], [0.01, 0.005],
-                                                            history_max_n=2.0), OffsetElement(0.02)])
+                                                            history_max_n=2.0, scaled_radii=[0.05, 0.2],
+                                                            scaled_weights_v_per_n=[0.01, 0.01], floor_n=0.2),
+                                        OffsetElement(0.02)])
         else:
             chains[kind] = SensorChain([ViscoelasticElement(PAPER_BURGERS), effects[kind]])
     return chains

@@ -417,7 +417,7 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
     bridges = [e for e in slots["bridge"] if isinstance(e, BridgeHysteresisElement)]
     if bridges:  # hysteresis at the bridge (one term per effect, so one element): the fitted core, plays beside it
         b = bridges[0]
-        core = BridgeHysteresisElement(fitted, b.radii_n, b.weights_v_per_n, b.linear_v_per_n, b.history_max_n)
+        core = b.with_core(fitted)
     return SensorChain([*slots["before"], core, *slots["after"], *slots["lag"], *slots["late"],
                         OffsetElement(float(np.clip(coef.get("offset", 0.0), -1e3, 1e3)))])
 

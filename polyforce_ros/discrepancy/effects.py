@@ -42,7 +42,7 @@ from ..physics.chain import (
     SensorLagElement, SplineDriftElement, StepDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
     PowerFlowElement,
     ThermoRheologicalElement,
-    TransportDelayElement, lagged_temperature_c, play_operator,
+    TransportDelayElement, lagged_temperature_c, play_operator, scaled_input, scaled_output,
 )
 from ..physics.expconv import exp_convolve, exp_convolve_columns
 from ..physics.viscoelastic import simulate_deformation_columns
@@ -74,6 +74,12 @@ ElementsFn = Callable[[Mapping[str, float], str, Optional[float], Signals], list
 PLAY_FRACTIONS: FloatArray = np.geomspace(0.003, 0.5, 22)
 #: Ridge weight on the play weights, relative to the mean diagonal of the normal matrix.
 PLAY_RIDGE = 1e-4
+#: Half-widths of the scaled plays (on asinh(F / floor), :class:`~polyforce_ros.physics.chain.BridgeHysteresisElement`):
+#: bands of +-0.3 % to about +-100 % of the load, log-spaced ~26 % apart like the plays on the force.
+SCALED_RADII: FloatArray = np.geomspace(0.003, 1.0, 26)
+#: The scaled plays' floor, as a fraction of the force span: below it a band stops shrinking with the load (noise
+#: about zero force does not open a loop of its own).
+SCALED_FLOOR_FRACTION = 0.02
 
 
 def lag_columns(t: npt.ArrayLike, x: npt.ArrayLike, tau_s: float) -> FloatArray:
@@ -146,6 +152,9 @@ class Effect:
     core_times : dict
         Variant -> the number of retardation times it adds to the core (a core effect whose parameter is the first
         of them; any further one starts :data:`SPREAD_RATIO` times slower than the one before).
+    summed : tuple of str
+        Variants of ``extends`` whose added columns are the weights of one distribution (most of them at zero): the
+        sum of the added weights must be significant, not each weight.
     """
 
     name: str
@@ -164,6 +173,7 @@ class Effect:
     extends: Mapping[str, str] = field(default_factory=dict)
     also_holds: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     core_times: Mapping[str, int] = field(default_factory=dict)
+    summed: tuple[str, ...] = ()
 
 
 # --------------------------------------------------------------------------- columns and elements
@@ -210,7 +220,15 @@ def _hyst_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
             cols = u[:, None] - cols
         sig.cache[key] = simulate_deformation_columns(sig.reference_core, sig.t, cols) if path == "force" else cols
     cols = sig.cache[key]
-    return [(f"play{i}", cols[:, i], 0.0, np.inf, "sensor", "play") for i in range(cols.shape[1])]
+    out: list[Col] = [(f"play{i}", cols[:, i], 0.0, np.inf, "sensor", "play") for i in range(cols.shape[1])]
+    if variant == "bridge_scaled":  # beside the plays on the force, plays whose bands grow with the load
+        scaled = sig.record_cache.get("scaled plays")
+        if scaled is None:
+            floor = SCALED_FLOOR_FRACTION * sig.span_f
+            scaled = sig.record_cache["scaled plays"] = scaled_output(
+                play_operator(scaled_input(sig.f_nonlinear, floor), SCALED_RADII), floor)
+        out += [(f"scaled{j}", scaled[:, j], 0.0, np.inf, "sensor", "play") for j in range(scaled.shape[1])]
+    return out
 
 
 def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
@@ -218,6 +236,15 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
     span = sig.span_f if path in ("force", "bridge") else sig.span_x
     w = np.clip([max(coef.get(f"play{i}", 0.0), 0.0) for i in range(PLAY_FRACTIONS.size)], 0.0, 1e6)
     keep = w > 1e-12 * max(w.max(), 1e-300)
+    if variant == "bridge_scaled":
+        ws = np.clip([max(coef.get(f"scaled{j}", 0.0), 0.0) for j in range(SCALED_RADII.size)], 0.0, 1e3)
+        keep_s = ws > 1e-12 * max(ws.max(), w.max(), 1e-300)
+        if not (keep.any() or keep_s.any()):
+            return []
+        return [("bridge", BridgeHysteresisElement(
+            ViscoelasticElement(sig.reference_core), PLAY_FRACTIONS[keep] * sig.span_f, np.minimum(w[keep], 1e3),
+            scaled_radii=SCALED_RADII[keep_s], scaled_weights_v_per_n=ws[keep_s],
+            floor_n=SCALED_FLOOR_FRACTION * sig.span_f if keep_s.any() else 0.0))]
     if not keep.any():
         return []
     history = 2.0 * span if variant.endswith("descending") else 0.0
@@ -648,7 +675,10 @@ EFFECTS: dict[str, Effect] = {
         ("play_hysteresis", "bridge_hysteresis"),
         variants=("force", "voltage", "bridge", "force_descending", "voltage_descending", "bridge_descending",
                   "force_stop", "voltage_stop", "bridge_stop", "force_stop_descending", "voltage_stop_descending",
-                  "bridge_stop_descending"),
+                  "bridge_stop_descending", "bridge_scaled"),
+        # plays at the bridge and beside them plays whose bands grow with the load (a friction whose normal force
+        # the load makes): chosen only when the scaled plays add what the bridge's plays miss
+        extends={"bridge_scaled": "bridge"}, summed=("bridge_scaled",),
         columns=_hyst_columns, to_elements=_hyst_elements, rivals=("friction",)),
     "friction": Effect(
         "friction", "a dead band at load reversals, the same width at every load (friction)", ("load_reversal",),

@@ -26,6 +26,7 @@ from typing import Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 
+from ..physics.fitting import block_jackknife_standard_errors
 from .design import Fit, Fitter, Structure, design_columns, fitted, n_params, size, term_columns
 from .effects import EFFECTS as REGISTRY, SPREAD_RATIO, at_noise_limit, variant_group
 from .refit import candidates_for, is_core_time, polish, refine, without
@@ -336,8 +337,14 @@ class Selection:
             if v not in extends:
                 return True
             co = f.coefficients()
-            if not all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"]
-                       for n in f.names if n not in smaller[v] and n in co):
+            added = [n for n in f.names if n not in smaller[v] and n in co]
+            if v in REGISTRY[name].summed:  # weights of one distribution: most sit at zero, their sum says it all
+                at = [f.names.index(n) for n in added]
+                total = float(np.sum(f.coef[at]))
+                error = float(block_jackknife_standard_errors([[float(np.sum(c[at]))] for c in f.coef_folds])[0])
+                if not abs(total) >= SIGNIFICANT_SE * error:
+                    return False
+            elif not all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"] for n in added):
                 return False
             rivals = [smallest_fit.get(s) for s in (extends[v], *also_holds.get(v, ()))]
             return all(rival is None or self.justified(f, rival) for rival in rivals)

@@ -33,7 +33,8 @@ from .drift import (
                    lagged_temperature_c,
 )
 from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
-from .hysteresis import BridgeHysteresisElement, FrictionElement, PlayHysteresisElement, PreisachElement, play_operator
+from .hysteresis import (BridgeHysteresisElement, FrictionElement, PlayHysteresisElement, PreisachElement, play_operator,
+                         scaled_input, scaled_output)
 from .sensor_chain import ELEMENT_TYPES, ChainStream, SensorChain
 from .static import GainElement, NonlinearGainElement, OffsetElement, PolynomialGainElement, ThermalSensitivityElement
 
@@ -43,7 +44,7 @@ __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "Forwar
            "GainElement", "NonlinearGainElement",
            "SensorLagElement", "TransportDelayElement", "ResonanceElement", "ThermalDriftElement", "ThermalSensitivityElement",
            "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement",
-           "FrictionElement",
+           "FrictionElement", "scaled_input", "scaled_output",
            "ThermalLagElement",
            "ExponentialDriftElement", "SplineDriftElement", "StepDriftElement", "TimeDriftElement",
            "PolynomialGainElement", "PolynomialDriftElement",

@@ -240,6 +240,10 @@ PARAMETER_BOUNDS = {
     "weights_v_per_n": (-1e3, 1e3, "V/N", "a loop of 1 kV per newton is beyond any bridge"),
     "linear_v_per_n": (0.0, 1e3, "V/N", "a loop of 1 kV per newton is beyond any bridge"),
     "history_max_n": (0.0, 1e6, "N", "the force's maximum before the record"),
+    # plays on asinh(F / floor_n), whose bands grow with the load: a half-width of 2 is a band of e**+-2 (7x) the load
+    "scaled_radii": (1e-6, 2.0, "", "a band from a seventh to seven times the load is no longer a loop"),
+    "scaled_weights_v_per_n": (0.0, 1e3, "V/N", "a loop of 1 kV per newton is beyond any bridge"),
+    "floor_n": (0.0, 1e6, "N", "the force below which a scaled band stops shrinking; 1 MN is beyond any sensor"),
     # Coulomb friction on the force path: the stiction band's half-width and the share of it the contact takes
     "radius_n": (1e-9, 1e6, "N", "a friction force of 1 MN is beyond any mechanism"),
     "coupling": (0.0, 1.0, "", "a share of the friction force"),

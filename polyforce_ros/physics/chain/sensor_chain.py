@@ -257,8 +257,8 @@ class SensorChain:
         core = self.viscoelastic
         gain = core.static_gain_v_per_n() if core is not None else 1.0
         for e in self.elements:
-            if isinstance(e, BridgeHysteresisElement):  # every play dragged: linear + sum of the weights
-                gain += e.linear_v_per_n + float(np.sum(e.weights_v_per_n))
+            if isinstance(e, BridgeHysteresisElement):
+                gain += e.large_signal_slope_v_per_n()
         return gain
 
     def to_dict(self) -> dict[str, Any]:

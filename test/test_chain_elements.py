@@ -335,6 +335,13 @@ def test_scaled_plays_open_a_loop_that_grows_with_the_load_and_the_inverse_close
     ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}}, "needs radii_n"),
     ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "scaled_radii": [0.1], "scaled_weights_v_per_n": [0.01]},
      "floor_n > 0"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "radii_n": [0.1], "weights_v_per_n": [0.01],
+      "floor_n": 0.1}, "floor_n > 0"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "scaled_radii": [0.1], "scaled_weights_v_per_n": [0.01],
+      "floor_n": 1e-300}, "floor_n"),
+    ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "radii_n": list(np.arange(1.0, 41.0)),
+      "weights_v_per_n": [0.01] * 40, "scaled_radii": list(np.linspace(0.01, 1.0, 30)),
+      "scaled_weights_v_per_n": [0.01] * 30, "floor_n": 0.1}, "at most 64"),
     ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "scaled_radii": [0.1], "scaled_weights_v_per_n": [-0.01],
       "floor_n": 0.1}, "scaled_weights_v_per_n"),
     ({"core": PAPER_BURGERS.as_dict() | {"type": "burgers"}, "scaled_radii": [3.0], "scaled_weights_v_per_n": [0.01],
@@ -766,3 +773,24 @@ def test_knee_units_refuse_a_falling_output_bad_lists_and_a_core_that_is_not_vis
         KneeKelvinElement(KneeKelvinElement(core, [2.0], [0.1], 8.0), [2.0], [0.1], 8.0)
     with pytest.raises(ModelError, match="knee_kelvin"):  # the plays at the bridge solve with an affine core step
         BridgeHysteresisElement(KneeKelvinElement(core, [2.0], [0.1], 8.0), [0.1], [0.01])
+
+
+def test_bridge_hysteresis_inverts_stop_plays_whose_breakpoints_tie_and_stays_exact_beside_a_stiff_core():
+    """Stop-type plays (a negative weight) start with tied breakpoints after a jump from rest; and a stiff core (1e9
+    N/V) beside heavy scaled plays with a wide floor turns any rounding of the plays' sums into newtons."""
+    from polyforce_ros.physics.chain import BridgeHysteresisElement
+    from polyforce_ros.physics.viscoelastic import Burgers
+
+    t = np.arange(0.0, 3.0, 1e-3)
+    force = 5.0 + 4.0 * np.sin(2 * np.pi * t / 1.5)
+    stop = BridgeHysteresisElement(ViscoelasticElement(PAPER_BURGERS), [0.05, 0.5, 5.0], [1.0, 1.0, -1.0])
+    np.testing.assert_allclose(stop.backward(t, stop.forward(t, force)), force, rtol=0, atol=1e-8)
+    for k1, floor in ((1e9, 1e5), (1e6, 1e5)):
+        core = ViscoelasticElement(Burgers(k1_n_per_v=k1, k2_n_per_v=2 * k1, eta1_n_s_per_v=min(1e3 * k1, 1e13),
+                                           eta2_n_s_per_v=min(10 * k1, 1e13)))
+        element = BridgeHysteresisElement(core, [0.1], [1e3], scaled_radii=[0.01, 2.0],
+                                          scaled_weights_v_per_n=[1e3, 1e3], floor_n=floor)
+        volts = element.forward(t, force)
+        # the model's own limit: a volt's last bit through the stiffest slope
+        limit = 8.0 * np.finfo(float).eps * np.abs(volts).max() * k1
+        assert np.abs(element.backward(t, volts) - force).max() <= max(limit, 1e-8)

@@ -288,7 +288,12 @@ def test_scaled_plays_beside_the_bridge_are_kept_by_their_summed_weight_not_each
     assert np.all(np.abs(folds.mean(axis=0)) < SIGNIFICANT_SE * block_jackknife_standard_errors(folds))  # each alone
     noisy = [[0.2, 0.01, 0.02, 0.02 * d, -0.01 * d + 1e-3, 0.0] for d in trade]  # a sum the folds disagree on
     unsure = _fit("bridge_scaled", names, noisy, np.full(n_folds, 1.0))
+    zeros = _fit("bridge_scaled", names, [[0.2, 0.01, 0.02, 0.0, 0.0, 0.0]] * n_folds, np.full(n_folds, 1.0))
     selection = Selection(None, smaller, floor_mse=0.5, has_temperature=False, min_confidence=0.8,  # type: ignore[arg-type]
                           min_excess_share=0.3, say=lambda s: None)
-    kept = selection._nested([smaller, larger, unsure], "hysteresis")
+    kept = selection._nested([smaller, larger, unsure, zeros], "hysteresis")
     assert [f is larger or f is smaller for f in kept] == [True, True]  # by identity: a Fit's arrays have no truth value
+    # without the smaller fit nothing says which columns the larger adds: it is not kept on their sum
+    alone = selection._nested([larger, _fit("force", ["j0", "play0", "offset"], [[0.2, 0.01, 0.02]] * n_folds,
+                                            np.full(n_folds, 2.0))], "hysteresis")
+    assert not any(f is larger for f in alone)

@@ -75,7 +75,7 @@ PLAY_FRACTIONS: FloatArray = np.geomspace(0.003, 0.5, 22)
 #: Ridge weight on the play weights, relative to the mean diagonal of the normal matrix.
 PLAY_RIDGE = 1e-4
 #: Half-widths of the scaled plays (on asinh(F / floor), :class:`~polyforce_ros.physics.chain.BridgeHysteresisElement`):
-#: bands of +-0.3 % to about +-100 % of the load, log-spaced ~26 % apart like the plays on the force.
+#: bands of +-0.3 % of the load to e**-1..e**1 times it, log-spaced ~26 % apart like the plays on the force.
 SCALED_RADII: FloatArray = np.geomspace(0.003, 1.0, 26)
 #: The scaled plays' floor, as a fraction of the force span: below it a band stops shrinking with the load (noise
 #: about zero force does not open a loop of its own).

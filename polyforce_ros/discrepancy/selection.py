@@ -319,7 +319,8 @@ class Selection:
     def _nested(self, fits: list[Fit], name: str) -> list[Fit]:
         """``fits`` without those of a variant that extends a smaller one (:attr:`.effects.Effect.extends`) whose
         added columns are not each at least :data:`SIGNIFICANT_SE` block-jackknife standard errors from zero (a
-        column the folds cannot agree on describes nothing the smaller variant misses), or that does not improve on
+        column the folds cannot agree on describes nothing the smaller variant misses; for a variant of
+        :attr:`.effects.Effect.summed`, the sum of its added weights), or that does not improve on
         the smaller variant's best fit as an added effect must improve on the current model (:meth:`justified`),
         nor on the best fit of each further variant it holds (:attr:`.effects.Effect.also_holds`): a column that is
         certain but small describes a misfit of the record, not the shape of the effect."""
@@ -339,10 +340,12 @@ class Selection:
             co = f.coefficients()
             added = [n for n in f.names if n not in smaller[v] and n in co]
             if v in REGISTRY[name].summed:  # weights of one distribution: most sit at zero, their sum says it all
+                if not smaller[v] or not added:  # without the smaller fit nothing says which columns it adds
+                    return False
                 at = [f.names.index(n) for n in added]
                 total = float(np.sum(f.coef[at]))
                 error = float(block_jackknife_standard_errors([[float(np.sum(c[at]))] for c in f.coef_folds])[0])
-                if not abs(total) >= SIGNIFICANT_SE * error:
+                if not (np.isfinite(error) and abs(total) > SIGNIFICANT_SE * error):  # a sum of zeros is not 0 >= 0
                     return False
             elif not all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"] for n in added):
                 return False

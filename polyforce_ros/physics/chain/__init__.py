@@ -7,7 +7,8 @@ Each element runs forward (simulate), backward in batch (compensate an array) an
 
 Modules: :mod:`.base` (protocols, bounds, validation), :mod:`.core` (the viscoelastic core), :mod:`.static`
 (offset and gains), :mod:`.dynamics` (lag, delay), :mod:`.drift` (thermal and time drifts),
-:mod:`.hysteresis` (Preisach, play operator) and :mod:`.sensor_chain` (the chain, its stream and the
+:mod:`.hysteresis` (Preisach, play operator, friction), :mod:`.bridge` (plays at the bridge beside the core) and
+:mod:`.sensor_chain` (the chain, its stream and the
 registry of element types).
 """
 from .base import (
@@ -32,9 +33,9 @@ from .drift import (
                    TimeDriftElement,
                    lagged_temperature_c,
 )
+from .bridge import BridgeHysteresisElement, scaled_input, scaled_output
 from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
-from .hysteresis import (BridgeHysteresisElement, FrictionElement, PlayHysteresisElement, PreisachElement, play_operator,
-                         scaled_input, scaled_output)
+from .hysteresis import FrictionElement, PlayHysteresisElement, PreisachElement, play_operator
 from .sensor_chain import ELEMENT_TYPES, ChainStream, SensorChain
 from .static import GainElement, NonlinearGainElement, OffsetElement, PolynomialGainElement, ThermalSensitivityElement
 

@@ -243,7 +243,7 @@ PARAMETER_BOUNDS = {
     # plays on asinh(F / floor_n), whose bands grow with the load: a half-width of 2 is a band of e**+-2 (7x) the load
     "scaled_radii": (1e-6, 2.0, "", "a band from a seventh to seven times the load is no longer a loop"),
     "scaled_weights_v_per_n": (0.0, 1e3, "V/N", "a loop of 1 kV per newton is beyond any bridge"),
-    "floor_n": (0.0, 1e6, "N", "the force below which a scaled band stops shrinking; 1 MN is beyond any sensor"),
+    "floor_n": (1e-9, 1e6, "N", "the force below which a scaled band stops shrinking; 1 MN is beyond any sensor"),
     # Coulomb friction on the force path: the stiction band's half-width and the share of it the contact takes
     "radius_n": (1e-9, 1e6, "N", "a friction force of 1 MN is beyond any mechanism"),
     "coupling": (0.0, 1.0, "", "a share of the friction force"),
@@ -269,7 +269,7 @@ PARAMETER_BOUNDS = {
     "cubic_v_per_s3": (-1e3, 1e3, "V/s^3", "over 24 h at most 6.5e17 V: finite"),
 }
 # Parameters where 0 means "off" and is allowed besides the range.
-_ZERO_MEANS_OFF = {"noise_filter_tau_s", "thermal_tau_s"}
+_ZERO_MEANS_OFF = {"noise_filter_tau_s", "thermal_tau_s", "floor_n"}
 #: Preisach levels: 5x seed 001's 40; n (n + 1) / 2 relays cost O(n**2) per sample.
 MAX_PREISACH_LEVELS = 200
 # The record a model must carry: 24 h (exp(-r * 86400 s) decays, never grows) and

@@ -26,7 +26,8 @@ from .drift import (
     ThermalLagElement,
 )
 from .dynamics import ResonanceElement, SensorLagElement, TransportDelayElement
-from .hysteresis import BridgeHysteresisElement, FrictionElement, PlayHysteresisElement, PreisachElement
+from .bridge import BridgeHysteresisElement
+from .hysteresis import FrictionElement, PlayHysteresisElement, PreisachElement
 from .static import (
     GainElement,
     NonlinearGainElement,

@@ -224,11 +224,17 @@ def _hyst_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
     if variant == "bridge_scaled":  # beside the plays on the force, plays whose bands grow with the load
         scaled = sig.record_cache.get("scaled plays")
         if scaled is None:
-            floor = SCALED_FLOOR_FRACTION * sig.span_f
+            floor = _scaled_floor(sig)
             scaled = sig.record_cache["scaled plays"] = scaled_output(
                 play_operator(scaled_input(sig.f_nonlinear, floor), SCALED_RADII), floor)
         out += [(f"scaled{j}", scaled[:, j], 0.0, np.inf, "sensor", "play") for j in range(scaled.shape[1])]
     return out
+
+
+def _scaled_floor(sig: Signals) -> float:
+    """The scaled plays' floor on this record [N]: :data:`SCALED_FLOOR_FRACTION` of the force span, within the model
+    file's bounds for ``floor_n``."""
+    return float(np.clip(SCALED_FLOOR_FRACTION * sig.span_f, 1e-9, 1e6))
 
 
 def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
@@ -244,7 +250,7 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
         return [("bridge", BridgeHysteresisElement(
             ViscoelasticElement(sig.reference_core), PLAY_FRACTIONS[keep] * sig.span_f, np.minimum(w[keep], 1e3),
             scaled_radii=SCALED_RADII[keep_s], scaled_weights_v_per_n=ws[keep_s],
-            floor_n=SCALED_FLOOR_FRACTION * sig.span_f if keep_s.any() else 0.0))]
+            floor_n=_scaled_floor(sig) if keep_s.any() else 0.0))]
     if not keep.any():
         return []
     history = 2.0 * span if variant.endswith("descending") else 0.0

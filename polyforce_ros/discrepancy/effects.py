@@ -242,16 +242,11 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
     span = sig.span_f if path in ("force", "bridge") else sig.span_x
     w = np.clip([max(coef.get(f"play{i}", 0.0), 0.0) for i in range(PLAY_FRACTIONS.size)], 0.0, 1e6)
     keep = w > 1e-12 * max(w.max(), 1e-300)
-    if variant == "bridge_scaled":
-        ws = np.clip([max(coef.get(f"scaled{j}", 0.0), 0.0) for j in range(SCALED_RADII.size)], 0.0, 1e3)
-        keep_s = ws > 1e-12 * max(ws.max(), w.max(), 1e-300)
-        if not (keep.any() or keep_s.any()):
-            return []
-        return [("bridge", BridgeHysteresisElement(
-            ViscoelasticElement(sig.reference_core), PLAY_FRACTIONS[keep] * sig.span_f, np.minimum(w[keep], 1e3),
-            scaled_radii=SCALED_RADII[keep_s], scaled_weights_v_per_n=ws[keep_s],
-            floor_n=_scaled_floor(sig) if keep_s.any() else 0.0))]
-    if not keep.any():
+    # the scaled plays' weights (bridge_scaled's alone), within scaled_weights_v_per_n's bound
+    scaled = variant == "bridge_scaled"
+    ws = np.clip([max(coef.get(f"scaled{j}", 0.0), 0.0) if scaled else 0.0 for j in range(SCALED_RADII.size)], 0.0, 1e3)
+    keep_s = ws > 1e-12 * max(ws.max(), w.max(), 1e-300)
+    if not (keep.any() or keep_s.any()):
         return []
     history = 2.0 * span if variant.endswith("descending") else 0.0
     radii = PLAY_FRACTIONS[keep] * span
@@ -263,7 +258,10 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
         w = np.minimum(w, 1e3)  # weights_v_per_n within its bound
         linear, weights = (float(np.sum(w[keep])), -w[keep]) if "_stop" in variant else (0.0, w[keep])
         return [("bridge", BridgeHysteresisElement(ViscoelasticElement(sig.reference_core), radii, weights,
-                                                   linear_v_per_n=linear, history_max_n=history))]
+                                                   linear_v_per_n=linear, history_max_n=history,
+                                                   scaled_radii=SCALED_RADII[keep_s],
+                                                   scaled_weights_v_per_n=ws[keep_s],
+                                                   floor_n=_scaled_floor(sig) if keep_s.any() else 0.0))]
     # on the force path the operator enters through the core (core(F + sum w op(F))); on the voltage path
     # the core output x stands for itself (x + sum w op(x)); x + sum w (x - p(x)) = (1 + sum w) x - sum w p(x)
     if "_stop" in variant:

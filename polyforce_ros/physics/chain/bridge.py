@@ -151,8 +151,7 @@ class BridgeHysteresisElement(Frozen):
             linear += max(0.0, -float(slopes.min()))  # within rounding of 0: raised so that every slope is >= 0 exactly
         start = play_states_after(history, radii)
         scaled_start = play_states_after(float(scaled_input(history, floor)) if scaled.size else 0.0, scaled)
-        rest = float(start @ weights) + float(scaled_output(scaled_start, floor) @ scaled_weights) if scaled.size \
-            else float(start @ weights)
+        rest = float(start @ weights) + float(scaled_output(scaled_start, floor) @ scaled_weights)
         self._freeze(core=core, radii_n=radii, weights_v_per_n=weights, linear_v_per_n=linear,
                      scaled_radii=scaled, scaled_weights_v_per_n=scaled_weights, floor_n=floor,
                      history_max_n=history, _start=start, _scaled_start=scaled_start, _rest_v=rest)
@@ -207,13 +206,12 @@ class BridgeHysteresisElement(Frozen):
         scaled = [float(r) for r in self.scaled_radii]
         scaled_weights = [float(w) for w in self.scaled_weights_v_per_n]
         floor, linear, rest = self.floor_n, self.linear_v_per_n, self._rest_v
-        # every play dragged down: the term's slope in F and in sqrt(F**2 + floor**2), and its constant
-        down_b = linear + sum(weights) + sum(w * math.cosh(r) for r, w in zip(scaled, scaled_weights))
-        down_c = sum(w * math.sinh(r) for r, w in zip(scaled, scaled_weights))
-        down_a = sum(w * r for r, w in zip(radii, weights))
         start = [float(y) for y in self._start]
         scaled_start = [float(u) for u in self._scaled_start]
         plays, scaled_plays = list(start), list(scaled_start)
+        # below every breakpoint every play is dragged down, whatever its state: where each sweep starts
+        down_a, down_b, down_c = _piece_coefficients(-math.inf, plays, radii, weights, scaled_plays, scaled,
+                                                     scaled_weights, floor, linear)
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
             coefficients = core.affine(t_s)
@@ -362,7 +360,7 @@ def _bridge_root(target: float, a: float, b: float, c: float, stiffness: float, 
     C R share a sign, so that nothing cancels."""
     big_b = 1.0 + stiffness * b
     big_c = stiffness * c
-    # a running sum's rounding (stiffness up to 1e13 N/V) must not take the slope below 1
+    # rounding of a stiff core's products (stiffness up to 1e13 N/V) must not take the slope below 1
     big_b = max(big_b, 1.0 + abs(big_c))
     t = target - stiffness * a
     if big_c == 0.0:

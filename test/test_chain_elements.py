@@ -672,11 +672,15 @@ def test_a_zero_curvature_and_no_span_lag_stay_out_of_the_model_file_and_bad_val
 
 @settings(max_examples=25, deadline=None)
 @given(rate=st.floats(1e-4, 0.05), exponent=st.floats(0.3, 4.5), scale=st.floats(1.0, 20.0), shift=st.floats(0.0, 0.2),
-       yield_n=st.one_of(st.just(0.0), st.floats(0.1, 6.0)), seed=st.integers(0, 2 ** 16))
-def test_a_power_flow_adds_its_left_sum_to_the_core_runs_in_blocks_and_its_inverse_undoes_it(rate, exponent, scale,
-                                                                                             shift, yield_n, seed):
-    """V = core(F) + rate sum over the samples before of ((F - yield) / scale)^n dt above the yield, block by block
-    as in one run; the inverse (plain or thermo-rheological core) returns the force; the model file round-trips."""
+       yield_n=st.one_of(st.just(0.0), st.floats(0.1, 6.0)),
+       volume_rates=st.lists(st.floats(-0.02, 0.02), max_size=3), volume_scale=st.floats(0.5, 50.0),
+       seed=st.integers(0, 2 ** 16))
+def test_a_power_flow_adds_its_left_sum_to_the_core_runs_in_blocks_and_its_inverse_undoes_it(
+        rate, exponent, scale, shift, yield_n, volume_rates, volume_scale, seed):
+    """V = core(F) + rate sum over the samples before of ((F - yield) / scale)^n dt above the yield, and with
+    volume rates c_k the left sum of F sum_k c_k u^k dt, u the load-time integral passed (a left sum too) over
+    its scale held within +-1; block by block as in one run; the inverse (plain or thermo-rheological core)
+    returns the force; the model file round-trips."""
     from polyforce_ros.physics.chain import PowerFlowElement, ThermoRheologicalElement
     from polyforce_ros.physics.viscoelastic import Zener
 
@@ -686,8 +690,11 @@ def test_a_power_flow_adds_its_left_sum_to_the_core_runs_in_blocks_and_its_inver
     aux = {"temperature_c": 23 + 3 * np.sin(t / rng.uniform(0.5, 5.0))}
     plain = ViscoelasticElement(Zener(rng.uniform(1, 10), rng.uniform(5, 50), rng.uniform(10, 500)))
     core = ThermoRheologicalElement(plain, shift, 23.0) if shift > 0.1 else plain
-    e = PowerFlowElement(core, rate, exponent, scale, yield_n)
-    left = np.concatenate([[0.0], np.cumsum(np.diff(t) * rate * (np.maximum(f[:-1] - yield_n, 0) / scale) ** exponent)])
+    e = PowerFlowElement(core, rate, exponent, scale, yield_n, volume_scale if volume_rates else 0.0, volume_rates)
+    u = np.clip(np.concatenate([[0.0], np.cumsum(np.diff(t) * f[:-1])]) / volume_scale, -1.0, 1.0)
+    fluid = rate * (np.maximum(f - yield_n, 0) / scale) ** exponent + f * sum(
+        (c * u ** (k + 1) for k, c in enumerate(volume_rates)), np.zeros_like(f))
+    left = np.concatenate([[0.0], np.cumsum(np.diff(t) * fluid[:-1])])
     v = e.forward(t, f, aux)
     np.testing.assert_allclose(v, core.forward(t, f, aux) + left, atol=1e-12)
     state = e.forward_state()
@@ -711,6 +718,29 @@ def test_a_power_flow_refuses_a_falling_rate_a_wild_exponent_and_a_core_that_is_
             PowerFlowElement.from_dict({**good, key: bad})
     with pytest.raises(ModelError, match="power_flow"):
         PowerFlowElement(PowerFlowElement(core, 0.01, 2.0, 9.0), 0.01, 2.0, 9.0)
+
+
+def test_a_fluidity_that_changes_as_the_core_flows_needs_a_scale_and_at_most_three_bounded_terms():
+    from polyforce_ros.physics.chain import PowerFlowElement
+    from polyforce_ros.physics.viscoelastic import Zener
+
+    core = ViscoelasticElement(Zener(3.0, 20.0, 200.0))
+    good = PowerFlowElement(core, 0.0, 1.0, 9.0, 0.0, 100.0, [1e-3, -5e-4]).to_dict()
+    assert good["flow_volume_rates_v_per_n_s"] == [1e-3, -5e-4]
+    for key, bad in (("flow_volume_scale_n_s", 0.0), ("flow_volume_scale_n_s", -1.0), ("flow_volume_scale_n_s", 1e12),
+                     ("flow_volume_scale_n_s", float("nan")), ("flow_volume_rates_v_per_n_s", [1e-3] * 4),
+                     ("flow_volume_rates_v_per_n_s", [5.0]), ("flow_volume_rates_v_per_n_s", [float("inf")]),
+                     ("flow_volume_rates_v_per_n_s", "1e-3"), ("flow_volume_rates_v_per_n_s", [True])):
+        with pytest.raises(ModelError, match="power_flow"):
+            PowerFlowElement.from_dict({**good, key: bad})
+    alone = {k: v for k, v in good.items() if k != "flow_volume_rates_v_per_n_s"}
+    with pytest.raises(ModelError, match="flow_volume_rates_v_per_n_s"):  # a scale without its rates
+        PowerFlowElement.from_dict(alone)
+    off = {k: v for k, v in good.items() if k != "flow_volume_scale_n_s"}
+    with pytest.raises(ModelError, match="flow_volume_scale_n_s"):  # rates without a scale
+        PowerFlowElement.from_dict(off)
+    plain = PowerFlowElement(core, 0.01, 2.0, 9.0)
+    assert "flow_volume_scale_n_s" not in plain.to_dict() and plain.flow_volume_rates_v_per_n_s == ()
 
 
 @settings(max_examples=40, deadline=None)

@@ -300,8 +300,10 @@ def _example_chains():
         elif kind == "thermo_rheological":  # the core on the reduced time
             chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(PAPER_BURGERS), 0.05, 22.0),
                                         OffsetElement(0.02)])
-        elif kind == "power_flow":  # a zener core with a power-law dashpot beside it
-            chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(Zener(3.0, 20.0, 200.0)), 0.01, 2.5, 9.0),
+        elif kind == "power_flow":  # a zener core with a power-law dashpot beside it, its fluidity changing as it flows
+            chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(Zener(3.0, 20.0, 200.0)), 0.01, 2.5, 9.0,
+                                                            flow_volume_scale_n_s=400.0,
+                                                            flow_volume_rates_v_per_n_s=[2e-4, -1e-4, 5e-5]),
                                         OffsetElement(0.02)])
         elif kind == "knee_kelvin":  # a zener core beside a Kelvin unit loaded above a knee
             chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(Zener(3.0, 20.0, 200.0)), [2.0, 5.0],

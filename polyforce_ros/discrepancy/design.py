@@ -407,8 +407,9 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
         fitted = ThermoRheologicalElement(fitted, shifted[0].shift_per_c, shifted[0].reference_c)
     flows = [e for e in slots["core"] if isinstance(e, PowerFlowElement)]
     if flows:  # a power-law dashpot beside the fitted core (on its clock's core, shifted or not)
-        fitted = PowerFlowElement(fitted, flows[0].flow_rate_v_per_s, flows[0].flow_exponent,
-                                  flows[0].flow_force_scale_n, flows[0].flow_yield_n)
+        flow = flows[0]
+        fitted = PowerFlowElement(fitted, flow.flow_rate_v_per_s, flow.flow_exponent, flow.flow_force_scale_n,
+                                  flow.flow_yield_n, flow.flow_volume_scale_n_s, flow.flow_volume_rates_v_per_n_s)
     knees = [e for e in slots["core"] if isinstance(e, KneeKelvinElement)]
     if knees:  # a Kelvin unit that only the force above a knee loads, beside the fitted core (flowing or not)
         k = knees[0]

@@ -40,6 +40,7 @@ from ..physics.chain import (
     PolynomialDriftElement,
     PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, StepDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
+    MAX_VOLUME_TERMS,
     PowerFlowElement,
     ThermoRheologicalElement,
     TransportDelayElement, lagged_temperature_c, play_operator, scaled_input, scaled_output,
@@ -354,6 +355,12 @@ def _flow_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     return [0.1, 0.2, 0.3, 0.45] if variant == "yield" else [None]
 
 
+def _flowed_scale_n_s(sig: Signals) -> float:
+    """The largest load-time integral the record reaches [N s]: the scale of a fluidity that changes with it."""
+    passed = np.concatenate([[0.0], np.cumsum(np.diff(sig.t) * sig.f[:-1])])
+    return float(np.clip(np.max(np.abs(passed)), 1e-6, 1e9))
+
+
 def _flow_law(variant: str, param: Optional[float]) -> tuple[float, float]:
     """(exponent, yield as a share of the force span) of a nonlinear dashpot variant."""
     return (parameter(param), 0.0) if variant == "power" else (1.0, parameter(param))
@@ -363,6 +370,15 @@ def _flow_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
     """A nonlinear dashpot's flow beside the core's linear one: the left sum of ((F - yield) / span)^n dt over the
     forces above the yield, the flow each sample has before its force acts
     (:class:`~polyforce_ros.physics.chain.PowerFlowElement`)."""
+    if variant == "volume":  # the left sums of F u^k dt (k = 1..3), u the load-time integral passed over its largest
+        key = "flow volume"
+        if key not in sig.cache:
+            steps = np.diff(sig.t) * sig.f[:-1]
+            u = np.concatenate([[0.0], np.cumsum(steps)])[:-1] / _flowed_scale_n_s(sig)
+            sig.cache[key] = [(f"flow_volume{k}", np.concatenate([[0.0], np.cumsum(steps * u ** k)]), -np.inf, np.inf,
+                               "sensor", None) for k in range(1, MAX_VOLUME_TERMS + 1)]
+        out: list[Col] = sig.cache[key]
+        return out
     if variant not in ("power", "yield"):
         return []
     exponent, yield_share = _flow_law(variant, param)
@@ -373,6 +389,11 @@ def _flow_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
 
 
 def _flow_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
+    if variant == "volume":
+        rates = [float(np.clip(coef.get(f"flow_volume{k}", 0.0), -1.0, 1.0)) for k in range(1, MAX_VOLUME_TERMS + 1)]
+        # the core here is a stand-in: build_chain puts the fitted core beside the flow
+        return [("core", PowerFlowElement(ViscoelasticElement(sig.reference_core), 0.0, 1.0, 1.0, 0.0,
+                                          _flowed_scale_n_s(sig), rates))]
     if variant not in ("power", "yield"):
         return []
     exponent, yield_share = _flow_law(variant, param)
@@ -658,10 +679,11 @@ EFFECTS: dict[str, Effect] = {
     "viscous_flow": Effect(
         "viscous_flow", "creep during holds that never settles (viscous_flow)", ("hold_under_load", "late_in_record"),
         ("load_history",), ("maxwell", "burgers", "burgers2", "burgers3", "power_flow"),
-        # the core's linear dashpot, or beside it one whose rate is a power of the force or flows above a yield
-        variants=("", "power", "yield"), grid=_flow_grid, columns=_flow_columns, to_elements=_flow_elements,
-        extends={"power": "", "yield": ""}, core_change={"elastic": "maxwell", "zener": "burgers", "zener2": "burgers2",
-                                                               "zener3": "burgers3"}),
+        # the core's linear dashpot, or beside it one whose rate is a power of the force or flows above a yield, or
+        # one whose fluidity changes with the load-time integral passed (strain hardening, clogging, a growing leak)
+        variants=("", "power", "yield", "volume"), grid=_flow_grid, columns=_flow_columns, to_elements=_flow_elements,
+        extends={"power": "", "yield": "", "volume": ""},
+        core_change={"elastic": "maxwell", "zener": "burgers", "zener2": "burgers2", "zener3": "burgers3"}),
     "delayed_elasticity": Effect(
         "delayed_elasticity", "creep and recovery that settle (delayed_elasticity)", ("hold_under_load", "rest_after_unloading"),
         ("load_history",), ("zener", "burgers", "zener2", "burgers2", "zener3", "burgers3", "knee_kelvin"),

@@ -21,7 +21,8 @@ from .base import (
                    short_repr,
                    smoke_records,
 )
-from .core import KneeKelvinElement, PowerFlowElement, ThermoRheologicalElement, ViscoelasticElement, reduced_time_s
+from .core import (MAX_VOLUME_TERMS, KneeKelvinElement, PowerFlowElement,
+                   ThermoRheologicalElement, ViscoelasticElement, reduced_time_s)
 from .drift import (
                    ExponentialDriftElement,
                    OffsetDriftElement,
@@ -40,7 +41,8 @@ from .sensor_chain import ELEMENT_TYPES, ChainStream, SensorChain
 from .static import GainElement, NonlinearGainElement, OffsetElement, PolynomialGainElement, ThermalSensitivityElement
 
 __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "ForwardElement", "Element", "PARAMETER_BOUNDS",
-           "MAX_PREISACH_LEVELS", "ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "KneeKelvinElement",
+           "MAX_PREISACH_LEVELS", "ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement",
+           "MAX_VOLUME_TERMS", "KneeKelvinElement",
            "reduced_time_s", "OffsetElement",
            "GainElement", "NonlinearGainElement",
            "SensorLagElement", "TransportDelayElement", "ResonanceElement", "ThermalDriftElement", "ThermalSensitivityElement",

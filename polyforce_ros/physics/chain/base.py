@@ -216,6 +216,10 @@ PARAMETER_BOUNDS = {
     "flow_exponent": (0.2, 5.0, "", "a flow rate steeper than F^5 is a yield step, flatter than F^0.2 a constant"),
     "flow_force_scale_n": (1e-3, 1e5, "N", "1 mN to 100 kN: beyond any force sensor range"),
     "flow_yield_n": (0.0, 1e5, "N", "100 kN: beyond any force sensor range"),
+    # a fluidity that changes with the load-time integral passed: the integral at which it stops changing, and the
+    # change there (1 V per newton-second fills any range within a second at 10 N)
+    "flow_volume_scale_n_s": (1e-6, 1e9, "N s", "a billion newton-seconds: 30 years at 1 N"),
+    "flow_volume_rates_v_per_n_s": (-1.0, 1.0, "V/(N s)", "a range filled within a second at 10 N already"),
     # Kelvin units loaded by the force above knees: a compliance may be negative (a unit that bottoms out above its
     # knee) as long as each running sum stays above minus the core's instantaneous compliance (checked against it)
     "knees_n": (-1e5, 1e5, "N", "100 kN: beyond any force sensor range"),
@@ -269,7 +273,7 @@ PARAMETER_BOUNDS = {
     "cubic_v_per_s3": (-1e3, 1e3, "V/s^3", "over 24 h at most 6.5e17 V: finite"),
 }
 # Parameters where 0 means "off" and is allowed besides the range.
-_ZERO_MEANS_OFF = {"noise_filter_tau_s", "thermal_tau_s", "floor_n"}
+_ZERO_MEANS_OFF = {"noise_filter_tau_s", "thermal_tau_s", "floor_n", "flow_volume_scale_n_s"}
 #: Preisach levels: 5x seed 001's 40; n (n + 1) / 2 relays cost O(n**2) per sample.
 MAX_PREISACH_LEVELS = 200
 # The record a model must carry: 24 h (exp(-r * 86400 s) decays, never grows) and

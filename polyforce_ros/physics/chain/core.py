@@ -23,7 +23,8 @@ from ..viscoelastic import (
 from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, FunctionStream, ModelError, check_keys, check_number,
                    float_list, short_repr, smoke_records, stream_backward, temperature_c_of)
 
-__all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "KneeKelvinElement", "reduced_time_s",
+__all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "MAX_VOLUME_TERMS",
+           "KneeKelvinElement", "reduced_time_s",
            "wrapped_core_from_dict", "MAX_LOG_SHIFT"]
 
 
@@ -303,6 +304,7 @@ class _FlowState(TypedDict):
     t: Optional[float]  # the last stamp of the previous block [s]
     force_n: float  # its force [N]
     flow_v: float  # the flow reached at it [V]
+    volume_n_s: float  # the load-time integral reached at it [N s]
 
 
 class PowerFlowElement(ViscoelasticElement):
@@ -312,9 +314,15 @@ class PowerFlowElement(ViscoelasticElement):
         V = core(F) + flow_rate_v_per_s * integral of (max(F - flow_yield_n, 0) / flow_force_scale_n) ** flow_exponent dt
 
     A flow that runs faster than in proportion to the load (exponent > 1), slower (< 1), or only above a yield
-    force. The integral runs on the forces before each sample (a left sum), so the inverse is
-    explicit: the flow at a sample is known before its force is solved for. ``core`` is a viscoelastic core or a
-    thermo-rheological one.
+    force. Optionally a flow whose fluidity changes with the load-time integral already passed (strain hardening,
+    a filter that clogs, a leak path that opens or a crack that grows as the core flows):
+
+        + integral of F * sum_k flow_volume_rates_v_per_n_s[k] * u ** (k + 1) dt,   u = clip(X / flow_volume_scale_n_s, -1, 1)
+
+    with X the integral of F dt since the start; beyond the scale (the largest the calibration record reached) the
+    fluidity is held at its value there, never extrapolated. Both integrals run on the forces before each sample (a
+    left sum), so the inverse is explicit: the flow at a sample is known before its force is solved for. ``core``
+    is a viscoelastic core or a thermo-rheological one.
 
     Parameters (model file keys)
     ----------------------------
@@ -328,18 +336,25 @@ class PowerFlowElement(ViscoelasticElement):
         The force the rate is given at [N].
     flow_yield_n : float >= 0, optional
         The force below which nothing flows [N] (0: every positive force flows).
+    flow_volume_scale_n_s : float > 0, optional
+        The load-time integral at which the fluidity stops changing [N s] (with ``flow_volume_rates_v_per_n_s``).
+    flow_volume_rates_v_per_n_s : list of 1-3 floats, optional
+        The fluidity's change at the scale, linear, quadratic and cubic in u [V/(N s)], either sign.
     """
 
     KEYS = ("core", "flow_rate_v_per_s", "flow_exponent", "flow_force_scale_n")
-    OPTIONAL = {"flow_yield_n": 0.0}
+    OPTIONAL = {"flow_yield_n": 0.0, "flow_volume_scale_n_s": 0.0, "flow_volume_rates_v_per_n_s": ()}
     core: ViscoelasticElement
     flow_rate_v_per_s: float
     flow_exponent: float
     flow_force_scale_n: float
     flow_yield_n: float
+    flow_volume_scale_n_s: float
+    flow_volume_rates_v_per_n_s: tuple[float, ...]
 
     def __init__(self, core: ViscoelasticElement, flow_rate_v_per_s: float, flow_exponent: float,
-                 flow_force_scale_n: float, flow_yield_n: float = 0.0) -> None:
+                 flow_force_scale_n: float, flow_yield_n: float = 0.0, flow_volume_scale_n_s: float = 0.0,
+                 flow_volume_rates_v_per_n_s: Any = ()) -> None:
         if not isinstance(core, ViscoelasticElement) or isinstance(core, PowerFlowElement):
             raise ModelError("power_flow: core must be a viscoelastic core (plain or thermo_rheological)")
         rate = check_number("power_flow", "flow_rate_v_per_s", flow_rate_v_per_s, positive=False)
@@ -350,18 +365,24 @@ class PowerFlowElement(ViscoelasticElement):
         yield_n = check_number("power_flow", "flow_yield_n", flow_yield_n, positive=False)
         if yield_n < 0.0:
             raise ModelError(f"power_flow: flow_yield_n must be >= 0, got {yield_n!r}")
+        volume_scale, volume_rates = _volume_law(flow_volume_scale_n_s, flow_volume_rates_v_per_n_s)
         self._freeze(model=core.model, kind="power_flow", core=core, flow_rate_v_per_s=rate, flow_exponent=exponent,
-                     flow_force_scale_n=scale, flow_yield_n=yield_n)
+                     flow_force_scale_n=scale, flow_yield_n=yield_n, flow_volume_scale_n_s=volume_scale,
+                     flow_volume_rates_v_per_n_s=volume_rates)
 
-    def flow_rate(self, force_n: npt.ArrayLike) -> FloatArray:
-        """The flow's rate at each force [V/s]."""
-        f = np.maximum(np.asarray(force_n, dtype=float) - self.flow_yield_n, 0.0) / self.flow_force_scale_n
+    def flow_rate(self, force_n: npt.ArrayLike, volume_n_s: npt.ArrayLike = 0.0) -> FloatArray:
+        """The flow's rate at each force [V/s], the load-time integral passed before it ``volume_n_s`` [N s]."""
+        force = np.asarray(force_n, dtype=float)
+        f = np.maximum(force - self.flow_yield_n, 0.0) / self.flow_force_scale_n
         out: FloatArray = self.flow_rate_v_per_s * f ** self.flow_exponent
+        if self.flow_volume_rates_v_per_n_s:
+            u = np.clip(np.asarray(volume_n_s, dtype=float) / self.flow_volume_scale_n_s, -1.0, 1.0)
+            out = out + force * sum(c * u ** (k + 1) for k, c in enumerate(self.flow_volume_rates_v_per_n_s))
         return out
 
     def forward_state(self) -> _FlowState:  # type: ignore[override]
         """A fresh state for block-wise :meth:`forward` runs: the core's, and the flow at the last stamp."""
-        return {"core": self.core.forward_state(), "t": None, "force_n": 0.0, "flow_v": 0.0}
+        return {"core": self.core.forward_state(), "t": None, "force_n": 0.0, "flow_v": 0.0, "volume_n_s": 0.0}
 
     def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
                 state: Optional[_FlowState] = None) -> FloatArray:  # type: ignore[override]
@@ -372,9 +393,12 @@ class PowerFlowElement(ViscoelasticElement):
         if not t.size:
             return out
         before_t = st["t"] if st["t"] is not None else float(t[0])
-        steps = np.diff(t, prepend=before_t) * np.concatenate([self.flow_rate([st["force_n"]]), self.flow_rate(f[:-1])])
-        flow = st["flow_v"] + np.cumsum(steps)
-        st["t"], st["force_n"], st["flow_v"] = float(t[-1]), float(f[-1]), float(flow[-1])
+        dt = np.diff(t, prepend=before_t)
+        forces = np.concatenate([[st["force_n"]], f[:-1]])  # the force before each sample
+        passed = st["volume_n_s"] + np.cumsum(dt * forces)  # the load-time integral at each sample
+        before = np.concatenate([[st["volume_n_s"]], passed[:-1]])
+        flow = st["flow_v"] + np.cumsum(dt * self.flow_rate(forces, before))
+        st["t"], st["force_n"], st["flow_v"], st["volume_n_s"] = float(t[-1]), float(f[-1]), float(flow[-1]), float(passed[-1])
         result: FloatArray = out + flow
         return result
 
@@ -388,19 +412,25 @@ class PowerFlowElement(ViscoelasticElement):
         inner = self.core.streaming()
         rate, exponent, scale, yield_n = (self.flow_rate_v_per_s, self.flow_exponent, self.flow_force_scale_n,
                                           self.flow_yield_n)
-        held: dict[str, Any] = {"t": None, "force_n": 0.0, "flow_v": 0.0}
+        volume_scale, volume_rates = self.flow_volume_scale_n_s, self.flow_volume_rates_v_per_n_s
+        held: dict[str, Any] = {"t": None, "force_n": 0.0, "flow_v": 0.0, "volume_n_s": 0.0}
 
         def flow_at(t_s: float) -> float:
             flow: float = held["flow_v"]
             if held["t"] is not None:
-                flow += (t_s - held["t"]) * rate * (max(held["force_n"] - yield_n, 0.0) / scale) ** exponent
+                force, dt = held["force_n"], t_s - held["t"]
+                flow += dt * rate * (max(force - yield_n, 0.0) / scale) ** exponent
+                if volume_rates:
+                    u = min(max(held["volume_n_s"] / volume_scale, -1.0), 1.0)
+                    flow += dt * force * sum(c * u ** (k + 1) for k, c in enumerate(volume_rates))
             return flow
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
             flow = flow_at(t_s)
             force = inner.step(t_s, y - flow, aux)
             if force is not None:  # a refused sample (a stamp going back) leaves the flow as it was
-                held.update(t=t_s, force_n=force, flow_v=flow)
+                passed = held["volume_n_s"] + (t_s - held["t"]) * held["force_n"] if held["t"] is not None else 0.0
+                held.update(t=t_s, force_n=force, flow_v=flow, volume_n_s=passed)
             return force
 
         def affine(t_s: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[tuple[float, float]]:
@@ -412,7 +442,7 @@ class PowerFlowElement(ViscoelasticElement):
 
         def reset() -> None:
             inner.reset()
-            held.update(t=None, force_n=0.0, flow_v=0.0)
+            held.update(t=None, force_n=0.0, flow_v=0.0, volume_n_s=0.0)
 
         return FunctionStream(step, reset, affine)
 
@@ -422,6 +452,9 @@ class PowerFlowElement(ViscoelasticElement):
                "flow_exponent": float(self.flow_exponent), "flow_force_scale_n": float(self.flow_force_scale_n)}
         if self.flow_yield_n != 0.0:
             out["flow_yield_n"] = float(self.flow_yield_n)
+        if self.flow_volume_rates_v_per_n_s:
+            out["flow_volume_scale_n_s"] = float(self.flow_volume_scale_n_s)
+            out["flow_volume_rates_v_per_n_s"] = [float(c) for c in self.flow_volume_rates_v_per_n_s]
         return out
 
     @classmethod
@@ -429,7 +462,31 @@ class PowerFlowElement(ViscoelasticElement):
         """The element from a model-file mapping."""
         check_keys("power_flow", d, cls.KEYS, cls.OPTIONAL)
         inner = wrapped_core_from_dict("power_flow", d["core"], ("thermo_rheological",))
-        return cls(inner, d["flow_rate_v_per_s"], d["flow_exponent"], d["flow_force_scale_n"], d.get("flow_yield_n", 0.0))
+        return cls(inner, d["flow_rate_v_per_s"], d["flow_exponent"], d["flow_force_scale_n"], d.get("flow_yield_n", 0.0),
+                   d.get("flow_volume_scale_n_s", 0.0), d.get("flow_volume_rates_v_per_n_s", ()))
+
+
+#: Most terms of a fluidity that changes with the load-time integral passed (linear to cubic in it): a fluidity
+#: that falls or rises several-fold over the record (a filter that clogs to a tenth) needs the third.
+MAX_VOLUME_TERMS = 3
+
+
+def _volume_law(scale_n_s: Any, rates: Any) -> tuple[float, tuple[float, ...]]:
+    """The checked (scale, rates) of a fluidity that changes with the load-time integral passed: both given, or
+    neither (scale 0, no rates)."""
+    given = not (isinstance(rates, (list, tuple, np.ndarray)) and len(rates) == 0)
+    scale = check_number("power_flow", "flow_volume_scale_n_s", scale_n_s, positive=False)
+    if not given:
+        if scale != 0.0:
+            raise ModelError("power_flow: flow_volume_scale_n_s needs flow_volume_rates_v_per_n_s")
+        return 0.0, ()
+    values = float_list("power_flow", "flow_volume_rates_v_per_n_s", rates, positive=False)
+    if values.size > MAX_VOLUME_TERMS:
+        raise ModelError(f"power_flow: flow_volume_rates_v_per_n_s holds {values.size} values; at most "
+                         f"{MAX_VOLUME_TERMS}")
+    if scale <= 0.0:
+        raise ModelError("power_flow: flow_volume_rates_v_per_n_s needs flow_volume_scale_n_s > 0")
+    return scale, tuple(float(v) for v in values)
 
 
 class _KneeState(TypedDict):

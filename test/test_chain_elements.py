@@ -1,7 +1,7 @@
 """Effect elements of the sensor chain: inverses, streaming == batch, YAML, block-wise simulation."""
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from polyforce_ros.model_file import SensorModel, load_model, save_model
@@ -679,11 +679,14 @@ def test_a_power_flow_adds_its_left_sum_to_the_core_runs_in_blocks_and_its_inver
         rate, exponent, scale, shift, yield_n, volume_rates, volume_scale, seed):
     """V = core(F) + rate sum over the samples before of ((F - yield) / scale)^n dt above the yield, and with
     volume rates c_k the left sum of F sum_k c_k u^k dt, u the load-time integral passed (a left sum too) over
-    its scale held within +-1; block by block as in one run; the inverse (plain or thermo-rheological core)
+    its scale held within [0, 1]; block by block as in one run; the inverse (plain or thermo-rheological core)
     returns the force; the model file round-trips."""
     from polyforce_ros.physics.chain import PowerFlowElement, ThermoRheologicalElement
     from polyforce_ros.physics.viscoelastic import Zener
 
+    from polyforce_ros.physics.chain import lowest_volume_fluidity
+
+    assume(lowest_volume_fluidity(volume_rates) >= 0.0)  # a zener core has no fluidity of its own to spare
     rng = np.random.default_rng(seed)
     t = np.cumsum(rng.uniform(0.5e-3, 1.5e-3, 6000))
     f = np.clip(4 + 3 * np.sin(2 * np.pi * rng.uniform(0.1, 2.0) * t) + rng.normal(0, 0.05, t.size), -0.5, None)
@@ -691,7 +694,7 @@ def test_a_power_flow_adds_its_left_sum_to_the_core_runs_in_blocks_and_its_inver
     plain = ViscoelasticElement(Zener(rng.uniform(1, 10), rng.uniform(5, 50), rng.uniform(10, 500)))
     core = ThermoRheologicalElement(plain, shift, 23.0) if shift > 0.1 else plain
     e = PowerFlowElement(core, rate, exponent, scale, yield_n, volume_scale if volume_rates else 0.0, volume_rates)
-    u = np.clip(np.concatenate([[0.0], np.cumsum(np.diff(t) * f[:-1])]) / volume_scale, -1.0, 1.0)
+    u = np.clip(np.concatenate([[0.0], np.cumsum(np.diff(t) * f[:-1])]) / volume_scale, 0.0, 1.0)
     fluid = rate * (np.maximum(f - yield_n, 0) / scale) ** exponent + f * sum(
         (c * u ** (k + 1) for k, c in enumerate(volume_rates)), np.zeros_like(f))
     left = np.concatenate([[0.0], np.cumsum(np.diff(t) * fluid[:-1])])
@@ -741,6 +744,47 @@ def test_a_fluidity_that_changes_as_the_core_flows_needs_a_scale_and_at_most_thr
         PowerFlowElement.from_dict(off)
     plain = PowerFlowElement(core, 0.01, 2.0, 9.0)
     assert "flow_volume_scale_n_s" not in plain.to_dict() and plain.flow_volume_rates_v_per_n_s == ()
+
+
+def test_a_fluidity_that_changes_as_the_core_flows_is_refused_where_it_would_turn_negative():
+    """The volume terms with the core's own fluidity never negative in [0, 1], between the ends too (a dip at u =
+    0.25 of p = u (2 u - 1) 1e-3); a thermo-rheological core lends none of its own, which cold can stop."""
+    from polyforce_ros.physics.chain import PowerFlowElement, ThermoRheologicalElement, lowest_volume_fluidity
+    from polyforce_ros.physics.viscoelastic import Burgers, Zener
+
+    assert lowest_volume_fluidity([-1e-3, 2e-3]) == pytest.approx(-1.25e-4)
+    assert lowest_volume_fluidity([1e-3, -3e-3, 2.5e-3]) == pytest.approx(min(0.0, 1e-3 - 3e-3 + 2.5e-3))
+    zener = ViscoelasticElement(Zener(3.0, 20.0, 200.0))
+    burgers = ViscoelasticElement(Burgers(3.0, 20.0, 1000.0, 200.0))  # its own fluidity 1e-3 V/(N s)
+    for core, rates, ok in ((zener, [-1e-3, 2e-3], False), (zener, [1e-3, -5e-4], True),
+                            (burgers, [-5e-4], True), (burgers, [-2e-3], False), (burgers, [-4e-3, 4e-3], True),
+                            (ThermoRheologicalElement(burgers, 0.1, 23.0), [-5e-4], False)):
+        if ok:
+            PowerFlowElement(core, 0.0, 1.0, 9.0, 0.0, 100.0, rates)
+        else:
+            with pytest.raises(ModelError, match="negative fluidity"):
+                PowerFlowElement(core, 0.0, 1.0, 9.0, 0.0, 100.0, rates)
+
+
+@settings(max_examples=20, deadline=None)
+@given(rates=st.lists(st.floats(-0.1, 0.1), min_size=1, max_size=3), scale=st.floats(1e-3, 1e4),
+       volts=st.sampled_from([-1.0, -0.2, 0.3, 1.0]), seed=st.integers(0, 2 ** 16))
+def test_a_fluidity_that_changes_as_the_core_flows_never_grows_the_force_over_hours_of_a_held_voltage(
+        rates, scale, volts, seed):
+    """Three hours of one bridge voltage at 10 Hz through the inverse of a flow whose fluidity changes as it flows
+    (any legal rates beside a burgers core, shrunk as the engine shrinks them): the force relaxes, it never grows past
+    its first value and never turns NaN, at either sign of the load."""
+    from polyforce_ros.discrepancy.effects import volume_beside
+    from polyforce_ros.physics.viscoelastic import Burgers
+
+    rng = np.random.default_rng(seed)
+    core = ViscoelasticElement(Burgers(rng.uniform(1, 10), rng.uniform(5, 50), rng.uniform(10, 500),
+                                       rng.uniform(1e3, 1e5)))
+    e = volume_beside(core, scale, rates)
+    t = np.arange(0.0, 3 * 3600.0, 0.1)
+    force = e.backward(t, np.full(t.size, volts))
+    assert np.all(np.isfinite(force))
+    assert np.max(np.abs(force)) <= abs(force[0]) * (1 + 1e-9)
 
 
 @settings(max_examples=40, deadline=None)

@@ -581,6 +581,7 @@ def test_a_flow_whose_fluidity_changes_as_it_flows_is_named_viscous_flow_not_a_d
     rec = Record(t, f + rng.normal(0.0, 0.005, t.size), flowing(t, f) + rng.normal(0.0, 2e-3, t.size), None)
     diag = diagnose(rec, base="zener")
     assert diag.missing_effects == ["viscous_flow"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    assert diag.variants["viscous_flow"] == "volume"
     after = _needle_rmse_fraction(diag.chain, flowing, 500.0, seed)
     assert after <= 0.01 and after < _needle_rmse_fraction(diag.base_chain, flowing, 500.0, seed)
 

@@ -22,7 +22,7 @@ from ..physics.chain import (BridgeHysteresisElement, Element, KneeKelvinElement
                              SensorChain, ThermoRheologicalElement, ViscoelasticElement, reduced_time_s)
 from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
-from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, Col, knee_beside, lag_columns, lag_stages, parameter
+from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, Col, knee_beside, lag_columns, volume_beside, lag_stages, parameter
 from .signals import BoolArray, FloatArray, IntArray, Signals
 
 __all__ = ["BASES", "BLOCKS_PER_FOLD", "CORE_SHAPE", "TAU_GRID", "TAU_BOUNDS", "Term", "Structure", "Design", "design",
@@ -408,8 +408,11 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
     flows = [e for e in slots["core"] if isinstance(e, PowerFlowElement)]
     if flows:  # a power-law dashpot beside the fitted core (on its clock's core, shifted or not)
         flow = flows[0]
-        fitted = PowerFlowElement(fitted, flow.flow_rate_v_per_s, flow.flow_exponent, flow.flow_force_scale_n,
-                                  flow.flow_yield_n, flow.flow_volume_scale_n_s, flow.flow_volume_rates_v_per_n_s)
+        if flow.flow_volume_rates_v_per_n_s:  # with the fitted core's own fluidity, never a negative one
+            fitted = volume_beside(fitted, flow.flow_volume_scale_n_s, flow.flow_volume_rates_v_per_n_s)
+        else:
+            fitted = PowerFlowElement(fitted, flow.flow_rate_v_per_s, flow.flow_exponent, flow.flow_force_scale_n,
+                                      flow.flow_yield_n)
     knees = [e for e in slots["core"] if isinstance(e, KneeKelvinElement)]
     if knees:  # a Kelvin unit that only the force above a knee loads, beside the fitted core (flowing or not)
         k = knees[0]

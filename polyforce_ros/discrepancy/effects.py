@@ -42,6 +42,8 @@ from ..physics.chain import (
     SensorLagElement, SplineDriftElement, StepDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
     MAX_VOLUME_TERMS,
     PowerFlowElement,
+    lowest_volume_fluidity,
+    series_fluidity,
     ThermoRheologicalElement,
     TransportDelayElement, lagged_temperature_c, play_operator, scaled_input, scaled_output,
 )
@@ -51,8 +53,8 @@ from .signals import FloatArray, Signals, noise_std
 
 __all__ = ["SPREAD_RATIO",
            "Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
-           "SPLINE_INTERVALS", "KNEE_FRACTIONS", "KNEE_FLOOR_SHARE", "knees_n", "knee_beside", "FRICTION_FRACTIONS",
-           "FRICTION_NOISE_SIGMAS", "force_noise_n",
+           "SPLINE_INTERVALS", "KNEE_FRACTIONS", "KNEE_FLOOR_SHARE", "knees_n", "knee_beside", "volume_beside",
+           "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n",
            "at_noise_limit", "lag_columns", "lag_stages",
            "variant_group", "parameter", "hints"]
 
@@ -372,12 +374,12 @@ def _flow_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
     (:class:`~polyforce_ros.physics.chain.PowerFlowElement`)."""
     if variant == "volume":  # the left sums of F u^k dt (k = 1..3), u the load-time integral passed over its largest
         key = "flow volume"
-        if key not in sig.cache:
+        if key not in sig.record_cache:  # the record's alone, whatever the reference core
             steps = np.diff(sig.t) * sig.f[:-1]
-            u = np.concatenate([[0.0], np.cumsum(steps)])[:-1] / _flowed_scale_n_s(sig)
-            sig.cache[key] = [(f"flow_volume{k}", np.concatenate([[0.0], np.cumsum(steps * u ** k)]), -np.inf, np.inf,
-                               "sensor", None) for k in range(1, MAX_VOLUME_TERMS + 1)]
-        out: list[Col] = sig.cache[key]
+            u = np.clip(np.concatenate([[0.0], np.cumsum(steps)])[:-1] / _flowed_scale_n_s(sig), 0.0, 1.0)
+            sig.record_cache[key] = [(f"flow_volume{k}", np.concatenate([[0.0], np.cumsum(steps * u ** k)]), -np.inf,
+                                      np.inf, "sensor", None) for k in range(1, MAX_VOLUME_TERMS + 1)]
+        out: list[Col] = sig.record_cache[key]
         return out
     if variant not in ("power", "yield"):
         return []
@@ -390,10 +392,9 @@ def _flow_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
 
 def _flow_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     if variant == "volume":
-        rates = [float(np.clip(coef.get(f"flow_volume{k}", 0.0), -1.0, 1.0)) for k in range(1, MAX_VOLUME_TERMS + 1)]
+        rates = [coef.get(f"flow_volume{k}", 0.0) for k in range(1, MAX_VOLUME_TERMS + 1)]
         # the core here is a stand-in: build_chain puts the fitted core beside the flow
-        return [("core", PowerFlowElement(ViscoelasticElement(sig.reference_core), 0.0, 1.0, 1.0, 0.0,
-                                          _flowed_scale_n_s(sig), rates))]
+        return [("core", volume_beside(ViscoelasticElement(sig.reference_core), _flowed_scale_n_s(sig), rates))]
     if variant not in ("power", "yield"):
         return []
     exponent, yield_share = _flow_law(variant, param)
@@ -644,6 +645,18 @@ def _knee_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
 #: file's bound is all of it): the output still rises with the load at a tenth of the core's instant slope, so the
 #: inverse stays single-valued and bounded.
 KNEE_FLOOR_SHARE = 0.9
+
+
+def volume_beside(core: ViscoelasticElement, scale_n_s: float, rates_v_per_n_s: Sequence[float]) -> PowerFlowElement:
+    """``core`` beside a flow whose fluidity changes with the load-time integral passed, each rate within the model
+    file's bounds and all shrunk together, when they must, so that with the core's own fluidity the total is never
+    negative (:func:`~polyforce_ros.physics.chain.lowest_volume_fluidity`): the fitted shape, as much of it as a
+    flow that only dissipates can hold."""
+    rates = np.clip(np.asarray(rates_v_per_n_s, dtype=float), -0.1, 0.1)
+    lowest, own = lowest_volume_fluidity(rates), series_fluidity(core)
+    if lowest + own < 0.0:
+        rates = rates * (own / -lowest) * (1.0 - 1e-9)
+    return PowerFlowElement(core, 0.0, 1.0, 1.0, 0.0, float(np.clip(scale_n_s, 1e-6, 1e9)), [float(r) for r in rates])
 
 
 def knee_beside(core: ViscoelasticElement, knees: npt.ArrayLike, compliances_v_per_n: Sequence[float],

@@ -217,9 +217,9 @@ PARAMETER_BOUNDS = {
     "flow_force_scale_n": (1e-3, 1e5, "N", "1 mN to 100 kN: beyond any force sensor range"),
     "flow_yield_n": (0.0, 1e5, "N", "100 kN: beyond any force sensor range"),
     # a fluidity that changes with the load-time integral passed: the integral at which it stops changing, and the
-    # change there (1 V per newton-second fills any range within a second at 10 N)
+    # change there (0.1 V per newton-second: a 10 N push flows 1 V per second, a range within seconds)
     "flow_volume_scale_n_s": (1e-6, 1e9, "N s", "a billion newton-seconds: 30 years at 1 N"),
-    "flow_volume_rates_v_per_n_s": (-1.0, 1.0, "V/(N s)", "a range filled within a second at 10 N already"),
+    "flow_volume_rates_v_per_n_s": (-0.1, 0.1, "V/(N s)", "a 10 N push would flow a range within seconds"),
     # Kelvin units loaded by the force above knees: a compliance may be negative (a unit that bottoms out above its
     # knee) as long as each running sum stays above minus the core's instantaneous compliance (checked against it)
     "knees_n": (-1e5, 1e5, "N", "100 kN: beyond any force sensor range"),

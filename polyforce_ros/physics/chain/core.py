@@ -24,7 +24,7 @@ from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, FunctionStream, Mo
                    float_list, short_repr, smoke_records, stream_backward, temperature_c_of)
 
 __all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "MAX_VOLUME_TERMS",
-           "KneeKelvinElement", "reduced_time_s",
+           "lowest_volume_fluidity", "series_fluidity", "KneeKelvinElement", "reduced_time_s",
            "wrapped_core_from_dict", "MAX_LOG_SHIFT"]
 
 
@@ -317,12 +317,14 @@ class PowerFlowElement(ViscoelasticElement):
     force. Optionally a flow whose fluidity changes with the load-time integral already passed (strain hardening,
     a filter that clogs, a leak path that opens or a crack that grows as the core flows):
 
-        + integral of F * sum_k flow_volume_rates_v_per_n_s[k] * u ** (k + 1) dt,   u = clip(X / flow_volume_scale_n_s, -1, 1)
+        + integral of F * sum_k flow_volume_rates_v_per_n_s[k] * u ** (k + 1) dt,   u = clip(X / flow_volume_scale_n_s, 0, 1)
 
-    with X the integral of F dt since the start; beyond the scale (the largest the calibration record reached) the
-    fluidity is held at its value there, never extrapolated. Both integrals run on the forces before each sample (a
-    left sum), so the inverse is explicit: the flow at a sample is known before its force is solved for. ``core``
-    is a viscoelastic core or a thermo-rheological one.
+    with X the integral of F dt since the start; beyond the scale (the largest the calibration record reached) and
+    below the start the fluidity is held at its value there, never extrapolated. That fluidity with the core's own
+    (the dashpot in series; none counted for a thermo-rheological core, which cold can all but stop) is never
+    negative in [0, 1]: a negative one would feed the inverse's flow back into its force and grow without bound.
+    Both integrals run on the forces before each sample (a left sum), so the inverse is explicit: the flow at a
+    sample is known before its force is solved for. ``core`` is a viscoelastic core or a thermo-rheological one.
 
     Parameters (model file keys)
     ----------------------------
@@ -339,7 +341,8 @@ class PowerFlowElement(ViscoelasticElement):
     flow_volume_scale_n_s : float > 0, optional
         The load-time integral at which the fluidity stops changing [N s] (with ``flow_volume_rates_v_per_n_s``).
     flow_volume_rates_v_per_n_s : list of 1-3 floats, optional
-        The fluidity's change at the scale, linear, quadratic and cubic in u [V/(N s)], either sign.
+        The fluidity's change at the scale, linear, quadratic and cubic in u [V/(N s)], either sign, the total with
+        the core's never negative in [0, 1] (:func:`lowest_volume_fluidity`, :func:`series_fluidity`).
     """
 
     KEYS = ("core", "flow_rate_v_per_s", "flow_exponent", "flow_force_scale_n")
@@ -366,6 +369,10 @@ class PowerFlowElement(ViscoelasticElement):
         if yield_n < 0.0:
             raise ModelError(f"power_flow: flow_yield_n must be >= 0, got {yield_n!r}")
         volume_scale, volume_rates = _volume_law(flow_volume_scale_n_s, flow_volume_rates_v_per_n_s)
+        lowest = lowest_volume_fluidity(volume_rates) + series_fluidity(core)
+        if lowest < 0.0:
+            raise ModelError(f"power_flow: flow_volume_rates_v_per_n_s with the core's own fluidity fall to {lowest:.3g} "
+                             "V/(N s) within the scale; a negative fluidity makes the inverse grow without bound")
         self._freeze(model=core.model, kind="power_flow", core=core, flow_rate_v_per_s=rate, flow_exponent=exponent,
                      flow_force_scale_n=scale, flow_yield_n=yield_n, flow_volume_scale_n_s=volume_scale,
                      flow_volume_rates_v_per_n_s=volume_rates)
@@ -376,7 +383,7 @@ class PowerFlowElement(ViscoelasticElement):
         f = np.maximum(force - self.flow_yield_n, 0.0) / self.flow_force_scale_n
         out: FloatArray = self.flow_rate_v_per_s * f ** self.flow_exponent
         if self.flow_volume_rates_v_per_n_s:
-            u = np.clip(np.asarray(volume_n_s, dtype=float) / self.flow_volume_scale_n_s, -1.0, 1.0)
+            u = np.clip(np.asarray(volume_n_s, dtype=float) / self.flow_volume_scale_n_s, 0.0, 1.0)
             out = out + force * sum(c * u ** (k + 1) for k, c in enumerate(self.flow_volume_rates_v_per_n_s))
         return out
 
@@ -421,7 +428,7 @@ class PowerFlowElement(ViscoelasticElement):
                 force, dt = held["force_n"], t_s - held["t"]
                 flow += dt * rate * (max(force - yield_n, 0.0) / scale) ** exponent
                 if volume_rates:
-                    u = min(max(held["volume_n_s"] / volume_scale, -1.0), 1.0)
+                    u = min(max(held["volume_n_s"] / volume_scale, 0.0), 1.0)
                     flow += dt * force * sum(c * u ** (k + 1) for k, c in enumerate(volume_rates))
             return flow
 
@@ -471,9 +478,27 @@ class PowerFlowElement(ViscoelasticElement):
 MAX_VOLUME_TERMS = 3
 
 
+def lowest_volume_fluidity(rates_v_per_n_s: Any) -> float:
+    """The lowest of sum_k rates[k] u^(k+1) over u in [0, 1] [V/(N s)]: at an end or where its slope is zero."""
+    coefficients = np.concatenate([np.asarray(rates_v_per_n_s, dtype=float)[::-1], [0.0]])  # highest power first
+    turns = np.roots(np.polyder(coefficients)) if coefficients.size > 2 else np.empty(0)
+    inside = [float(r.real) for r in turns if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
+    return float(min(np.polyval(coefficients, [0.0, 1.0, *inside])))
+
+
+def series_fluidity(core: ViscoelasticElement) -> float:
+    """The fluidity of the dashpot in series in ``core`` that always acts [V/(N s)]: none for a thermo-rheological
+    core, whose dashpot cold can all but stop."""
+    if isinstance(core, ThermoRheologicalElement):
+        return 0.0
+    return float(core.model.compliance().fluidity_v_per_n_s)
+
+
 def _volume_law(scale_n_s: Any, rates: Any) -> tuple[float, tuple[float, ...]]:
     """The checked (scale, rates) of a fluidity that changes with the load-time integral passed: both given, or
     neither (scale 0, no rates)."""
+    if isinstance(rates, np.ndarray) and rates.ndim != 1:
+        raise ModelError(f"power_flow: flow_volume_rates_v_per_n_s must be a list of numbers, got {short_repr(rates)}")
     given = not (isinstance(rates, (list, tuple, np.ndarray)) and len(rates) == 0)
     scale = check_number("power_flow", "flow_volume_scale_n_s", scale_n_s, positive=False)
     if not given:

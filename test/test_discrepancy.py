@@ -913,3 +913,27 @@ def test_a_mode_is_added_beside_a_lag_only_for_structure_the_record_shows(seed):
         alone, drop_lag = choose_mode(t, rings, np.roll(without_lag, 8), fold, 2e-3, (15.0, 60.0), 0.8, 0.3,
                                       without_lag, structure_seen=seen_there)
         assert alone is not None and drop_lag and 15.0 < alone.frequency_hz < 45.0
+
+
+def test_the_column_cache_drops_its_least_recently_used_columns_past_its_bound_never_the_newest():
+    """A polish makes columns for every retardation time and shift factor it tries: the cache keeps the most recently
+    used up to its bound in bytes (one entry larger than the bound too), counts what it holds, and a key set again
+    is counted once."""
+    from polyforce_ros.discrepancy.signals import CACHE_BYTES, ColumnCache, Signals
+
+    cache = ColumnCache(max_bytes=4 * 8000)
+    column = np.zeros(1000)  # 8000 bytes
+    for k in range(4):
+        cache[k] = [("c", column.copy(), 0.0, 1.0, "sensor", None)]
+    assert list(cache) == [0, 1, 2, 3] and cache.held_bytes == 4 * 8000
+    _ = cache[0]  # used: now the newest
+    cache[4] = (column.copy(), 1.5)
+    assert list(cache) == [2, 3, 0, 4] and cache.held_bytes == 4 * 8000
+    cache[4] = column[:500].copy()  # the same key again
+    assert cache.held_bytes == 3 * 8000 + 4000 and len(cache) == 4
+    cache["big"] = np.zeros(10000)  # larger than the bound alone: kept, everything older dropped
+    assert list(cache) == ["big"] and cache.held_bytes == 80000
+    cache["scalar"] = 3.0
+    assert list(cache) == ["scalar"] and cache.held_bytes == 0
+    sig = Signals(np.arange(3.0), np.zeros(3), np.zeros(3), None, 0.0, 2.0, 20.0)
+    assert isinstance(sig.cache, ColumnCache) and sig.cache.max_bytes == CACHE_BYTES

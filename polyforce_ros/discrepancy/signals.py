@@ -6,6 +6,7 @@ grid or the record at its own rate, with the caches of the columns made from it.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
@@ -14,12 +15,52 @@ import numpy.typing as npt
 
 from ..physics.viscoelastic import ViscoelasticModel
 
-__all__ = ["FloatArray", "BoolArray", "IntArray", "GapStep", "ZeroJump", "Signals", "uniform_blocks", "record_gaps",
-           "noise_std", "MIN_GAP_S", "MAX_GAPS"]
+__all__ = ["FloatArray", "BoolArray", "IntArray", "GapStep", "ZeroJump", "Signals", "ColumnCache", "CACHE_BYTES",
+           "uniform_blocks", "record_gaps", "noise_std", "MIN_GAP_S", "MAX_GAPS"]
 
 FloatArray = npt.NDArray[np.float64]
 BoolArray = npt.NDArray[np.bool_]
 IntArray = npt.NDArray[np.int64]
+
+
+#: The most bytes of arrays one set of signals keeps in its column cache. A polish tries hundreds of retardation times
+#: and shift factors, each a set of columns as long as the record: kept without a bound, they take one diagnosis of a
+#: thermo-rheological record of 8 minutes at 100 Hz past 15 GB.
+CACHE_BYTES = 1 << 30
+
+
+def _nbytes(value: Any) -> int:
+    """The bytes of the arrays in ``value`` (an array, or lists and tuples that hold them)."""
+    if isinstance(value, np.ndarray):
+        return int(value.nbytes)
+    if isinstance(value, (list, tuple)):
+        return sum(_nbytes(v) for v in value)
+    return 0
+
+
+class ColumnCache(OrderedDict[Any, Any]):
+    """A dict that drops its least recently used entries once their arrays pass ``max_bytes`` (never the newest):
+    what it drops is made again when asked for, the same columns."""
+
+    def __init__(self, max_bytes: int = CACHE_BYTES) -> None:
+        super().__init__()
+        self.max_bytes = max_bytes
+        self.held_bytes = 0
+
+    def __getitem__(self, key: Any) -> Any:
+        value = super().__getitem__(key)
+        self.move_to_end(key)
+        return value
+
+    def __setitem__(self, key: Any, value: Any) -> None:
+        if key in self:
+            self.held_bytes -= _nbytes(super().__getitem__(key))
+        super().__setitem__(key, value)
+        self.move_to_end(key)
+        self.held_bytes += _nbytes(value)
+        while self.held_bytes > self.max_bytes and len(self) > 1:
+            _, dropped = self.popitem(last=False)
+            self.held_bytes -= _nbytes(dropped)
 
 
 @dataclass(frozen=True)
@@ -104,8 +145,8 @@ class Signals:
     zero_jumps : tuple of ZeroJump
         Where the base model's residual jumps while its core's output does not (:func:`.residual.zero_jumps`): where
         the ``steps`` and ``jumps`` variants of an offset drift put theirs.
-    cache : dict
-        Design columns made from these signals (new with every reference core).
+    cache : ColumnCache
+        Design columns made from these signals (new with every reference core), at most :data:`CACHE_BYTES`.
     record_cache : dict
         What depends on the record alone (force, time), not on the reference core: kept by every refresh.
     """
@@ -125,7 +166,7 @@ class Signals:
     span_x: float = 1.0
     gap_steps: tuple[GapStep, ...] = ()
     zero_jumps: tuple[ZeroJump, ...] = ()
-    cache: dict[Any, Any] = field(default_factory=dict, init=False, repr=False)
+    cache: ColumnCache = field(default_factory=ColumnCache, init=False, repr=False)
     record_cache: dict[Any, Any] = field(default_factory=dict, repr=False)
 
     @property

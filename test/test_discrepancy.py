@@ -172,19 +172,18 @@ def test_drift_events_shorter_than_a_coarse_spline_interval_are_named_offset_dri
     assert d.rmse_after <= 1.2 * d.noise_floor_v, (d.rmse_after, d.noise_floor_v)
 
 
-def test_a_flow_that_a_fine_spline_drift_stood_in_for_is_named_once_the_drift_is_rechosen_beside_it():
-    """A zener that flows, with a settling drift (tune case, 200 Hz). A drift is named first (it follows the flow's
-    creep under a slow load); beside it the flow lowered the out-of-sample error by 60 % of its excess, but in only
-    3 of 5 folds. A slow delayed elasticity retried with the drift's shape re-chosen beside it predicts a little
-    better than the flow, by a difference of predictions the record cannot show, so it is not judged; the flow,
-    judged beside the drift by the acceptance test alone (the two are nearly collinear), is named."""
+def test_a_flow_with_a_settling_drift_under_a_slow_load_is_named_with_the_drift_not_a_slow_delayed_elasticity():
+    """A zener that flows, with a settling drift (tune case, 200 Hz), under a slow load that seldom rests: the flow
+    and the drift are nearly collinear, and a slow delayed elasticity or a fine spline in time follows either's
+    creep. The flow is named first (its fluidity following the load-time integral passed takes the part of the
+    drift its rests do not tell apart), the settling drift beside it; no delayed elasticity is named, and the record
+    is explained to its floor. (Whether an effect beside a drift must make a difference the record shows is the
+    acceptance rule tested in test_discrepancy_newtons: a flow and a drift judged by the acceptance test alone.)"""
     rec, case = bench_record(["viscous_flow", "offset_drift"], 0.5, "zener", 600.0, 200.0, 9022, split="tune",
                              families={"viscous_flow": "eta_two_decades", "offset_drift": "exp_approach"})
-    steps = []
-    d = diagnose(rec, base=case.base, progress=steps.append)
+    d = diagnose(rec, base=case.base)
     assert sorted(d.missing_effects) == ["offset_drift", "viscous_flow"], [c.summary() for c in d.candidates]
-    # the elasticity that won on the drift's re-choice alone is not judged beside the drift
-    assert "step 2: delayed_elasticity adds less than the record can show, not judged" in steps, steps
+    assert not any(c.effect == "delayed_elasticity" and c.accepted for c in d.candidates)
     assert d.rmse_after <= 1.2 * d.noise_floor_v, (d.rmse_after, d.noise_floor_v)
 
 

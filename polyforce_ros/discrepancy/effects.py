@@ -41,6 +41,7 @@ from ..physics.chain import (
     PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, StepDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
     MAX_VOLUME_TERMS,
+    PARAMETER_BOUNDS,
     PowerFlowElement,
     lowest_volume_fluidity,
     series_fluidity,
@@ -357,10 +358,22 @@ def _flow_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     return [0.1, 0.2, 0.3, 0.45] if variant == "yield" else [None]
 
 
-def _flowed_scale_n_s(sig: Signals) -> float:
-    """The largest load-time integral the record reaches [N s]: the scale of a fluidity that changes with it."""
-    passed = np.concatenate([[0.0], np.cumsum(np.diff(sig.t) * sig.f[:-1])])
-    return float(np.clip(np.max(np.abs(passed)), 1e-6, 1e9))
+def _bounded(value: npt.ArrayLike, key: str) -> npt.NDArray[np.float64]:
+    """``value`` clipped to the model file's bounds of ``key``."""
+    low, high = PARAMETER_BOUNDS[key][:2]
+    out: npt.NDArray[np.float64] = np.clip(np.asarray(value, dtype=float), low, high)
+    return out
+
+
+def _passed_n_s(sig: Signals) -> tuple[FloatArray, float]:
+    """The load-time integral passed before each sample (the left sum of F dt) [N s], and the largest it reaches,
+    within the model file's bounds: the scale of a fluidity that changes with it. Made once per record."""
+    key = "load-time integral"
+    if key not in sig.record_cache:  # the record's alone, whatever the reference core
+        passed = np.concatenate([[0.0], np.cumsum(np.diff(sig.t) * sig.f[:-1])])
+        sig.record_cache[key] = (passed, float(_bounded(np.max(np.abs(passed)), "flow_volume_scale_n_s")))
+    out: tuple[FloatArray, float] = sig.record_cache[key]
+    return out
 
 
 def _flow_law(variant: str, param: Optional[float]) -> tuple[float, float]:
@@ -375,8 +388,8 @@ def _flow_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
     if variant == "volume":  # the left sums of F u^k dt (k = 1..3), u the load-time integral passed over its largest
         key = "flow volume"
         if key not in sig.record_cache:  # the record's alone, whatever the reference core
-            steps = np.diff(sig.t) * sig.f[:-1]
-            u = np.clip(np.concatenate([[0.0], np.cumsum(steps)])[:-1] / _flowed_scale_n_s(sig), 0.0, 1.0)
+            passed, scale_n_s = _passed_n_s(sig)
+            steps, u = np.diff(sig.t) * sig.f[:-1], np.clip(passed[:-1] / scale_n_s, 0.0, 1.0)
             sig.record_cache[key] = [(f"flow_volume{k}", np.concatenate([[0.0], np.cumsum(steps * u ** k)]), -np.inf,
                                       np.inf, "sensor", None) for k in range(1, MAX_VOLUME_TERMS + 1)]
         out: list[Col] = sig.record_cache[key]
@@ -394,7 +407,7 @@ def _flow_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
     if variant == "volume":
         rates = [coef.get(f"flow_volume{k}", 0.0) for k in range(1, MAX_VOLUME_TERMS + 1)]
         # the core here is a stand-in: build_chain puts the fitted core beside the flow
-        return [("core", volume_beside(ViscoelasticElement(sig.reference_core), _flowed_scale_n_s(sig), rates))]
+        return [("core", volume_beside(ViscoelasticElement(sig.reference_core), _passed_n_s(sig)[1], rates))]
     if variant not in ("power", "yield"):
         return []
     exponent, yield_share = _flow_law(variant, param)
@@ -652,11 +665,12 @@ def volume_beside(core: ViscoelasticElement, scale_n_s: float, rates_v_per_n_s: 
     file's bounds and all shrunk together, when they must, so that with the core's own fluidity the total is never
     negative (:func:`~polyforce_ros.physics.chain.lowest_volume_fluidity`): the fitted shape, as much of it as a
     flow that only dissipates can hold."""
-    rates = np.clip(np.asarray(rates_v_per_n_s, dtype=float), -0.1, 0.1)
+    rates = _bounded(rates_v_per_n_s, "flow_volume_rates_v_per_n_s")
     lowest, own = lowest_volume_fluidity(rates), series_fluidity(core)
     if lowest + own < 0.0:
         rates = rates * (own / -lowest) * (1.0 - 1e-9)
-    return PowerFlowElement(core, 0.0, 1.0, 1.0, 0.0, float(np.clip(scale_n_s, 1e-6, 1e9)), [float(r) for r in rates])
+    return PowerFlowElement(core, 0.0, 1.0, 1.0, 0.0, float(_bounded(scale_n_s, "flow_volume_scale_n_s")),
+                            [float(r) for r in rates])
 
 
 def knee_beside(core: ViscoelasticElement, knees: npt.ArrayLike, compliances_v_per_n: Sequence[float],
@@ -666,11 +680,11 @@ def knee_beside(core: ViscoelasticElement, knees: npt.ArrayLike, compliances_v_p
     floor = -KNEE_FLOOR_SHARE * core.model.compliance().j0_v_per_n
     kept, total = [], 0.0
     for c in compliances_v_per_n:
-        c = float(np.clip(c, max(floor - total, -1e3), 1e3))
+        low, high = PARAMETER_BOUNDS["knee_compliances_v_per_n"][:2]
+        c = float(np.clip(c, max(floor - total, low), high))
         kept.append(c)
         total += c
-    return KneeKelvinElement(core, np.clip(np.asarray(knees, dtype=float), -1e5, 1e5), kept,
-                             float(np.clip(tau_s, 1e-3, 1e6)))
+    return KneeKelvinElement(core, _bounded(knees, "knees_n"), kept, float(_bounded(tau_s, "knee_tau_s")))
 
 
 def _thermal_grid(variant: str, sig: Signals) -> list[Optional[float]]:

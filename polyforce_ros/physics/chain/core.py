@@ -4,7 +4,7 @@ a core's parameters must pass before it is used.
 from __future__ import annotations
 
 import math
-from typing import Any, Mapping, Optional, Self, TypedDict
+from typing import Any, Mapping, Optional, Self, Sequence, TypedDict
 
 import numpy as np
 import numpy.typing as npt
@@ -24,7 +24,7 @@ from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, FunctionStream, Mo
                    float_list, short_repr, smoke_records, stream_backward, temperature_c_of)
 
 __all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "MAX_VOLUME_TERMS",
-           "lowest_volume_fluidity", "series_fluidity", "KneeKelvinElement", "reduced_time_s",
+           "volume_fluidity", "lowest_volume_fluidity", "series_fluidity", "KneeKelvinElement", "reduced_time_s",
            "wrapped_core_from_dict", "MAX_LOG_SHIFT"]
 
 
@@ -384,7 +384,7 @@ class PowerFlowElement(ViscoelasticElement):
         out: FloatArray = self.flow_rate_v_per_s * f ** self.flow_exponent
         if self.flow_volume_rates_v_per_n_s:
             u = np.clip(np.asarray(volume_n_s, dtype=float) / self.flow_volume_scale_n_s, 0.0, 1.0)
-            out = out + force * sum(c * u ** (k + 1) for k, c in enumerate(self.flow_volume_rates_v_per_n_s))
+            out = out + force * volume_fluidity(self.flow_volume_rates_v_per_n_s, u)
         return out
 
     def forward_state(self) -> _FlowState:  # type: ignore[override]
@@ -429,7 +429,7 @@ class PowerFlowElement(ViscoelasticElement):
                 flow += dt * rate * (max(force - yield_n, 0.0) / scale) ** exponent
                 if volume_rates:
                     u = min(max(held["volume_n_s"] / volume_scale, 0.0), 1.0)
-                    flow += dt * force * sum(c * u ** (k + 1) for k, c in enumerate(volume_rates))
+                    flow += dt * force * volume_fluidity(volume_rates, u)
             return flow
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> Optional[float]:
@@ -478,12 +478,23 @@ class PowerFlowElement(ViscoelasticElement):
 MAX_VOLUME_TERMS = 3
 
 
+def volume_fluidity(rates_v_per_n_s: Sequence[float], u: Any) -> Any:
+    """The fluidity's change sum_k rates[k] u^(k+1) at ``u``, the load-time integral passed over its scale (in
+    [0, 1]) [V/(N s)]; a float for a float (the per-sample inverse), an array for an array."""
+    total: Any = 0.0
+    for c in reversed(rates_v_per_n_s):  # Horner, lowest power u^1
+        total = (total + c) * u
+    return total
+
+
 def lowest_volume_fluidity(rates_v_per_n_s: Any) -> float:
-    """The lowest of sum_k rates[k] u^(k+1) over u in [0, 1] [V/(N s)]: at an end or where its slope is zero."""
-    coefficients = np.concatenate([np.asarray(rates_v_per_n_s, dtype=float)[::-1], [0.0]])  # highest power first
+    """The lowest of :func:`volume_fluidity` over u in [0, 1] [V/(N s)]: at an end or where its slope is zero."""
+    rates = [float(c) for c in np.asarray(rates_v_per_n_s, dtype=float).ravel()]
+    coefficients = np.array([*rates[::-1], 0.0])  # highest power first
     turns = np.roots(np.polyder(coefficients)) if coefficients.size > 2 else np.empty(0)
     inside = [float(r.real) for r in turns if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
-    return float(min(np.polyval(coefficients, [0.0, 1.0, *inside])))
+    at = np.array([0.0, 1.0, *inside])
+    return float(np.min(volume_fluidity(rates, at) + np.zeros_like(at)))  # no rates: zero everywhere
 
 
 def series_fluidity(core: ViscoelasticElement) -> float:

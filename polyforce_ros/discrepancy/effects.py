@@ -678,9 +678,9 @@ def knee_beside(core: ViscoelasticElement, knees: npt.ArrayLike, compliances_v_p
     """``core`` beside knee units, each compliance within the model file's bounds and their running sum above
     :data:`KNEE_FLOOR_SHARE` times minus the core's instantaneous compliance."""
     floor = -KNEE_FLOOR_SHARE * core.model.compliance().j0_v_per_n
+    low, high = PARAMETER_BOUNDS["knee_compliances_v_per_n"][:2]
     kept, total = [], 0.0
     for c in compliances_v_per_n:
-        low, high = PARAMETER_BOUNDS["knee_compliances_v_per_n"][:2]
         c = float(np.clip(c, max(floor - total, low), high))
         kept.append(c)
         total += c

@@ -490,11 +490,13 @@ def volume_fluidity(rates_v_per_n_s: Sequence[float], u: Any) -> Any:
 def lowest_volume_fluidity(rates_v_per_n_s: Any) -> float:
     """The lowest of :func:`volume_fluidity` over u in [0, 1] [V/(N s)]: at an end or where its slope is zero."""
     rates = [float(c) for c in np.asarray(rates_v_per_n_s, dtype=float).ravel()]
+    if not rates:
+        return 0.0
     coefficients = np.array([*rates[::-1], 0.0])  # highest power first
     turns = np.roots(np.polyder(coefficients)) if coefficients.size > 2 else np.empty(0)
     inside = [float(r.real) for r in turns if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
     at = np.array([0.0, 1.0, *inside])
-    return float(np.min(volume_fluidity(rates, at) + np.zeros_like(at)))  # no rates: zero everywhere
+    return float(np.min(volume_fluidity(rates, at)))
 
 
 def series_fluidity(core: ViscoelasticElement) -> float:

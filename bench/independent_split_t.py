@@ -81,10 +81,12 @@ import math
 import numpy as np
 from scipy import integrate, optimize
 
-from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
+from polyforce_ros.physics.viscoelastic import simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import ForcePath, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, coarse, dead_time, uniform_grid
+from split_kit import (band_play, coarse, cutter as window, dead_time, ForcePath, LinearFilter, logistic, Parts,
+                       quintic, schedule as schedule_until, ShapeSplit, SimOnly, sized, temp_of, uniform_grid, within,
+                       ZenerWithFlow)
 
 SEED0 = 1_380_000  # never a seed of the registry's splits nor of splits A (90000..) to S (1310000..)
 FORCE_MAX_N = 9.0
@@ -92,21 +94,11 @@ T_REF_C = 23.0
 DURATION_S = 450.0
 HORIZON_S = DURATION_S + 60.0  # what a schedule drawn before the record covers (the record plus its gaps' slack)
 
+normalised = functools.partial(sized, horizon_s=HORIZON_S)
+schedule = functools.partial(schedule_until, horizon_s=HORIZON_S)
+
 
 # ----------------------------------------------------------------------------- profiles and temperature
-
-def quintic(u):
-    """A smooth step from 0 to 1 over ``u`` in [0, 1] (zero speed and acceleration at both ends)."""
-    u = np.clip(u, 0.0, 1.0)
-    return ((6.0 * u - 15.0) * u + 10.0) * u ** 3
-
-
-def window(t):
-    """``at(now, length)``: the slice of ``t`` in [now, now + length) and the times since ``now`` there."""
-    def at(now, length):
-        i0, i1 = np.searchsorted(t, [now, now + max(length, 0.0)])
-        return slice(int(i0), int(i1)), t[i0:i1] - now
-    return at
 
 
 @functools.lru_cache(maxsize=1)
@@ -346,10 +338,6 @@ def temperature(t, rng, step_s=0.5):
 
 # ----------------------------------------------------------------------------- helpers of the truth elements
 
-def temp_of(aux, n):
-    """The chain's temperature as an array of ``n`` samples."""
-    return np.broadcast_to(np.asarray(aux["temperature_c"], dtype=float), (n,))
-
 
 def follow(t, temp, tau_s, step_s=0.5):
     """``temp`` seen by a body that follows it with a time constant ``tau_s`` (exact per coarse step), settled at the
@@ -363,53 +351,12 @@ def follow(t, temp, tau_s, step_s=0.5):
     return np.interp(t, grid, out)
 
 
-def logistic(u):
-    """1 / (1 + exp(-u)), without overflow."""
-    return 0.5 * (1.0 + np.tanh(0.5 * np.asarray(u, dtype=float)))
-
-
-def normalised(fn, size, horizon_s=HORIZON_S):
-    """``fn(s)`` scaled so that its largest magnitude over ``horizon_s`` (on a 0.1 s grid) is ``|size|``, with the
-    sign of ``size``."""
-    peak = float(np.max(np.abs(fn(np.arange(0.0, horizon_s, 0.1)))))
-    return lambda s: size / max(peak, 1e-12) * fn(s)
-
-
-def schedule(rng, every_s, length_s, horizon_s=HORIZON_S):
-    """Sessions (start, length) in seconds since the first sample: lengths drawn from ``length_s``, the gaps between
-    them from ``every_s``, the first gap from its lower bound down to minus a length (the first may be under way)."""
-    out, now = [], rng.uniform(-length_s[0], every_s[0])
-    while now < horizon_s:
-        length = rng.uniform(*length_s)
-        out.append((now, length))
-        now += length + rng.uniform(*every_s)
-    return out
-
-
-def within(s, sessions):
-    """Whether each time of ``s`` falls in one of ``sessions`` (start, length)."""
-    on = np.zeros(s.size, dtype=bool)
-    for start, length in sessions:
-        on |= (s >= start) & (s < start + length)
-    return on
-
-
 def on_clock(c, t, f, rate):
     """The core's deformation on the clock ``rate`` (its reduced time, from t[0])."""
     return simulate_deformation(c, integrate.cumulative_trapezoid(rate, t, initial=0.0) + t[0], f)
 
 
 # ----------------------------------------------------------------------------- viscous flow
-
-class ZenerWithFlow(SimOnly):
-    """A Zener core (the Burgers core without its dashpot) plus a flow ``rule(t, F) -> V``."""
-
-    def __init__(self, c, rule):
-        self.zener, self.rule = Zener(c.k1_n_per_v, c.k2_n_per_v, c.eta2_n_s_per_v), rule
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        return simulate_deformation(self.zener, t, f) + self.rule(t, f)
 
 
 def bubble_gated_leak(open_fluidity, blocked_fluidity, open_s, blocked_s, rng, horizon_s=HORIZON_S):

@@ -73,16 +73,18 @@ noise without diagnosing (for a leak on a Zener base, against that bare Zener co
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
-from scipy import integrate, optimize, signal
+from scipy import integrate, signal
 
 from independent_split import puncture_train
-from polyforce_ros.physics.viscoelastic import Burgers, Zener, simulate_deformation
+from polyforce_ros.physics.viscoelastic import Burgers
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import LinearFilter, Parts, ShapeSplit, SimOnly, uniform_grid
+from split_kit import (coarse_force, cutter, ease, fit_departure, follow, LeakingCore, LinearFilter, on_clock, Parts,
+                       ShapeSplit, SimOnly, sized as sized_over, temp_of, uniform_grid)
 
 SEED0 = 1_730_000  # never a seed of the registry's splits nor of splits A (90000..) to X (1660000..)
 FORCE_MAX_N = 9.0
@@ -90,72 +92,11 @@ T_REF_C = 23.0
 DURATION_S = 480.0
 HORIZON_S = DURATION_S + 60.0  # what a schedule drawn before the record covers (the record plus its gaps' slack)
 
+sized = functools.partial(sized_over, horizon_s=HORIZON_S)
+reach_fit = functools.partial(fit_departure, points=301)
+
 
 # ----------------------------------------------------------------------------- small tools
-
-def ease(u):
-    """A minimum-jerk blend: 0 at and below 0, 1 at and above 1."""
-    u = np.clip(u, 0.0, 1.0)
-    return u ** 3 * (6.0 * u * u - 15.0 * u + 10.0)
-
-
-def cutter(t):
-    """``cut(start, length)`` -> (the index slice of ``t`` in [start, start + length), the seconds since start)."""
-    def cut(start, length):
-        i0, i1 = np.searchsorted(t, [start, start + max(length, 0.0)])
-        return slice(int(i0), int(i1)), t[i0:i1] - start
-    return cut
-
-
-def temp_of(aux, n):
-    """The chain's temperature, one value per sample."""
-    return np.broadcast_to(np.asarray(aux["temperature_c"], dtype=float), (n,))
-
-
-def follow(t, x, tau_s, step_s=0.5):
-    """``x`` seen through a first-order lag of ``tau_s`` (exact per coarse step of ``step_s``), at rest with its
-    first value before the record."""
-    grid = np.arange(t[0], t[-1] + step_s, step_s)
-    xg = np.interp(grid, t, x)
-    keep = math.exp(-step_s / tau_s)
-    yg, _ = signal.lfilter([1.0 - keep], [1.0, -keep], xg, zi=[keep * xg[0]])
-    return np.interp(t, grid, yg)
-
-
-def sized(fn, size, horizon_s=HORIZON_S):
-    """``fn(s)`` (zero at s = 0) scaled so that its largest magnitude over the horizon is ``|size|``, with the sign of
-    ``size``."""
-    probe = np.abs(fn(np.arange(0.0, horizon_s, 0.1)))
-    scale = size / max(float(probe.max()), 1e-12)
-    return lambda s: scale * fn(s)
-
-
-def reach_fit(read, rel, reach, k_top):
-    """``read(x, k)`` with the k in (0, ``k_top``] whose largest departure from x over [0, ``reach``] is ``rel`` of
-    ``reach`` (``k_top`` when even that departs less)."""
-    xs = np.linspace(0.0, reach, 301)
-
-    def miss(k):
-        return float(np.max(np.abs(read(xs, k) - xs))) / reach - rel
-    if miss(k_top) <= 0.0:
-        return lambda x: read(x, k_top)
-    lo = k_top
-    while miss(lo) > 0.0 and lo > k_top * 1e-6:
-        lo *= 0.5
-    k = optimize.brentq(miss, lo, k_top, xtol=k_top * 1e-9)
-    return lambda x: read(x, k)
-
-
-def on_clock(c, t, f, rate):
-    """The core's deformation when its clock runs at ``rate`` (reduced time from t[0])."""
-    return simulate_deformation(c, t[0] + integrate.cumulative_trapezoid(rate, t, initial=0.0), f)
-
-
-def coarse_force(t, f, step_s):
-    """The force on a grid of ``step_s`` over ``t``: (grid, values)."""
-    grid = np.arange(t[0], t[-1] + step_s, step_s)
-    return grid, np.interp(grid, t, f)
-
 
 # ----------------------------------------------------------------------------- profiles and temperature
 
@@ -324,23 +265,6 @@ def sterile_processing_room(t, rng, step_s=0.5):
 
 
 # ----------------------------------------------------------------------------- viscous flow
-
-class LeakingCore(SimOnly):
-    """A Zener core (the Burgers core's springs and Kelvin dashpot, no dashpot of its own in series) whose output gains
-    a leak, ``rule(t, F) -> V`` (a Zener sensor and nothing more when ``rule`` is None)."""
-
-    def __init__(self, zener, rule):
-        self.zener, self.rule = zener, rule
-
-    @classmethod
-    def of(cls, c, rule):
-        return cls(Zener(c.k1_n_per_v, c.k2_n_per_v, c.eta2_n_s_per_v), rule)
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        held = simulate_deformation(self.zener, t, f)
-        return held + (0.0 if self.rule is None else self.rule(t, f))
-
 
 def shear_thickening_suspension(fluidity, packing, frictional_jam, onset_n):
     """x' = A F r(F): a core that leaks a dense suspension of hard particles (packing fraction ``packing``) through

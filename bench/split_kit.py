@@ -1,5 +1,6 @@
-"""What the independent splits built from sensor pieces (C, D) share: the pieces, the random core, the knocks that
-excite a mode, and :class:`ShapeSplit`, which simulates, diagnoses, scores and checks a split's cases.
+"""What the independent splits built from sensor pieces (C, D and S on) share: the pieces, the random core, the knocks
+that excite a mode, the small tools their shapes are written with (smooth steps, windows, lags, clocks, schedules, sizes
+over a horizon), and :class:`ShapeSplit`, which simulates, diagnoses, scores and checks a split's cases.
 
 A split module declares its shapes, pairs, profiles, temperature and ``make_parts(effect, shape, m, core, rng) ->
 Parts``, and runs ``ShapeSplit(...).main(__doc__)``.
@@ -7,13 +8,14 @@ Parts``, and runs ``ShapeSplit(...).main(__doc__)``.
 from __future__ import annotations
 
 import argparse
+import math
 import time
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy import integrate, signal
+from scipy import integrate, optimize, signal
 from tqdm import tqdm
 
 from independent_split import Truth, as_recorded, case_list, compensates, puncture_train, summarise, verdict_with
@@ -216,6 +218,130 @@ def with_knocks(t, f, rng):
         i0, n = int(at * rate), max(2, int(width * rate))
         f[i0:i0 + n] += rng.uniform(0.3, 1.5) * 0.5 * (1 - np.cos(2 * np.pi * np.arange(n)[:n] / n))[:f[i0:i0 + n].size]
     return t, f
+
+
+def ease(u):
+    """A minimum-jerk blend: 0 at and below 0, 1 at and above 1."""
+    u = np.clip(u, 0.0, 1.0)
+    return u ** 3 * (6.0 * u * u - 15.0 * u + 10.0)
+
+
+def cutter(t):
+    """``cut(start, length)`` -> (the index slice of ``t`` in [start, start + length), the seconds since start)."""
+    def cut(start, length):
+        i0, i1 = np.searchsorted(t, [start, start + max(length, 0.0)])
+        return slice(int(i0), int(i1)), t[i0:i1] - start
+    return cut
+
+
+def temp_of(aux, n):
+    """The chain's temperature, one value per sample."""
+    return np.broadcast_to(np.asarray(aux["temperature_c"], dtype=float), (n,))
+
+
+def follow(t, x, tau_s, step_s=0.5):
+    """``x`` seen through a first-order lag of ``tau_s`` (exact per coarse step of ``step_s``), at rest with its
+    first value before the record."""
+    grid = np.arange(t[0], t[-1] + step_s, step_s)
+    xg = np.interp(grid, t, x)
+    keep = math.exp(-step_s / tau_s)
+    yg, _ = signal.lfilter([1.0 - keep], [1.0, -keep], xg, zi=[keep * xg[0]])
+    return np.interp(t, grid, yg)
+
+
+def sized(fn, size, horizon_s):
+    """``fn(s)`` (zero at s = 0) scaled so that its largest magnitude over [0, ``horizon_s``) is ``|size|``, with the sign of
+    ``size``."""
+    probe = np.abs(fn(np.arange(0.0, horizon_s, 0.1)))
+    scale = size / max(float(probe.max()), 1e-12)
+    return lambda s: scale * fn(s)
+
+
+def fit_departure(read, rel, reach, k_top, points=401):
+    """``read(x, k)`` with the k in (0, ``k_top``] whose largest departure from x over [0, ``reach``] is ``rel`` of
+    ``reach`` (on ``points`` values) (``k_top`` when even that departs less)."""
+    xs = np.linspace(0.0, reach, points)
+
+    def miss(k):
+        return float(np.max(np.abs(read(xs, k) - xs))) / reach - rel
+    if miss(k_top) <= 0.0:
+        return lambda x: read(x, k_top)
+    lo = k_top
+    while miss(lo) > 0.0 and lo > k_top * 1e-6:
+        lo *= 0.5
+    k = optimize.brentq(miss, lo, k_top, xtol=k_top * 1e-9)
+    return lambda x: read(x, k)
+
+
+def on_clock(c, t, f, rate):
+    """The core's deformation when its clock runs at ``rate`` (reduced time from t[0])."""
+    return simulate_deformation(c, t[0] + integrate.cumulative_trapezoid(rate, t, initial=0.0), f)
+
+
+def coarse_force(t, f, step_s):
+    """The force on a grid of ``step_s`` over ``t``: (grid, values)."""
+    grid = np.arange(t[0], t[-1] + step_s, step_s)
+    return grid, np.interp(grid, t, f)
+
+
+class LeakingCore(SimOnly):
+    """A Zener core (the Burgers core's springs and Kelvin dashpot, no dashpot of its own in series) whose output gains
+    a leak, ``rule(t, F) -> V`` (a Zener sensor and nothing more when ``rule`` is None)."""
+
+    def __init__(self, zener, rule):
+        self.zener, self.rule = zener, rule
+
+    @classmethod
+    def of(cls, c, rule):
+        return cls(Zener(c.k1_n_per_v, c.k2_n_per_v, c.eta2_n_s_per_v), rule)
+
+    def forward(self, t_s, x, aux=None, state=None):
+        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        held = simulate_deformation(self.zener, t, f)
+        return held + (0.0 if self.rule is None else self.rule(t, f))
+
+
+def quintic(u):
+    """A smooth step from 0 to 1 over ``u`` in [0, 1] (zero speed and acceleration at both ends)."""
+    u = np.clip(u, 0.0, 1.0)
+    return ((6.0 * u - 15.0) * u + 10.0) * u ** 3
+
+
+def schedule(rng, every_s, length_s, horizon_s):
+    """Sessions (start, length) in seconds since the first sample: lengths drawn from ``length_s``, the gaps between
+    them from ``every_s``, the first gap from its lower bound down to minus a length (the first may be under way),
+    until ``horizon_s``."""
+    out, now = [], rng.uniform(-length_s[0], every_s[0])
+    while now < horizon_s:
+        length = rng.uniform(*length_s)
+        out.append((now, length))
+        now += length + rng.uniform(*every_s)
+    return out
+
+
+def within(s, sessions):
+    """Whether each time of ``s`` falls in one of ``sessions`` (start, length)."""
+    on = np.zeros(s.size, dtype=bool)
+    for start, length in sessions:
+        on |= (s >= start) & (s < start + length)
+    return on
+
+
+def logistic(u):
+    """1 / (1 + exp(-u)), without overflow."""
+    return 0.5 * (1.0 + np.tanh(0.5 * np.asarray(u, dtype=float)))
+
+
+class ZenerWithFlow(SimOnly):
+    """A Zener core (the Burgers core without its dashpot) plus a flow ``rule(t, F) -> V``."""
+
+    def __init__(self, c, rule):
+        self.zener, self.rule = Zener(c.k1_n_per_v, c.k2_n_per_v, c.eta2_n_s_per_v), rule
+
+    def forward(self, t_s, x, aux=None, state=None):
+        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        return simulate_deformation(self.zener, t, f) + self.rule(t, f)
+
 
 
 @dataclass(frozen=True)

@@ -68,7 +68,8 @@ class DemoResult(TypedDict):
     compensated_n: npt.NDArray[np.float64]
     static: dict[str, float]
     compensated: dict[str, float]
-    received_wrench: int
+    received_wrench: int  # wrenches stamped with a sample of the driver's
+    watchdog_zeros: int  # wrenches stamped with no sample: the node's zeros while its input was stale
     expected: int
     tare_ok: bool
     offset_v: float
@@ -125,7 +126,8 @@ def run_live_demo(profile: str = "needle_insertion", model_file: str = "", seed:
 def summarize(raw: Mapping[int, float], ref: Mapping[int, float], wrench: Mapping[int, float], offset_v: float,
               static_gain_v_per_n: float, tare_ok: bool, expected: int) -> DemoResult:
     """Match samples by stamp and compute the errors after the tare window."""
-    stamps = np.array(sorted(set(raw) & set(ref) & set(wrench)), dtype=np.int64)
+    answered = set(raw) & set(wrench)
+    stamps = np.array(sorted(answered & set(ref)), dtype=np.int64)
     if stamps.size == 0:
         raise RuntimeError("no wrench received: the pipeline did not run")
     stamps = stamps[TARE_AFTER_SAMPLES + 100 :]  # after the tare has taken effect
@@ -136,7 +138,8 @@ def summarize(raw: Mapping[int, float], ref: Mapping[int, float], wrench: Mappin
     return {
         "stamps_ns": stamps, "reference_n": reference, "static_n": static, "compensated_n": compensated,
         "static": error_summary(reference, static), "compensated": error_summary(reference, compensated),
-        "received_wrench": len(wrench), "expected": expected, "tare_ok": tare_ok, "offset_v": offset_v,
+        "received_wrench": len(answered), "watchdog_zeros": len(wrench) - len(answered), "expected": expected,
+        "tare_ok": tare_ok, "offset_v": offset_v,
     }
 
 

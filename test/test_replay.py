@@ -8,7 +8,7 @@ from rclpy.qos import QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import JointState
 
 from polyforce_ros import bags
-from polyforce_ros.demo import run_live_demo
+from polyforce_ros.demo import TARE_AFTER_SAMPLES, run_live_demo, summarize
 from polyforce_ros.nodes.common import stamp_to_ns
 from polyforce_ros.nodes.compensation_node import CompensationNode
 from polyforce_ros.nodes.replay_node import AnswerTracker, ReplayNode
@@ -113,6 +113,19 @@ def test_answer_tracker_settles_dropped_and_expired_samples():
     assert tracker.unanswered == 2 and len(tracker) == 3
     tracker.expire(now_s=2.5, timeout_s=1.0)
     assert tracker.unanswered == 5 and len(tracker) == 0
+
+
+def test_the_demo_counts_only_wrenches_that_answer_a_sample_and_the_watchdogs_zeros_apart():
+    n = TARE_AFTER_SAMPLES + 300
+    stamps = [1_000_000 * (k + 1) for k in range(n)]
+    raw = {s: 0.31 * 2.0 + 0.05 for s in stamps}
+    ref = {s: 2.0 for s in stamps}
+    wrench = {s: 2.0 for s in stamps[:-1]}  # the last sample's wrench lost
+    wrench.update({stamps[-1] + 20_000_000 * k: 0.0 for k in range(1, 4)})  # zeros once the input went stale
+    result = summarize(raw, ref, wrench, 0.05, 0.31, True, n)
+    assert (result["received_wrench"], result["watchdog_zeros"], result["expected"]) == (n - 1, 3, n)
+    assert result["stamps_ns"].size == n - 1 - TARE_AFTER_SAMPLES - 100
+    assert result["compensated"]["rmse_n"] == 0.0
 
 
 def test_live_demo_compensation_beats_static_gain():

@@ -82,7 +82,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
           f"({model_file or default_model_path()}) -> recorder; DDS on loopback")
     result = run_live_demo(profile=args.profile, model_file=model_file, seed=args.seed, progress=not args.quiet)
     print(f"wrench messages received: {result['received_wrench']} of {result['expected']} samples "
-          f"(+{result['watchdog_zeros']} zero wrenches of the watchdog while no sample came); "
+          f"(+{result['unanswered_wrench']} stamped with no recorded sample: the watchdog's zeros); "
           f"tare {'ok' if result['tare_ok'] else 'FAILED'} (offset {result['offset_v']:.4f} V)")
     _header()
     _print_row(args.profile, "static gain", result["static"])

@@ -69,7 +69,7 @@ class DemoResult(TypedDict):
     static: dict[str, float]
     compensated: dict[str, float]
     received_wrench: int  # wrenches stamped with a sample of the driver's
-    watchdog_zeros: int  # wrenches stamped with no sample: the node's zeros while its input was stale
+    unanswered_wrench: int  # wrenches stamped with no recorded sample: the watchdog's zeros while none came
     expected: int
     tare_ok: bool
     offset_v: float
@@ -108,7 +108,8 @@ def run_live_demo(profile: str = "needle_insertion", model_file: str = "", seed:
                 bar.update(len(rec.wrench) - bar.n)
             if tare_future is None and len(rec.raw) >= TARE_AFTER_SAMPLES:
                 tare_future = rec.tare.call_async(Trigger.Request())
-            if driver.done and len(rec.wrench) >= total - 1 and len(rec.ref) >= total:
+            if (driver.done and len(rec.wrench) >= total - 1 and len(rec.ref) >= total
+                    and len(rec.wrench.keys() & rec.raw.keys()) >= total - 1):  # the watchdog's zeros answer no sample
                 break
         if bar is not None:
             bar.close()
@@ -138,7 +139,7 @@ def summarize(raw: Mapping[int, float], ref: Mapping[int, float], wrench: Mappin
     return {
         "stamps_ns": stamps, "reference_n": reference, "static_n": static, "compensated_n": compensated,
         "static": error_summary(reference, static), "compensated": error_summary(reference, compensated),
-        "received_wrench": len(answered), "watchdog_zeros": len(wrench) - len(answered), "expected": expected,
+        "received_wrench": len(answered), "unanswered_wrench": len(wrench) - len(answered), "expected": expected,
         "tare_ok": tare_ok, "offset_v": offset_v,
     }
 

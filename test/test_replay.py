@@ -118,14 +118,15 @@ def test_answer_tracker_settles_dropped_and_expired_samples():
 def test_the_demo_counts_only_wrenches_that_answer_a_sample_and_the_watchdogs_zeros_apart():
     n = TARE_AFTER_SAMPLES + 300
     stamps = [1_000_000 * (k + 1) for k in range(n)]
-    raw = {s: 0.31 * 2.0 + 0.05 for s in stamps}
-    ref = {s: 2.0 for s in stamps}
-    wrench = {s: 2.0 for s in stamps[:-1]}  # the last sample's wrench lost
+    ref = {s: 2.0 + np.sin(k / 50.0) for k, s in enumerate(stamps)}
+    raw = {s: 0.31 * f + 0.05 for s, f in ref.items()}
+    wrench = {s: ref[s] for s in stamps[:-1]}  # the last sample's wrench lost
     wrench.update({stamps[-1] + 20_000_000 * k: 0.0 for k in range(1, 4)})  # zeros once the input went stale
     result = summarize(raw, ref, wrench, 0.05, 0.31, True, n)
-    assert (result["received_wrench"], result["watchdog_zeros"], result["expected"]) == (n - 1, 3, n)
+    assert (result["received_wrench"], result["unanswered_wrench"], result["expected"]) == (n - 1, 3, n)
     assert result["stamps_ns"].size == n - 1 - TARE_AFTER_SAMPLES - 100
-    assert result["compensated"]["rmse_n"] == 0.0
+    assert result["compensated"]["rmse_n"] == 0.0 and result["compensated"]["r2"] == 1.0
+    assert result["static"]["rmse_n"] < 1e-12
 
 
 def test_live_demo_compensation_beats_static_gain():

@@ -349,7 +349,7 @@ class Selection:
                 if not (np.isfinite(error) and abs(total) > SIGNIFICANT_SE * error):  # a sum of zeros is not 0 >= 0
                     return False
             elif not (all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"] for n in added)
-                      or self._gain_not_in_time(f, smallest_fit.get(extends[v]), len(added))):
+                      or self._gain_not_in_time(f, smallest_fit.get(extends[v]), len(added), name)):
                 return False
             rivals = [smallest_fit.get(s) for s in (extends[v], *also_holds.get(v, ()))]
             return all(rival is None or self.justified(f, rival) for rival in rivals)
@@ -357,28 +357,34 @@ class Selection:
         kept = [f for f in fits if kept_beside_smaller(f)]
         return kept or fits
 
-    def _gain_not_in_time(self, fit: Fit, smaller: Optional[Fit], n_terms: int) -> bool:
-        """Whether ``fit``, a larger variant of ``smaller`` by ``n_terms`` columns, predicts every left-out fold better
-        than it with a mean gain per fold :data:`SIGNIFICANT_SE` standard errors from zero, and passes the acceptance
-        test against ``smaller`` beside the polynomial drift's first ``n_terms`` columns (at most its three), or
-        against ``smaller`` alone when it holds a drift already.
+    def _gain_not_in_time(self, fit: Fit, smaller: Optional[Fit], n_terms: int, name: str) -> bool:
+        """Whether ``fit``, a larger variant of ``name`` than ``smaller`` by ``n_terms`` columns, predicts every
+        left-out fold better than it with a mean gain per fold more than :data:`SIGNIFICANT_SE` standard errors from
+        zero, and passes the acceptance test against ``smaller`` beside the polynomial drift's first ``n_terms``
+        columns (at most its three), or against ``smaller`` alone when it holds a smooth drift in time already. Never
+        for a drift's own variants, which are in time themselves.
 
         Columns of one shape are often nearly collinear (the powers of a fluidity's cubic), so each alone can be
         uncertain while what they predict together is not. But a shape that grows with the load's history also
         grows with time under a load that seldom rests: the polynomial in time is the drift it could stand in for,
         and the gain must be the load's."""
-        if smaller is None or n_terms < 1:
+        if smaller is None or n_terms < 1 or name == "offset_drift":
             return False
         gains = np.asarray(smaller.sse_folds, dtype=float) - np.asarray(fit.sse_folds, dtype=float)
         if gains.size < 2 or not np.all(np.isfinite(gains)) or not np.all(gains > 0.0):
             return False
         if not float(np.mean(gains)) > SIGNIFICANT_SE * float(np.std(gains, ddof=1)) / math.sqrt(gains.size):
             return False
-        if smaller.structure.term("offset_drift") is not None:  # the drift it could stand in for is there already
+        drift = smaller.structure.term("offset_drift")
+        if drift is not None and drift.variant not in ("steps", "jumps"):  # a smooth drift in time is there already
             return self.justified(fit, smaller)
-        # the polynomial drift's own columns (s, s^2, s^3 of the record's time), as many as the variant adds
-        in_time = term_columns(self.fitter.sig, Term("offset_drift", "polynomial"))[:n_terms]
-        return self.justified(fit, self.fitter.evaluate(smaller.structure, in_time))
+        sig = self.fitter.sig
+        key = ("beside a drift in time", smaller.structure, n_terms)
+        if key not in sig.cache:  # the polynomial drift's own columns (s, s^2, s^3 of the record's time)
+            sig.cache[key] = self.fitter.evaluate(smaller.structure,
+                                                  term_columns(sig, Term("offset_drift", "polynomial"))[:n_terms])
+        rival: Fit = sig.cache[key]
+        return self.justified(fit, rival)
 
     def rebuild(self, rival: Candidate, name: str) -> Optional[Fit]:
         """The rival's own step with every effect named since (but ``name``) added back in order, each re-chosen."""

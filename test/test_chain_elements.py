@@ -569,23 +569,33 @@ def test_a_friction_outside_its_ranges_is_a_model_error(bad):
 # -- thermo_rheological: a core whose viscosities follow temperature ---------------------------------------------
 
 @settings(max_examples=30, deadline=None)
-@given(shift=st.floats(0.0, 0.3), swing=st.floats(0.0, 8.0), seed=st.integers(0, 2**31 - 1))
-def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_streaming_and_in_blocks(shift, swing, seed):
+@given(shift=st.floats(0.0, 0.3), swing=st.floats(0.0, 8.0), seed=st.integers(0, 2**31 - 1),
+       lag_s=st.one_of(st.just(0.0), st.floats(0.5, 60.0)))
+def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_streaming_and_in_blocks(shift, swing, seed,
+                                                                                                   lag_s):
     from polyforce_ros.physics.chain import ThermoRheologicalElement, ViscoelasticElement, reduced_time_s
 
     rng = np.random.default_rng(seed)
     core = ViscoelasticElement(PAPER_BURGERS)
-    e = ThermoRheologicalElement(core, shift, 24.0)
+    e = ThermoRheologicalElement(core, shift, 24.0, temperature_lag_s=lag_s)
     t = np.cumsum(rng.uniform(0.5, 1.5, 3000)) * 0.02
     force = np.abs(np.cumsum(rng.normal(0.0, 0.1, t.size)))
     temp = 24.0 + swing * np.sin(t / rng.uniform(5.0, 30.0))
     aux = {"temperature_c": temp}
     volts = e.forward(t, force, aux)
-    # the same core on the reduced time, which scipy's trapezoid gives independently
-    from scipy.integrate import cumulative_trapezoid
+    # the same core on the reduced time, which scipy's trapezoid gives independently; the core's temperature behind
+    # the thermometer's by an independent integration of tau T' + T = T_thermometer (settled at the start)
+    from scipy.integrate import cumulative_trapezoid, solve_ivp
 
-    xi = t[0] + cumulative_trapezoid(np.exp(shift * (temp - 24.0)), t, initial=0.0)
-    np.testing.assert_allclose(reduced_time_s(t, temp, shift, 24.0), xi, rtol=1e-12, atol=1e-9)
+    core_c = temp
+    if lag_s > 0.0:
+        core_c = solve_ivp(lambda x, y: (np.interp(x, t, temp) - y) / lag_s, (t[0], t[-1]), [temp[0]], t_eval=t,
+                           rtol=1e-10, atol=1e-10, max_step=float(np.min(np.diff(t)))).y[0]
+    xi = t[0] + cumulative_trapezoid(np.exp(shift * (core_c - 24.0)), t, initial=0.0)
+    np.testing.assert_allclose(e._xi(t, aux), xi, rtol=1e-6, atol=1e-6)
+    if lag_s == 0.0:
+        np.testing.assert_allclose(reduced_time_s(t, temp, shift, 24.0), xi, rtol=1e-12, atol=1e-9)
+    xi = e._xi(t, aux)
     np.testing.assert_allclose(volts, core.forward(xi, force), atol=1e-12)
     back = e.backward(t, volts, aux)
     np.testing.assert_allclose(back, force, rtol=1e-6, atol=1e-5)  # the core's own round trip on a fast reduced time
@@ -601,12 +611,17 @@ def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_str
 
 
 @pytest.mark.parametrize("bad", [{"shift_per_c": -0.1}, {"shift_per_c": 5.0}, {"shift_per_c": float("nan")},
-                                 {"reference_c": 1e4}, {"core": [1.0]}, {"core": {"type": "gain", "gain": 1.0}}])
+                                 {"reference_c": 1e4}, {"core": [1.0]}, {"core": {"type": "gain", "gain": 1.0}},
+                                 {"temperature_lag_s": -1.0}, {"temperature_lag_s": 1e-5}, {"temperature_lag_s": 1e7},
+                                 {"temperature_lag_s": "10"}, {"temperature_lag_s": float("inf")}, {"lag_s": 10.0}])
 def test_a_thermo_rheological_element_outside_its_ranges_is_a_model_error(bad):
     from polyforce_ros.physics.chain import ModelError, ThermoRheologicalElement, ViscoelasticElement
 
     good = ThermoRheologicalElement(ViscoelasticElement(PAPER_BURGERS), 0.05, 22.0).to_dict()
+    assert "temperature_lag_s" not in good  # a core on its thermometer's temperature writes the file it always did
     assert ThermoRheologicalElement.from_dict(good).to_dict() == good
+    lagged = {**good, "temperature_lag_s": 30.0}
+    assert ThermoRheologicalElement.from_dict(lagged).to_dict() == lagged
     with pytest.raises(ModelError):
         ThermoRheologicalElement.from_dict({**good, **bad})
 
@@ -791,7 +806,7 @@ def test_a_fluidity_that_changes_as_the_core_flows_never_grows_the_force_over_ho
 @given(knees=st.lists(st.floats(-1.0, 8.0), min_size=1, max_size=3, unique=True),
        shares=st.lists(st.floats(-0.3, 3.0), min_size=3, max_size=3), tau_s=st.floats(1e-3, 30.0),
        rate_hz=st.sampled_from([50.0, 100.0, 1000.0]), gap_s=st.sampled_from([0.0, 0.5, 3.0]),
-       wrap=st.sampled_from(["plain", "thermo_rheological", "power_flow"]), seed=st.integers(0, 2 ** 16))
+       wrap=st.sampled_from(["plain", "thermo_rheological", "lagged_clock", "power_flow"]), seed=st.integers(0, 2 ** 16))
 def test_knee_units_add_kelvin_units_loaded_above_their_knees_run_in_blocks_and_their_inverse_undoes_them(
         knees, shares, tau_s, rate_hz, gap_s, wrap, seed):
     """V = core(F) + sum c_k K_tau(max(F - knee_k, 0)) (the exact recursion), block by block as in one run; the
@@ -810,6 +825,7 @@ def test_knee_units_add_kelvin_units_loaded_above_their_knees_run_in_blocks_and_
     aux = {"temperature_c": 23 + 3 * np.sin(t / rng.uniform(0.5, 5.0))}
     plain = ViscoelasticElement(Zener(rng.uniform(1, 10), rng.uniform(5, 50), rng.uniform(10, 500)))
     core = {"plain": plain, "thermo_rheological": ThermoRheologicalElement(plain, 0.1, 23.0),
+            "lagged_clock": ThermoRheologicalElement(plain, 0.1, 23.0, temperature_lag_s=2.0),
             "power_flow": PowerFlowElement(plain, 0.01, 2.0, 9.0)}[wrap]
     j0 = plain.model.compliance().j0_v_per_n
     knees = sorted(knees)

@@ -222,14 +222,24 @@ def test_clean_data_at_1khz_names_no_mode(seed):
     assert clean.missing_effect == "none" and max(b["rms_v"] for b in clean.unexplained["bands"]) < 0.5 * clean.noise_floor_v
 
 
-def _warm_needle_rmse_fraction(chain, truth, rate_hz, seed):
+def _behind(t, temp, lag_s):
+    """``temp`` through a first-order lag of ``lag_s`` settled at its first value (scipy's lsim: an oracle apart from
+    the element's own recursion)."""
+    from scipy import signal
+
+    return signal.lsim(([1.0], [lag_s, 1.0]), temp, t - t[0], X0=[temp[0] * lag_s])[1]
+
+
+def _warm_needle_rmse_fraction(chain, truth, rate_hz, seed, core_lag_s=0.0):
     """RMSE of ``chain`` compensating a new record of the sensor ``truth`` (a needle profile while the temperature
-    swings, 2 mV of noise), as a fraction of full scale; every sample used."""
+    swings, 2 mV of noise; the truth's core ``core_lag_s`` behind the thermometer), as a fraction of full scale; every
+    sample used."""
     from polyforce_ros.sim.bench import random_temperature
 
     t, force = profiles.make_profile("needle_insertion", rate_hz=rate_hz, seed=seed)
     temp = random_temperature(t + 100.0, seed + 1)
-    volts = truth.forward(t, force, aux={"temperature_c": temp}) + np.random.default_rng(seed).normal(0, 2e-3, t.size)
+    core_c = _behind(t, temp, core_lag_s) if core_lag_s > 0.0 else temp
+    volts = truth.forward(t, force, aux={"temperature_c": core_c}) + np.random.default_rng(seed).normal(0, 2e-3, t.size)
     comp = Compensator(chain, CompensatorConfig(auto_tare=False))
     used, out = comp.run(np.round(t * 1e9).astype(np.int64), volts, temperature_c=temp)
     assert used.all()
@@ -317,6 +327,24 @@ def test_creep_that_speeds_up_when_warm_is_named_with_its_shift_and_its_model_co
     assert saved.shift_per_c == pytest.approx(slope, rel=0.25)
     assert diag.newtons["saved"]["rmse_n"] < diag.newtons["base"]["rmse_n"]
     assert _warm_needle_rmse_fraction(diag.chain, case.truth, rate_hz, seed) <= 0.01
+
+
+def test_creep_that_speeds_up_with_a_core_behind_its_thermometer_is_named_with_the_lag_and_compensates():
+    """The same Arrhenius clock, but the core's temperature follows the thermometer's through a lag of 40 s (a core
+    with thermal mass away from its thermometer): named ``thermo_rheological`` on a lagged temperature, and a new
+    needle record under a temperature swing, the truth's core as far behind, compensated within 1 % of full scale."""
+    import dataclasses
+
+    rec, case = bench_record("thermo_rheological", 0.9, rate_hz=200.0, duration_s=600.0, seed=63,
+                             families={"thermo_rheological": "arrhenius"})
+    core_c = _behind(rec.t_s, rec.temperature_c, 40.0)
+    volts = case.truth.forward(rec.t_s, rec.force_n, aux={"temperature_c": core_c})
+    rec = dataclasses.replace(rec, voltage_v=volts + np.random.default_rng(63).normal(0.0, 2e-3, volts.size))
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["thermo_rheological"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    assert diag.variants["thermo_rheological"].startswith("lag"), diag.variants
+    assert diag.newtons["saved"]["rmse_n"] < diag.newtons["base"]["rmse_n"]
+    assert _warm_needle_rmse_fraction(diag.chain, case.truth, 200.0, 63, core_lag_s=40.0) <= 0.01
 
 
 def test_diagnose_save_model_names_its_sensor_and_carries_the_force_figures(tmp_path):

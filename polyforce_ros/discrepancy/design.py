@@ -19,10 +19,12 @@ import numpy.typing as npt
 from scipy import linalg, optimize
 
 from ..physics.chain import (BridgeHysteresisElement, Element, KneeKelvinElement, OffsetElement, PowerFlowElement,
-                             SensorChain, ThermoRheologicalElement, ViscoelasticElement, reduced_time_s)
+                             SensorChain, ThermoRheologicalElement, ViscoelasticElement, lagged_temperature_c,
+                             reduced_time_s)
 from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
-from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, Col, knee_beside, lag_columns, volume_beside, lag_stages, parameter
+from .effects import (EFFECTS as REGISTRY, PLAY_RIDGE, Col, clock_lag_s, knee_beside, lag_columns, volume_beside, lag_stages,
+                      parameter)
 from .signals import BoolArray, FloatArray, IntArray, Signals
 
 __all__ = ["BASES", "BLOCKS_PER_FOLD", "CORE_SHAPE", "TAU_GRID", "TAU_BOUNDS", "Term", "Structure", "Design", "design",
@@ -70,11 +72,16 @@ class Structure:
         return next((t for t in self.terms if t.effect == effect), None)
 
 
-def _core_columns(sig: Signals, kind: str, taus: Sequence[float], shift_per_c: Optional[float] = None) -> list[Col]:
+def _core_columns(sig: Signals, kind: str, taus: Sequence[float], shift_per_c: Optional[float] = None,
+                  lag_s: float = 0.0) -> list[Col]:
     """The core's compliance columns; with ``shift_per_c`` (a thermo-rheological core) on the reduced time, the
-    clock of viscosities that follow temperature (:func:`~polyforce_ros.physics.chain.reduced_time_s`)."""
+    clock of viscosities that follow temperature (:func:`~polyforce_ros.physics.chain.reduced_time_s`): the
+    thermometer's, or the core's own ``lag_s`` behind it."""
     n_tau, inst, flow = CORE_SHAPE[kind]
-    clock = sig.t if shift_per_c is None else reduced_time_s(sig.t, sig.temperature, shift_per_c, sig.temp_ref)
+    clock = sig.t
+    if shift_per_c is not None:
+        temp = sig.temperature if lag_s <= 0.0 else lagged_temperature_c(sig.t, sig.temperature, lag_s)
+        clock = reduced_time_s(sig.t, temp, shift_per_c, sig.temp_ref)
     cols: list[Col] = []
     if inst:
         cols.append(("j0", sig.f, 0.0, np.inf, "sensor", None))
@@ -166,7 +173,9 @@ def design_columns(sig: Signals, st: Structure, extra: Sequence[Col] = ()) -> De
     """:func:`design` with the columns of A as a list of arrays (not stacked: the polish needs a few rows)."""
     shift = st.term("thermo_rheological")
     b = None if shift is None else parameter(shift.param)
-    cols = list(_cached(sig, ("core", st.core, st.taus, b), lambda: _core_columns(sig, st.core, st.taus, b)))
+    lag_s = 0.0 if shift is None else clock_lag_s(shift.variant)
+    cols = list(_cached(sig, ("core", st.core, st.taus, b, lag_s),
+                        lambda: _core_columns(sig, st.core, st.taus, b, lag_s)))
     lag: Optional[list[float]] = None
     delay_s = 0.0
     for term in st.terms:
@@ -404,7 +413,8 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
     fitted = ViscoelasticElement(core_model(st, coef))
     shifted = [e for e in slots["core"] if isinstance(e, ThermoRheologicalElement)]
     if shifted:  # viscosities that follow temperature: the fitted core on the reduced time
-        fitted = ThermoRheologicalElement(fitted, shifted[0].shift_per_c, shifted[0].reference_c)
+        fitted = ThermoRheologicalElement(fitted, shifted[0].shift_per_c, shifted[0].reference_c,
+                                          shifted[0].temperature_lag_s)
     flows = [e for e in slots["core"] if isinstance(e, PowerFlowElement)]
     if flows:  # a power-law dashpot beside the fitted core (on its clock's core, shifted or not)
         flow = flows[0]

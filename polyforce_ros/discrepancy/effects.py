@@ -56,7 +56,7 @@ __all__ = ["SPREAD_RATIO",
            "Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
            "SPLINE_INTERVALS", "KNEE_FRACTIONS", "KNEE_FLOOR_SHARE", "knees_n", "knee_beside", "volume_beside",
            "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n",
-           "at_noise_limit", "lag_columns", "lag_stages",
+           "at_noise_limit", "lag_columns", "lag_stages", "CLOCK_LAGS_S", "clock_lag_s",
            "variant_group", "parameter", "hints"]
 
 #: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
@@ -332,9 +332,17 @@ def _friction_elements(coef: Mapping[str, float], variant: str, param: Optional[
     return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling))] if coupling > 0 else []
 
 
+#: Lags [s] of the core's temperature behind the thermometer's searched (variants ``lag5``...; the plain: none).
+CLOCK_LAGS_S = (5, 15, 45)
+
+
+def clock_lag_s(variant: str) -> float:
+    """The core's temperature lag [s] of a thermo-rheological variant: 0 for the thermometer's own."""
+    return float(variant[3:]) if variant.startswith("lag") else 0.0
+
+
 def _shift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
-    """ln of the viscosities' shift factor per degree searched [1/degC]: 0.005-0.4 (polymers near their use
-    temperature: 0.02-0.3)."""
+    """ln of the viscosities' shift factor per degree searched [1/degC]: 0.005-0.4 (polymers in use: 0.02-0.3)."""
     return _log_grid(0.005, 0.4, 10)
 
 
@@ -346,7 +354,7 @@ def _core_clock(sig: Signals, variant: str, param: Optional[float]) -> list[Col]
 def _shift_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     # the core here is a stand-in: build_chain puts the fitted core on the reduced time
     return [("core", ThermoRheologicalElement(ViscoelasticElement(sig.reference_core), float(parameter(param)),
-                                              float(np.clip(sig.temp_ref, -100.0, 300.0))))]
+                                              float(np.clip(sig.temp_ref, -100.0, 300.0)), clock_lag_s(variant)))]
 
 
 def _flow_grid(variant: str, sig: Signals) -> list[Optional[float]]:
@@ -365,14 +373,19 @@ def _bounded(value: npt.ArrayLike, key: str) -> npt.NDArray[np.float64]:
     return out
 
 
-def _passed_n_s(sig: Signals) -> tuple[FloatArray, float]:
-    """The load-time integral passed before each sample (the left sum of F dt) [N s], and the largest it reaches,
-    within the model file's bounds: the scale of a fluidity that changes with it. Made once per record."""
-    key = "load-time integral"
+def _passed_n_s(sig: Signals) -> FloatArray:
+    """The load-time integral passed before each sample (the left sum of F dt) [N s]."""
+    out: FloatArray = np.concatenate([[0.0], np.cumsum(np.diff(sig.t) * sig.f[:-1])])
+    return out
+
+
+def _volume_scale_n_s(sig: Signals) -> float:
+    """The largest load-time integral the record reaches [N s], within the model file's bounds: the scale of a
+    fluidity that changes with it. Made once per record."""
+    key = "load-time integral scale"
     if key not in sig.record_cache:  # the record's alone, whatever the reference core
-        passed = np.concatenate([[0.0], np.cumsum(np.diff(sig.t) * sig.f[:-1])])
-        sig.record_cache[key] = (passed, float(_bounded(np.max(np.abs(passed)), "flow_volume_scale_n_s")))
-    out: tuple[FloatArray, float] = sig.record_cache[key]
+        sig.record_cache[key] = float(_bounded(np.max(np.abs(_passed_n_s(sig))), "flow_volume_scale_n_s"))
+    out: float = sig.record_cache[key]
     return out
 
 
@@ -388,7 +401,7 @@ def _flow_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Co
     if variant == "volume":  # the left sums of F u^k dt (k = 1..3), u the load-time integral passed over its largest
         key = "flow volume"
         if key not in sig.record_cache:  # the record's alone, whatever the reference core
-            passed, scale_n_s = _passed_n_s(sig)
+            passed, scale_n_s = _passed_n_s(sig), _volume_scale_n_s(sig)
             steps, u = np.diff(sig.t) * sig.f[:-1], np.clip(passed[:-1] / scale_n_s, 0.0, 1.0)
             sig.record_cache[key] = [(f"flow_volume{k}", np.concatenate([[0.0], np.cumsum(steps * u ** k)]), -np.inf,
                                       np.inf, "sensor", None) for k in range(1, MAX_VOLUME_TERMS + 1)]
@@ -407,7 +420,7 @@ def _flow_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
     if variant == "volume":
         rates = [coef.get(f"flow_volume{k}", 0.0) for k in range(1, MAX_VOLUME_TERMS + 1)]
         # the core here is a stand-in: build_chain puts the fitted core beside the flow
-        return [("core", volume_beside(ViscoelasticElement(sig.reference_core), _passed_n_s(sig)[1], rates))]
+        return [("core", volume_beside(ViscoelasticElement(sig.reference_core), _volume_scale_n_s(sig), rates))]
     if variant not in ("power", "yield"):
         return []
     exponent, yield_share = _flow_law(variant, param)
@@ -764,6 +777,7 @@ EFFECTS: dict[str, Effect] = {
     "thermo_rheological": Effect(
         "thermo_rheological", "creep that speeds up when warm (thermo_rheological)", ("temperature_change", "hold_under_load"),
         ("temperature", "load_history"), ("thermo_rheological",), grid=_shift_grid, columns=_core_clock,
+        variants=("", *(f"lag{s}" for s in CLOCK_LAGS_S)),
         to_elements=_shift_elements, needs_temperature=True),
     "offset_drift": Effect(
         "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",),

@@ -22,6 +22,7 @@ from ..viscoelastic import (
 )
 from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, FunctionStream, ModelError, check_keys, check_number,
                    float_list, short_repr, smoke_records, stream_backward, temperature_c_of)
+from .drift import LaggedTemperatureStream, ThermalForwardState, lagged_temperature_c, thermal_forward_state
 
 __all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "MAX_VOLUME_TERMS",
            "volume_fluidity", "lowest_volume_fluidity", "series_fluidity", "KneeKelvinElement", "reduced_time_s",
@@ -187,27 +188,44 @@ class _ClockState(TypedDict):
     core: ForwardState
     t: Optional[float]  # the last stamp of the previous block [s]
     xi: float  # its reduced time [s]
-    temperature_c: Optional[float]  # its temperature [degC]
+    temperature_c: Optional[float]  # its temperature [degC], the core's (behind the thermometer when lagged)
+    lag: ThermalForwardState  # the core's temperature behind the thermometer's
 
 
 class _ReducedTimeStream:
-    """The core's per-sample inverse run on the reduced time (:func:`reduced_time_s`, sample by sample)."""
+    """The core's per-sample inverse run on the reduced time (:func:`reduced_time_s`, sample by sample), on the
+    core's temperature behind the thermometer's when ``temperature_lag_s`` > 0."""
 
-    def __init__(self, inner: StreamingCompensator, shift_per_c: float, reference_c: float) -> None:
+    def __init__(self, inner: StreamingCompensator, shift_per_c: float, reference_c: float,
+                 temperature_lag_s: float = 0.0) -> None:
         self.inner, self.b, self.ref = inner, shift_per_c, reference_c
+        self.lag = LaggedTemperatureStream(temperature_lag_s) if temperature_lag_s > 0.0 else None
         self.reset()
 
     def reset(self) -> None:
         self.inner.reset()
         self.t_prev: Optional[float] = None
         self.xi, self.rate_prev = 0.0, 1.0
+        if self.lag is not None:
+            self.lag.reset()
+
+    def _core_temperature(self, t_s: float, temp: float) -> float:
+        """The core's temperature after the sample at ``t_s``, the lag's state not moved."""
+        if self.lag is None:
+            return temp
+        state = self.lag.lag
+        saved = (list(state.y), state.t_prev_s, state.u_prev)
+        out = self.lag.update(t_s, temp)
+        state.y, state.t_prev_s, state.u_prev = saved
+        return out
 
     def _clock(self, t_s: float, aux: Optional[Mapping[str, Any]]) -> tuple[float, float]:
         """(reduced time, clock rate) at ``t_s``, the state not moved."""
         temp = None if not aux else aux.get("temperature_c")
         rate = 1.0
         if temp is not None:
-            e = math.exp(min(max(self.b * (float(temp) - self.ref), -MAX_LOG_SHIFT), MAX_LOG_SHIFT))
+            core_c = self._core_temperature(t_s, float(temp))
+            e = math.exp(min(max(self.b * (core_c - self.ref), -MAX_LOG_SHIFT), MAX_LOG_SHIFT))
             rate = e if math.isfinite(e) else 1.0
         xi = t_s if self.t_prev is None else self.xi + (t_s - self.t_prev) * 0.5 * (rate + self.rate_prev)
         return xi, rate
@@ -223,13 +241,18 @@ class _ReducedTimeStream:
         force = self.inner.step(xi, value)
         if force is not None:  # a refused sample (a stamp going back) leaves the clock as it was
             self.t_prev, self.xi, self.rate_prev = t_s, xi, rate
+            temp = None if not aux else aux.get("temperature_c")
+            if self.lag is not None and temp is not None:
+                self.lag.update(t_s, float(temp))
         return force
 
 
 class ThermoRheologicalElement(ViscoelasticElement):
     """A viscoelastic core whose viscosities all follow temperature (time-temperature superposition):
     ``eta(T) = eta(T_ref) exp(-shift_per_c (T - reference_c))``, so creep runs faster when warm. The core runs on
-    the reduced time of :func:`reduced_time_s`; its elastic parts do not change. It reads ``temperature_c``.
+    the reduced time of :func:`reduced_time_s`; its elastic parts do not change. It reads ``temperature_c``: T is the
+    thermometer's, or with ``temperature_lag_s`` the core's own, which follows the thermometer through a first-order
+    lag (a core with thermal mass away from its thermometer), settled at the first temperature.
 
     Parameters (model file keys)
     ----------------------------
@@ -239,25 +262,43 @@ class ThermoRheologicalElement(ViscoelasticElement):
         b [1/degC]: ln of the shift factor per degree (an Arrhenius law linearised near the reference).
     reference_c : float
         T_ref [degC].
+    temperature_lag_s : float >= 0, optional
+        The time constant [s] of the core's temperature behind the thermometer's; 0 (the default, not written) for
+        none.
     """
 
     KEYS = ("core", "shift_per_c", "reference_c")
+    OPTIONAL = {"temperature_lag_s": 0.0}
     shift_per_c: float
     reference_c: float
+    temperature_lag_s: float
 
-    def __init__(self, core: ViscoelasticElement, shift_per_c: float, reference_c: float) -> None:
+    def __init__(self, core: ViscoelasticElement, shift_per_c: float, reference_c: float,
+                 temperature_lag_s: float = 0.0) -> None:
         if not isinstance(core, ViscoelasticElement) or isinstance(core, ThermoRheologicalElement):
             raise ModelError("thermo_rheological: core must be a viscoelastic core")
         shift_per_c = check_number("thermo_rheological", "shift_per_c", shift_per_c, positive=False)
         reference_c = check_number("thermo_rheological", "reference_c", reference_c, positive=False)
-        self._freeze(model=core.model, kind="thermo_rheological", shift_per_c=shift_per_c, reference_c=reference_c)
+        lag_s = check_number("thermo_rheological", "temperature_lag_s", temperature_lag_s, positive=False)
+        self._freeze(model=core.model, kind="thermo_rheological", shift_per_c=shift_per_c, reference_c=reference_c,
+                     temperature_lag_s=lag_s)
+
+    def _core_temperature_c(self, t_s: npt.ArrayLike, temp_c: Optional[FloatArray],
+                            state: Optional[ThermalForwardState] = None) -> Optional[FloatArray]:
+        """The core's temperature: the thermometer's, or behind it through the lag (``state`` continues it)."""
+        if temp_c is None or self.temperature_lag_s <= 0.0:
+            return temp_c
+        return lagged_temperature_c(t_s, np.asarray(temp_c, dtype=float), self.temperature_lag_s, state)
 
     def _xi(self, t_s: npt.ArrayLike, aux: Optional[Mapping[str, Any]]) -> FloatArray:
-        return reduced_time_s(t_s, temperature_c_of(aux, np.size(t_s)), self.shift_per_c, self.reference_c)
+        temp = self._core_temperature_c(t_s, temperature_c_of(aux, np.size(t_s)))
+        return reduced_time_s(t_s, temp, self.shift_per_c, self.reference_c)
 
     def forward_state(self) -> _ClockState:  # type: ignore[override]
-        """A fresh state for block-wise :meth:`forward` runs: the core's, and the reduced time's last stamp."""
-        return {"core": ForwardState(self.model), "t": None, "xi": 0.0, "temperature_c": None}
+        """A fresh state for block-wise :meth:`forward` runs: the core's, the reduced time's last stamp and the
+        core's temperature lag."""
+        return {"core": ForwardState(self.model), "t": None, "xi": 0.0, "temperature_c": None,
+                "lag": thermal_forward_state()}
 
     def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
                 state: Optional[_ClockState] = None) -> FloatArray:  # type: ignore[override]
@@ -265,7 +306,7 @@ class ThermoRheologicalElement(ViscoelasticElement):
         blocks."""
         st = state if state is not None else self.forward_state()
         t = np.asarray(t_s, dtype=float)
-        temp = temperature_c_of(aux, t.size)
+        temp = self._core_temperature_c(t, temperature_c_of(aux, t.size), st["lag"])
         if st["t"] is not None and t.size:  # continue the clock from the previous block's last sample
             before = st["temperature_c"] if st["temperature_c"] is not None else self.reference_c
             temps = None if temp is None else np.concatenate([[before], temp])
@@ -285,18 +326,23 @@ class ThermoRheologicalElement(ViscoelasticElement):
 
     def streaming(self) -> _ReducedTimeStream:  # type: ignore[override]
         """The per-sample inverse on the reduced time, equal to :meth:`backward` sample by sample."""
-        return _ReducedTimeStream(StreamingCompensator(self.model), self.shift_per_c, self.reference_c)
+        return _ReducedTimeStream(StreamingCompensator(self.model), self.shift_per_c, self.reference_c,
+                                  self.temperature_lag_s)
 
     def to_dict(self) -> dict[str, Any]:
         """The element as a model-file mapping."""
-        return {"type": self.kind, "core": ViscoelasticElement(self.model).to_dict(),
-                "shift_per_c": float(self.shift_per_c), "reference_c": float(self.reference_c)}
+        out = {"type": self.kind, "core": ViscoelasticElement(self.model).to_dict(),
+               "shift_per_c": float(self.shift_per_c), "reference_c": float(self.reference_c)}
+        if self.temperature_lag_s > 0.0:
+            out["temperature_lag_s"] = float(self.temperature_lag_s)
+        return out
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> Self:
         """The element from a model-file mapping."""
-        check_keys("thermo_rheological", d, cls.KEYS)
-        return cls(wrapped_core_from_dict("thermo_rheological", d["core"]), d["shift_per_c"], d["reference_c"])
+        check_keys("thermo_rheological", d, cls.KEYS, cls.OPTIONAL)
+        return cls(wrapped_core_from_dict("thermo_rheological", d["core"]), d["shift_per_c"], d["reference_c"],
+                   d.get("temperature_lag_s", 0.0))
 
 
 class _FlowState(TypedDict):

@@ -712,16 +712,6 @@ def test_no_second_name_for_a_misfit_the_record_cannot_show(split, index, named)
     assert diag.missing_effects == named, (diag.missing_effects, diag.unexplained["partial_fits"])
 
 
-def test_a_flow_whose_fluidity_changes_is_named_though_each_of_its_terms_is_uncertain():
-    """A record of the spent split X (a hydraulic core that uncovers a tapered bleed slot as it leaks, 470 Hz): the
-    volume variant predicts every left-out fold far better than the plain flow and than the plain flow beside a
-    cubic in time, though each of its three nearly collinear terms alone lies within 3 standard errors of zero.
-    It is named as the flow it is, not as a settling drift."""
-    diag = _diagnose_spent_case("independent_split_x", 2)
-    assert diag.missing_effects == ["viscous_flow"], (diag.missing_effects, diag.unexplained["partial_fits"])
-    assert diag.variants["viscous_flow"] == "volume"
-
-
 @pytest.mark.parametrize("index", [
     17,  # an s-shaped cubic non-linearity at 520 Hz: the curve fitted turns over near the top of the range
     18,  # a smooth random integral non-linearity at 780 Hz: the settled fit's core was not its reference core

@@ -27,7 +27,7 @@ from typing import Any, Callable, Optional, Sequence, Union
 import numpy as np
 
 from ..physics.fitting import block_jackknife_standard_errors
-from .design import Fit, Fitter, Structure, Term, design_columns, fitted, n_params, size, term_columns
+from .design import Fit, Fitter, Structure, design_columns, fitted, n_params, size, term_columns
 from .effects import EFFECTS as REGISTRY, SPREAD_RATIO, at_noise_limit, variant_group
 from .refit import candidates_for, is_core_time, polish, refine, without
 from .residual import drift_follows_load, excess, passes, shown_share, slow_response_columns
@@ -318,10 +318,9 @@ class Selection:
 
     def _nested(self, fits: list[Fit], name: str) -> list[Fit]:
         """``fits`` without those of a variant that extends a smaller one (:attr:`.effects.Effect.extends`) whose
-        added columns are neither each at least :data:`SIGNIFICANT_SE` block-jackknife standard errors from zero nor
-        better together in every left-out fold than the smaller variant, and than it beside a drift in time
-        (:meth:`_gain_not_in_time`) (columns the folds cannot agree on describe nothing the smaller variant misses;
-        for a variant of :attr:`.effects.Effect.summed`, the sum of its added weights), or that does not improve on
+        added columns are not each at least :data:`SIGNIFICANT_SE` block-jackknife standard errors from zero (a
+        column the folds cannot agree on describes nothing the smaller variant misses; for a variant of
+        :attr:`.effects.Effect.summed`, the sum of its added weights), or that does not improve on
         the smaller variant's best fit as an added effect must improve on the current model (:meth:`justified`),
         nor on the best fit of each further variant it holds (:attr:`.effects.Effect.also_holds`): a column that is
         certain but small describes a misfit of the record, not the shape of the effect."""
@@ -348,43 +347,13 @@ class Selection:
                 error = float(block_jackknife_standard_errors([[float(np.sum(c[at]))] for c in f.coef_folds])[0])
                 if not (np.isfinite(error) and abs(total) > SIGNIFICANT_SE * error):  # a sum of zeros is not 0 >= 0
                     return False
-            elif not (all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"] for n in added)
-                      or self._gain_not_in_time(f, smallest_fit.get(extends[v]), len(added), name)):
+            elif not all(abs(co[n]["value"]) >= SIGNIFICANT_SE * co[n]["standard_error"] for n in added):
                 return False
             rivals = [smallest_fit.get(s) for s in (extends[v], *also_holds.get(v, ()))]
             return all(rival is None or self.justified(f, rival) for rival in rivals)
 
         kept = [f for f in fits if kept_beside_smaller(f)]
         return kept or fits
-
-    def _gain_not_in_time(self, fit: Fit, smaller: Optional[Fit], n_terms: int, name: str) -> bool:
-        """Whether ``fit``, a larger variant of ``name`` than ``smaller`` by ``n_terms`` columns, predicts every
-        left-out fold better than it with a mean gain per fold more than :data:`SIGNIFICANT_SE` standard errors from
-        zero, and passes the acceptance test against ``smaller`` beside the polynomial drift's first ``n_terms``
-        columns (at most its three), or against ``smaller`` alone when it holds a smooth drift in time already. Never
-        for a drift's own variants, which are in time themselves.
-
-        Columns of one shape are often nearly collinear (the powers of a fluidity's cubic), so each alone can be
-        uncertain while what they predict together is not. But a shape that grows with the load's history also
-        grows with time under a load that seldom rests: the polynomial in time is the drift it could stand in for,
-        and the gain must be the load's."""
-        if smaller is None or n_terms < 1 or name == "offset_drift":
-            return False
-        gains = np.asarray(smaller.sse_folds, dtype=float) - np.asarray(fit.sse_folds, dtype=float)
-        if gains.size < 2 or not np.all(np.isfinite(gains)) or not np.all(gains > 0.0):
-            return False
-        if not float(np.mean(gains)) > SIGNIFICANT_SE * float(np.std(gains, ddof=1)) / math.sqrt(gains.size):
-            return False
-        drift = smaller.structure.term("offset_drift")
-        if drift is not None and drift.variant not in ("steps", "jumps"):  # a smooth drift in time is there already
-            return self.justified(fit, smaller)
-        sig = self.fitter.sig
-        key = ("beside a drift in time", smaller.structure, n_terms)
-        if key not in sig.cache:  # the polynomial drift's own columns (s, s^2, s^3 of the record's time)
-            sig.cache[key] = self.fitter.evaluate(smaller.structure,
-                                                  term_columns(sig, Term("offset_drift", "polynomial"))[:n_terms])
-        rival: Fit = sig.cache[key]
-        return self.justified(fit, rival)
 
     def rebuild(self, rival: Candidate, name: str) -> Optional[Fit]:
         """The rival's own step with every effect named since (but ``name``) added back in order, each re-chosen."""

@@ -568,6 +568,26 @@ def test_a_friction_outside_its_ranges_is_a_model_error(bad):
 
 # -- thermo_rheological: a core whose viscosities follow temperature ---------------------------------------------
 
+@settings(max_examples=40, deadline=None)
+@given(tau_s=st.floats(0.01, 100.0), seed=st.integers(0, 2**31 - 1))
+def test_a_peeked_temperature_lag_is_the_update_it_foretells_and_moves_nothing(tau_s, seed):
+    from polyforce_ros.physics.chain.drift import LaggedTemperatureStream
+
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(-0.2, 1.0, 200)) * 0.05  # some stamps go back: refused, the lag not moved
+    temp = 20.0 + np.cumsum(rng.normal(0.0, 0.3, t.size))
+    plain, peeking = LaggedTemperatureStream(tau_s), LaggedTemperatureStream(tau_s)
+    for ti, ci in zip(t, temp):
+        for _ in range(int(rng.integers(0, 3))):  # peeks at other samples, then at this one, or none at all
+            peeking.peek(ti + float(rng.uniform(-0.1, 0.1)), ci + float(rng.normal()))
+        foretold = peeking.peek(ti, ci) if rng.uniform() < 0.8 else None
+        want = plain.update(ti, ci)
+        got = peeking.update(ti, ci)
+        assert got == want
+        assert foretold is None or foretold == want
+        assert peeking.lag.y == plain.lag.y and peeking.lag.t_prev_s == plain.lag.t_prev_s
+
+
 @settings(max_examples=30, deadline=None)
 @given(shift=st.floats(0.0, 0.3), swing=st.floats(0.0, 8.0), seed=st.integers(0, 2**31 - 1),
        lag_s=st.one_of(st.just(0.0), st.floats(0.5, 60.0)))

@@ -211,13 +211,7 @@ class _ReducedTimeStream:
 
     def _core_temperature(self, t_s: float, temp: float) -> float:
         """The core's temperature after the sample at ``t_s``, the lag's state not moved."""
-        if self.lag is None:
-            return temp
-        state = self.lag.lag
-        saved = (list(state.y), state.t_prev_s, state.u_prev)
-        out = self.lag.update(t_s, temp)
-        state.y, state.t_prev_s, state.u_prev = saved
-        return out
+        return temp if self.lag is None else self.lag.peek(t_s, temp)
 
     def _clock(self, t_s: float, aux: Optional[Mapping[str, Any]]) -> tuple[float, float]:
         """(reduced time, clock rate) at ``t_s``, the state not moved."""

@@ -65,23 +65,46 @@ def lagged_temperature_c(t_s: npt.ArrayLike, temp_c: Optional[FloatArray], tau_s
 
 class LaggedTemperatureStream:
     """The per-sample form of :func:`lagged_temperature_c`: ``update(t_s, temp_c)`` returns T_lag [degC], settled at
-    the first temperature after a :meth:`reset`."""
+    the first temperature after a :meth:`reset`; :meth:`peek` gives it without moving the lag."""
 
     def __init__(self, tau_s: float) -> None:
         self.tau_s = tau_s
         self.lag = ExpConvState([1.0 / tau_s])
+        self._peeked: Optional[tuple[float, float, float, float]] = None  # (t_s, temp_c, y, T_lag) of the last peek
 
     def reset(self) -> None:
         """Forget the history: the next temperature settles the lag."""
         self.lag.reset()
+        self._peeked = None
+
+    def peek(self, t_s: float, temp_c: float) -> float:
+        """T_lag after a sample at ``t_s``, the lag not moved; an :meth:`update` with the same sample next takes the
+        state computed here (one exact step per accepted sample, however often it is peeked)."""
+        lag = self.lag
+        if lag.t_prev_s is None:
+            return float(temp_c)
+        y0 = lag.y[0]
+        t_prev, u_prev = lag.t_prev_s, lag.u_prev
+        state = lag.update(t_s, float(temp_c))
+        y = y0 if state is None else state[0]
+        lag.y[0], lag.t_prev_s, lag.u_prev = y0, t_prev, u_prev
+        out = y / self.tau_s
+        self._peeked = None if state is None else (t_s, float(temp_c), y, out)
+        return out
 
     def update(self, t_s: float, temp_c: float) -> float:
         """T_lag after the sample at ``t_s``."""
-        if self.lag.t_prev_s is None:
-            self.lag.reset([temp_c * self.tau_s])
-        state = self.lag.update(t_s, float(temp_c))
-        return float((self.lag.y if state is None else state)[0] / self.tau_s)
-
+        lag, peeked = self.lag, self._peeked
+        self._peeked = None
+        if peeked is not None and peeked[0] == t_s and peeked[1] == temp_c:
+            lag.y[0], lag.t_prev_s, lag.u_prev = peeked[2], t_s, float(temp_c)
+            return peeked[3]
+        if lag.t_prev_s is None:  # settled at the first temperature
+            lag.reset([temp_c * self.tau_s])
+            lag.update(t_s, float(temp_c))
+            return float(temp_c)
+        state = lag.update(t_s, float(temp_c))
+        return float((lag.y if state is None else state)[0] / self.tau_s)
 
 
 def thermal_zero(coefficient_v_per_c: float, curvature_v_per_c2: float, departure_c: FloatOrArray) -> FloatOrArray:

@@ -99,11 +99,11 @@ import numpy as np
 from scipy import integrate, optimize, signal
 
 from independent_split import puncture_train
-from polyforce_ros.physics.viscoelastic import Burgers, Zener, simulate_deformation
+from polyforce_ros.physics.viscoelastic import Burgers
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (coarse_force, cutter, ease, fit_departure, follow, on_clock, Parts, ShapeSplit, SimOnly,
-                       sized as sized_over, temp_of)
+from split_kit import (coarse_force, cutter, ease, fit_departure, follow, LeakingCore, on_clock, Parts, ShapeSplit,
+                       SimOnly, sized as sized_over, temp_of)
 
 SEED0 = 2_000_000  # never a seed of the registry's splits nor of splits A (90000..) to AA (1900000..)
 FORCE_MAX_N = 9.0
@@ -371,22 +371,6 @@ def server_aisles(t, rng, step_s=0.5):
 
 
 # ----------------------------------------------------------------------------- viscous flow
-
-class LeakingCore(SimOnly):
-    """A Zener core (the Burgers core's springs and Kelvin dashpot, no dashpot of its own in series) whose output gains
-    a leak, ``rule(t, F) -> V`` (a Zener sensor and nothing more when ``rule`` is None)."""
-
-    def __init__(self, zener, rule):
-        self.zener, self.rule = zener, rule
-
-    @classmethod
-    def of(cls, c, rule):
-        return cls(Zener(c.k1_n_per_v, c.k2_n_per_v, c.eta2_n_s_per_v), rule)
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        return simulate_deformation(self.zener, t, f) + (0.0 if self.rule is None else self.rule(t, f))
-
 
 def banding_leak(low, high, up_n, down_n, nucleate_s, step_s=0.01):
     """x' = A F: a core leaking a wormlike-micelle solution that shear-bands. On the low-shear branch the fluidity is
@@ -1190,29 +1174,10 @@ OUTSIDE = ("fringe_slips", "mu_law_logging")
 RATES = (125.0, 305.0, 495.0, 805.0)  # four rates, three profiles: every profile at every rate
 
 
-class SplitAB(ShapeSplit):
-    """:class:`ShapeSplit` whose ``--check`` sizes a case on a Zener base (a leak) against its bare Zener core: the
-    same springs and Kelvin unit with neither the leak nor the other hidden effect."""
-
-    def check_case(self, item):
-        i, (hidden, m) = item
-        rate = self.rate(hidden, i)
-        rng = np.random.default_rng(self.seed0 + i)
-        t, f = self.load(hidden, i, rate, rng)
-        temp = self.temperature(t, rng)
-        base, truth = self.sensor(hidden, m, rng)
-        leaking = [e for e in truth.chain.elements if isinstance(e, LeakingCore)]
-        if not leaking:
-            return super().check_case(item)
-        bare = Parts(base, LeakingCore(leaking[0].zener, None)).truth()
-        gap = truth.voltage(t, f, temp) - bare.voltage(t, f, temp)
-        return i, hidden, float(np.sqrt(np.mean((gap - gap.mean()) ** 2)) / 2e-3)
-
-
-SPLIT = SplitAB("independent split AB", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.27, 0.87),
-                pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=server_aisles,
-                make_parts=make_parts, duration_s=DURATION_S, noise_v=(0.8e-3, 2.6e-3), jitter=0.34,
-                gap_s=(0.1, 2.8))
+SPLIT = ShapeSplit("independent split AB", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.27, 0.87),
+                   pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=server_aisles,
+                   make_parts=make_parts, duration_s=DURATION_S, noise_v=(0.8e-3, 2.6e-3), jitter=0.34,
+                   gap_s=(0.1, 2.8))
 cases, simulate = SPLIT.cases, SPLIT.simulate
 
 

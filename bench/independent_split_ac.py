@@ -84,14 +84,15 @@ import functools
 import math
 
 import numpy as np
-from scipy import integrate, optimize, signal
+from scipy import integrate, signal
 
 from independent_split import puncture_train
 from polyforce_ros.physics.expconv import exp_convolve
-from polyforce_ros.physics.viscoelastic import Burgers, Zener, simulate_deformation
+from polyforce_ros.physics.viscoelastic import Burgers, simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import ForcePath, Parts, ShapeSplit, SimOnly, band_play, coarse, kelvin, uniform_grid
+from split_kit import (ForcePath, LeakingCore, Parts, ShapeSplit, SimOnly, band_play, coarse, ease, fit_departure, follow,
+                       kelvin, on_clock, sized as sized_over, temp_of, uniform_grid)
 
 SEED0 = 2_100_000  # never a seed of the registry's splits nor of splits A (90000..) to AB (2000000..)
 FORCE_MAX_N = 9.0
@@ -99,58 +100,10 @@ T_REF_C = 23.0
 DURATION_S = 450.0
 HORIZON_S = DURATION_S + 60.0  # what a schedule drawn before the record covers (the record plus its gaps' slack)
 
+sized = functools.partial(sized_over, horizon_s=HORIZON_S)
+
 
 # ----------------------------------------------------------------------------- small tools
-
-def ease(u):
-    """A minimum-jerk blend: 0 at and below 0, 1 at and above 1."""
-    u = np.clip(u, 0.0, 1.0)
-    return u ** 3 * (6.0 * u * u - 15.0 * u + 10.0)
-
-
-def temp_of(aux, n):
-    """The chain's temperature, one value per sample."""
-    return np.broadcast_to(np.asarray(aux["temperature_c"], dtype=float), (n,))
-
-
-def follow(t, x, tau_s, step_s=0.5):
-    """``x`` seen through a first-order lag of ``tau_s`` (exact per coarse step of ``step_s``), at rest with its
-    first value before the record."""
-    grid = np.arange(t[0], t[-1] + step_s, step_s)
-    xg = np.interp(grid, t, x)
-    keep = math.exp(-step_s / tau_s)
-    yg, _ = signal.lfilter([1.0 - keep], [1.0, -keep], xg, zi=[keep * xg[0]])
-    return np.interp(t, grid, yg)
-
-
-def sized(fn, size, horizon_s=HORIZON_S):
-    """``fn(s)`` (zero at s = 0) scaled so that its largest magnitude over the horizon is ``|size|``, with the sign of
-    ``size``."""
-    probe = np.abs(fn(np.arange(0.0, horizon_s, 0.1)))
-    scale = size / max(float(probe.max()), 1e-12)
-    return lambda s: scale * fn(s)
-
-
-def fit_departure(read, rel, reach, k_top):
-    """``read(x, k)`` with the k in (0, ``k_top``] whose largest departure from x over [0, ``reach``] is ``rel`` of
-    ``reach`` (``k_top`` when even that departs less)."""
-    xs = np.linspace(0.0, reach, 401)
-
-    def miss(k):
-        return float(np.max(np.abs(read(xs, k) - xs))) / reach - rel
-    if miss(k_top) <= 0.0:
-        return lambda x: read(x, k_top)
-    lo = k_top
-    while miss(lo) > 0.0 and lo > k_top * 1e-6:
-        lo *= 0.5
-    k = optimize.brentq(miss, lo, k_top, xtol=k_top * 1e-9)
-    return lambda x: read(x, k)
-
-
-def on_clock(c, t, f, rate):
-    """The core's deformation when its clock runs at ``rate`` (reduced time from t[0])."""
-    return simulate_deformation(c, t[0] + integrate.cumulative_trapezoid(rate, t, initial=0.0), f)
-
 
 def relay(on, off, start):
     """A two-state switch per sample: True after the latest sample where ``on`` holds, False after the latest where
@@ -420,22 +373,6 @@ def greenhouse(t, rng, step_s=0.5):
 
 
 # ----------------------------------------------------------------------------- viscous flow
-
-class LeakingCore(SimOnly):
-    """A Zener core (the Burgers core's springs and Kelvin dashpot, no dashpot of its own in series) whose output gains
-    a leak, ``rule(t, F) -> V`` (a Zener sensor and nothing more when ``rule`` is None)."""
-
-    def __init__(self, zener, rule):
-        self.zener, self.rule = zener, rule
-
-    @classmethod
-    def of(cls, c, rule):
-        return cls(Zener(c.k1_n_per_v, c.k2_n_per_v, c.eta2_n_s_per_v), rule)
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        return simulate_deformation(self.zener, t, f) + (0.0 if self.rule is None else self.rule(t, f))
-
 
 def choked_vent_leak(fluidity_at_3n, atm_n, critical):
     """A pneumatic core venting to the atmosphere through an orifice, after ISO 6358: the mass flow C p1 sqrt(1 -
@@ -1108,29 +1045,10 @@ OUTSIDE = ("stuck_adc_bit", "peak_hold_bouts")
 RATES = (255.0, 415.0, 1150.0, 1450.0)  # four rates, three profiles: every profile at every rate
 
 
-class SplitAC(ShapeSplit):
-    """:class:`ShapeSplit` whose ``--check`` sizes a case on a Zener base (a leak) against its bare Zener core: the
-    same springs and Kelvin unit with neither the leak nor the other hidden effect."""
-
-    def check_case(self, item):
-        i, (hidden, m) = item
-        rate = self.rate(hidden, i)
-        rng = np.random.default_rng(self.seed0 + i)
-        t, f = self.load(hidden, i, rate, rng)
-        temp = self.temperature(t, rng)
-        base, truth = self.sensor(hidden, m, rng)
-        leaking = [e for e in truth.chain.elements if isinstance(e, LeakingCore)]
-        if not leaking:
-            return super().check_case(item)
-        bare = Parts(base, LeakingCore(leaking[0].zener, None)).truth()
-        gap = truth.voltage(t, f, temp) - bare.voltage(t, f, temp)
-        return i, hidden, float(np.sqrt(np.mean((gap - gap.mean()) ** 2)) / 2e-3)
-
-
-SPLIT = SplitAC("independent split AC", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.3, 0.86),
-                pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=greenhouse,
-                make_parts=make_parts, duration_s=DURATION_S, noise_v=(0.85e-3, 2.55e-3), jitter=0.31,
-                gap_s=(0.15, 2.5))
+SPLIT = ShapeSplit("independent split AC", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.3, 0.86),
+                   pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=greenhouse,
+                   make_parts=make_parts, duration_s=DURATION_S, noise_v=(0.85e-3, 2.55e-3), jitter=0.31,
+                   gap_s=(0.15, 2.5))
 cases, simulate = SPLIT.cases, SPLIT.simulate
 
 

@@ -959,29 +959,10 @@ OUTSIDE = ("mri_gradient_pickup", "register_overflow")
 RATES = (210.0, 380.0, 650.0, 930.0)  # four rates, three profiles: every profile at every rate
 
 
-class SplitY(ShapeSplit):
-    """:class:`ShapeSplit` whose ``--check`` sizes a case on a Zener base (a leak) against its bare Zener core: the
-    same springs and Kelvin unit with neither the leak nor the other hidden effect."""
-
-    def check_case(self, item):
-        i, (hidden, m) = item
-        rate = self.rate(hidden, i)
-        rng = np.random.default_rng(self.seed0 + i)
-        t, f = self.load(hidden, i, rate, rng)
-        temp = self.temperature(t, rng)
-        base, truth = self.sensor(hidden, m, rng)
-        leaking = [e for e in truth.chain.elements if isinstance(e, LeakingCore)]
-        if not leaking:
-            return super().check_case(item)
-        bare = Parts(base, LeakingCore(leaking[0].zener, None)).truth()
-        gap = truth.voltage(t, f, temp) - bare.voltage(t, f, temp)
-        return i, hidden, float(np.sqrt(np.mean((gap - gap.mean()) ** 2)) / 2e-3)
-
-
-SPLIT = SplitY("independent split Y", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.3, 0.85),
-               pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=sterile_processing_room,
-               make_parts=make_parts, duration_s=DURATION_S, noise_v=(1.05e-3, 2.45e-3), jitter=0.33,
-               gap_s=(0.25, 2.3))
+SPLIT = ShapeSplit("independent split Y", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.3, 0.85),
+                   pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=sterile_processing_room,
+                   make_parts=make_parts, duration_s=DURATION_S, noise_v=(1.05e-3, 2.45e-3), jitter=0.33,
+                   gap_s=(0.25, 2.3))
 cases, simulate = SPLIT.cases, SPLIT.simulate
 
 

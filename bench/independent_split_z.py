@@ -803,29 +803,10 @@ OUTSIDE = ("watchdog_zero_fill", "byte_swapped_words")
 RATES = (320.0, 510.0, 680.0, 770.0)  # four rates, three profiles: every profile at every rate
 
 
-class SplitZ(ShapeSplit):
-    """:class:`ShapeSplit` whose ``--check`` sizes a case on a Zener base (a leak) against its bare Zener core: the
-    same springs and Kelvin unit with neither the leak nor the other hidden effect."""
-
-    def check_case(self, item):
-        i, (hidden, m) = item
-        rate = self.rate(hidden, i)
-        rng = np.random.default_rng(self.seed0 + i)
-        t, f = self.load(hidden, i, rate, rng)
-        temp = self.temperature(t, rng)
-        base, truth = self.sensor(hidden, m, rng)
-        leaking = [e for e in truth.chain.elements if isinstance(e, LeakingCore)]
-        if not leaking:
-            return super().check_case(item)
-        bare = Parts(base, LeakingCore(leaking[0].zener, None)).truth()
-        gap = truth.voltage(t, f, temp) - bare.voltage(t, f, temp)
-        return i, hidden, float(np.sqrt(np.mean((gap - gap.mean()) ** 2)) / 2e-3)
-
-
-SPLIT = SplitZ("independent split Z", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.3, 0.85),
-               pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=sunlit_window,
-               make_parts=make_parts, duration_s=DURATION_S, noise_v=(0.95e-3, 2.35e-3), jitter=0.28,
-               gap_s=(0.2, 2.2))
+SPLIT = ShapeSplit("independent split Z", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.3, 0.85),
+                   pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=sunlit_window,
+                   make_parts=make_parts, duration_s=DURATION_S, noise_v=(0.95e-3, 2.35e-3), jitter=0.28,
+                   gap_s=(0.2, 2.2))
 cases, simulate = SPLIT.cases, SPLIT.simulate
 
 

@@ -410,8 +410,9 @@ class ShapeSplit:
         return row
 
     def check_case(self, item):
-        """The hidden effects' size on the bridge: the RMS of the voltage they add, in units of 2 mV (nan when
-        an effect changes the base)."""
+        """The hidden effects' size on the bridge: the RMS of the voltage they add, in units of 2 mV; a leak on a
+        Zener base (:class:`LeakingCore`) against that bare Zener core, with neither the leak nor the other hidden
+        effect (nan when another effect changes the base)."""
         i, (hidden, m) = item
         rate = self.rate(hidden, i)
         voltages = []
@@ -420,6 +421,11 @@ class ShapeSplit:
             t, f = self.load(hidden, i, rate, rng)
             temp = self.temperature(t, rng)
             base, truth = self.sensor(what, m, rng)
+            leaking = [e for e in truth.chain.elements if isinstance(e, LeakingCore)]
+            if what and leaking:
+                bare = Parts(base, LeakingCore(leaking[0].zener, None)).truth()
+                voltages = [truth.voltage(t, f, temp), bare.voltage(t, f, temp)]
+                break
             if what and base != "burgers":
                 return i, hidden, float("nan")
             voltages.append(truth.voltage(t, f, temp))

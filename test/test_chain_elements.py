@@ -590,14 +590,14 @@ def test_a_peeked_temperature_lag_is_the_update_it_foretells_and_moves_nothing(t
 
 @settings(max_examples=30, deadline=None)
 @given(shift=st.floats(0.0, 0.3), swing=st.floats(0.0, 8.0), seed=st.integers(0, 2**31 - 1),
-       lag_s=st.one_of(st.just(0.0), st.floats(0.5, 60.0)))
+       lag_s=st.one_of(st.just(0.0), st.floats(0.5, 60.0)), c2=st.one_of(st.just(0.0), st.floats(1.0, 200.0)))
 def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_streaming_and_in_blocks(shift, swing, seed,
-                                                                                                   lag_s):
+                                                                                                   lag_s, c2):
     from polyforce_ros.physics.chain import ThermoRheologicalElement, ViscoelasticElement, reduced_time_s
 
     rng = np.random.default_rng(seed)
     core = ViscoelasticElement(PAPER_BURGERS)
-    e = ThermoRheologicalElement(core, shift, 24.0, temperature_lag_s=lag_s)
+    e = ThermoRheologicalElement(core, shift, 24.0, temperature_lag_s=lag_s, wlf_c2_c=c2)
     t = np.cumsum(rng.uniform(0.5, 1.5, 3000)) * 0.02
     force = np.abs(np.cumsum(rng.normal(0.0, 0.1, t.size)))
     temp = 24.0 + swing * np.sin(t / rng.uniform(5.0, 30.0))
@@ -611,10 +611,19 @@ def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_str
     if lag_s > 0.0:
         core_c = solve_ivp(lambda x, y: (np.interp(x, t, temp) - y) / lag_s, (t[0], t[-1]), [temp[0]], t_eval=t,
                            rtol=1e-10, atol=1e-10, max_step=float(np.min(np.diff(t)))).y[0]
-    xi = t[0] + cumulative_trapezoid(np.exp(shift * (core_c - 24.0)), t, initial=0.0)
+    # the WLF law as Williams, Landel and Ferry write it, log10 a_T = -C1 dT / (C2 + dT), with C1 from the slope at
+    # the reference (b = C1 ln 10 / C2), the clock stopped (a_T = e**-10) at and below -C2
+    d = core_c - 24.0
+    if c2 > 0.0:
+        c1 = shift * c2 / np.log(10.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ln_a = np.where(d > -c2, np.log(10.0) * c1 * d / (c2 + d), -np.inf)
+    else:
+        ln_a = shift * d
+    xi = t[0] + cumulative_trapezoid(np.exp(np.clip(ln_a, -10.0, 10.0)), t, initial=0.0)
     np.testing.assert_allclose(e._xi(t, aux), xi, rtol=1e-6, atol=1e-6)
     if lag_s == 0.0:
-        np.testing.assert_allclose(reduced_time_s(t, temp, shift, 24.0), xi, rtol=1e-12, atol=1e-9)
+        np.testing.assert_allclose(reduced_time_s(t, temp, shift, 24.0, c2), xi, rtol=1e-12, atol=1e-9)
     xi = e._xi(t, aux)
     np.testing.assert_allclose(volts, core.forward(xi, force), atol=1e-12)
     back = e.backward(t, volts, aux)
@@ -633,15 +642,18 @@ def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_str
 @pytest.mark.parametrize("bad", [{"shift_per_c": -0.1}, {"shift_per_c": 5.0}, {"shift_per_c": float("nan")},
                                  {"reference_c": 1e4}, {"core": [1.0]}, {"core": {"type": "gain", "gain": 1.0}},
                                  {"temperature_lag_s": -1.0}, {"temperature_lag_s": 1e-5}, {"temperature_lag_s": 1e7},
-                                 {"temperature_lag_s": "10"}, {"temperature_lag_s": float("inf")}, {"lag_s": 10.0}])
+                                 {"temperature_lag_s": "10"}, {"temperature_lag_s": float("inf")}, {"lag_s": 10.0},
+                                 {"wlf_c2_c": -50.0}, {"wlf_c2_c": 0.5}, {"wlf_c2_c": 1e5}, {"wlf_c2_c": float("nan")},
+                                 {"wlf_c2_c": [50.0]}, {"c2": 50.0}])
 def test_a_thermo_rheological_element_outside_its_ranges_is_a_model_error(bad):
     from polyforce_ros.physics.chain import ModelError, ThermoRheologicalElement, ViscoelasticElement
 
     good = ThermoRheologicalElement(ViscoelasticElement(PAPER_BURGERS), 0.05, 22.0).to_dict()
-    assert "temperature_lag_s" not in good  # a core on its thermometer's temperature writes the file it always did
+    # a core on its thermometer's temperature, on a straight law, writes the file it always did
+    assert "temperature_lag_s" not in good and "wlf_c2_c" not in good
     assert ThermoRheologicalElement.from_dict(good).to_dict() == good
-    lagged = {**good, "temperature_lag_s": 30.0}
-    assert ThermoRheologicalElement.from_dict(lagged).to_dict() == lagged
+    for more in ({"temperature_lag_s": 30.0}, {"wlf_c2_c": 45.0}, {"temperature_lag_s": 3.0, "wlf_c2_c": 120.0}):
+        assert ThermoRheologicalElement.from_dict({**good, **more}).to_dict() == {**good, **more}
     with pytest.raises(ModelError):
         ThermoRheologicalElement.from_dict({**good, **bad})
 

@@ -347,6 +347,36 @@ def test_creep_that_speeds_up_with_a_core_behind_its_thermometer_is_named_with_t
     assert _warm_needle_rmse_fraction(diag.chain, case.truth, 200.0, 63, core_lag_s=40.0) <= 0.01
 
 
+def test_creep_whose_clock_bends_toward_a_vogel_temperature_is_named_with_a_wlf_clock_and_compensates():
+    """The truth's viscosities follow the Vogel-Fulcher law, ln eta = B / (T - T0) + const, T0 20 degC below the
+    record's mean temperature (the clock slows ever more steeply as it cools): named ``thermo_rheological`` with a
+    bent (WLF) clock, saved with its C2, and a new needle record under a temperature swing compensated within 1 % of
+    full scale."""
+    import dataclasses
+
+    from polyforce_ros.physics.chain import SensorChain, ThermoRheologicalElement
+    from polyforce_ros.sim.truths import ShiftedClockCore
+
+    rec, case = bench_record("thermo_rheological", 0.9, rate_hz=200.0, duration_s=600.0, seed=71,
+                             families={"thermo_rheological": "arrhenius"})
+    below, slope = 20.0, 0.1  # T0 [degC] below 24 degC, and -d ln eta / dT there [1/degC]
+
+    def vogel(temp):
+        return slope * below ** 2 * (1.0 / np.maximum(temp - 24.0 + below, 1e-6) - 1.0 / below)
+
+    truth = SensorChain([ShiftedClockCore(e.core, vogel) if isinstance(e, ShiftedClockCore) else e
+                         for e in case.truth.elements], forward_only=True)
+    volts = truth.forward(rec.t_s, rec.force_n, aux={"temperature_c": rec.temperature_c})
+    rec = dataclasses.replace(rec, voltage_v=volts + np.random.default_rng(71).normal(0.0, 2e-3, volts.size))
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["thermo_rheological"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    assert diag.variants["thermo_rheological"].startswith("wlf"), diag.variants
+    saved = next(e for e in diag.chain.elements if isinstance(e, ThermoRheologicalElement))
+    assert saved.wlf_c2_c > 0.0
+    assert diag.newtons["saved"]["rmse_n"] < diag.newtons["base"]["rmse_n"]
+    assert _warm_needle_rmse_fraction(diag.chain, truth, 200.0, 71) <= 0.01
+
+
 def test_diagnose_save_model_names_its_sensor_and_carries_the_force_figures(tmp_path):
     import subprocess
     import sys

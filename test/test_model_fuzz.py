@@ -298,7 +298,7 @@ def _example_chains():
         elif kind == "preisach":
             chains[kind] = SensorChain([effects[kind], ViscoelasticElement(PAPER_BURGERS), OffsetElement(0.0)])
         elif kind == "thermo_rheological":  # the core on the reduced time
-            chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(PAPER_BURGERS), 0.05, 22.0, 30.0),
+            chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(PAPER_BURGERS), 0.05, 22.0, 30.0, 60.0),
                                         OffsetElement(0.02)])
         elif kind == "power_flow":  # a zener core with a power-law dashpot beside it, its fluidity changing as it flows
             chains[kind] = SensorChain([ELEMENT_TYPES[kind](ViscoelasticElement(Zener(3.0, 20.0, 200.0)), 0.01, 2.5, 9.0,

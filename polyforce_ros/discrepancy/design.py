@@ -23,7 +23,7 @@ from ..physics.chain import (BridgeHysteresisElement, Element, KneeKelvinElement
                              reduced_time_s)
 from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
-from .effects import (EFFECTS as REGISTRY, PLAY_RIDGE, Col, clock_lag_s, knee_beside, lag_columns, volume_beside, lag_stages,
+from .effects import (EFFECTS as REGISTRY, PLAY_RIDGE, Col, clock_of, knee_beside, lag_columns, volume_beside, lag_stages,
                       parameter)
 from .signals import BoolArray, FloatArray, IntArray, Signals
 
@@ -73,15 +73,15 @@ class Structure:
 
 
 def _core_columns(sig: Signals, kind: str, taus: Sequence[float], shift_per_c: Optional[float] = None,
-                  lag_s: float = 0.0) -> list[Col]:
+                  lag_s: float = 0.0, wlf_c2_c: float = 0.0) -> list[Col]:
     """The core's compliance columns; with ``shift_per_c`` (a thermo-rheological core) on the reduced time, the
-    clock of viscosities that follow temperature (:func:`~polyforce_ros.physics.chain.reduced_time_s`): the
-    thermometer's, or the core's own ``lag_s`` behind it."""
+    clock of viscosities that follow temperature (:func:`~polyforce_ros.physics.chain.reduced_time_s`, bent by
+    ``wlf_c2_c``): the thermometer's, or the core's own ``lag_s`` behind it."""
     n_tau, inst, flow = CORE_SHAPE[kind]
     clock = sig.t
     if shift_per_c is not None:
         temp = sig.temperature if lag_s <= 0.0 else lagged_temperature_c(sig.t, sig.temperature, lag_s)
-        clock = reduced_time_s(sig.t, temp, shift_per_c, sig.temp_ref)
+        clock = reduced_time_s(sig.t, temp, shift_per_c, sig.temp_ref, wlf_c2_c)
     cols: list[Col] = []
     if inst:
         cols.append(("j0", sig.f, 0.0, np.inf, "sensor", None))
@@ -173,9 +173,9 @@ def design_columns(sig: Signals, st: Structure, extra: Sequence[Col] = ()) -> De
     """:func:`design` with the columns of A as a list of arrays (not stacked: the polish needs a few rows)."""
     shift = st.term("thermo_rheological")
     b = None if shift is None else parameter(shift.param)
-    lag_s = 0.0 if shift is None else clock_lag_s(shift.variant)
-    cols = list(_cached(sig, ("core", st.core, st.taus, b, lag_s),
-                        lambda: _core_columns(sig, st.core, st.taus, b, lag_s)))
+    lag_s, c2 = (0.0, 0.0) if shift is None else clock_of(shift.variant)
+    cols = list(_cached(sig, ("core", st.core, st.taus, b, lag_s, c2),
+                        lambda: _core_columns(sig, st.core, st.taus, b, lag_s, c2)))
     lag: Optional[list[float]] = None
     delay_s = 0.0
     for term in st.terms:
@@ -414,7 +414,7 @@ def build_chain(st: Structure, coef: Mapping[str, float], sig: Signals) -> Senso
     shifted = [e for e in slots["core"] if isinstance(e, ThermoRheologicalElement)]
     if shifted:  # viscosities that follow temperature: the fitted core on the reduced time
         fitted = ThermoRheologicalElement(fitted, shifted[0].shift_per_c, shifted[0].reference_c,
-                                          shifted[0].temperature_lag_s)
+                                          shifted[0].temperature_lag_s, shifted[0].wlf_c2_c)
     flows = [e for e in slots["core"] if isinstance(e, PowerFlowElement)]
     if flows:  # a power-law dashpot beside the fitted core (on its clock's core, shifted or not)
         flow = flows[0]

@@ -56,7 +56,7 @@ __all__ = ["SPREAD_RATIO",
            "Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
            "SPLINE_INTERVALS", "KNEE_FRACTIONS", "KNEE_FLOOR_SHARE", "knees_n", "knee_beside", "volume_beside",
            "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n",
-           "at_noise_limit", "lag_columns", "lag_stages", "CLOCK_LAGS_S", "clock_lag_s",
+           "at_noise_limit", "lag_columns", "lag_stages", "CLOCK_LAGS_S", "clock_of",
            "variant_group", "parameter", "hints"]
 
 #: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
@@ -332,13 +332,13 @@ def _friction_elements(coef: Mapping[str, float], variant: str, param: Optional[
     return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling))] if coupling > 0 else []
 
 
-#: Lags [s] of the core's temperature behind the thermometer's searched (variants ``lag5``...; the plain: none).
-CLOCK_LAGS_S = (5, 15, 45)
+#: Clocks beside the plain one: the core's temperature lags [s] (``lag5``...), a bent shift's WLF C2 [degC] (``wlf25``...).
+CLOCK_LAGS_S, CLOCK_C2S_C = (5, 15, 45), (25, 80)
 
 
-def clock_lag_s(variant: str) -> float:
-    """The core's temperature lag [s] of a thermo-rheological variant: 0 for the thermometer's own."""
-    return float(variant[3:]) if variant.startswith("lag") else 0.0
+def clock_of(variant: str) -> tuple[float, float]:
+    """(core's temperature lag [s], WLF C2 [degC]) of a thermo-rheological variant: 0 for none."""
+    return float(variant[3:]) if variant[:3] == "lag" else 0.0, float(variant[3:]) if variant[:3] == "wlf" else 0.0
 
 
 def _shift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
@@ -354,7 +354,7 @@ def _core_clock(sig: Signals, variant: str, param: Optional[float]) -> list[Col]
 def _shift_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     # the core here is a stand-in: build_chain puts the fitted core on the reduced time
     return [("core", ThermoRheologicalElement(ViscoelasticElement(sig.reference_core), float(parameter(param)),
-                                              float(np.clip(sig.temp_ref, -100.0, 300.0)), clock_lag_s(variant)))]
+                                              float(np.clip(sig.temp_ref, -100.0, 300.0)), *clock_of(variant)))]
 
 
 def _flow_grid(variant: str, sig: Signals) -> list[Optional[float]]:
@@ -777,7 +777,7 @@ EFFECTS: dict[str, Effect] = {
     "thermo_rheological": Effect(
         "thermo_rheological", "creep that speeds up when warm (thermo_rheological)", ("temperature_change", "hold_under_load"),
         ("temperature", "load_history"), ("thermo_rheological",), grid=_shift_grid, columns=_core_clock,
-        variants=("", *(f"lag{s}" for s in CLOCK_LAGS_S)),
+        variants=("", *(f"lag{s}" for s in CLOCK_LAGS_S), *(f"wlf{c}" for c in CLOCK_C2S_C)),
         to_elements=_shift_elements, needs_temperature=True),
     "offset_drift": Effect(
         "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",),

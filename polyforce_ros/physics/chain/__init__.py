@@ -22,7 +22,7 @@ from .base import (
                    smoke_records,
 )
 from .core import (MAX_VOLUME_TERMS, KneeKelvinElement, PowerFlowElement, lowest_volume_fluidity, series_fluidity,
-                   ThermoRheologicalElement, ViscoelasticElement, reduced_time_s)
+                   ThermoRheologicalElement, ViscoelasticElement, log_shift, reduced_time_s)
 from .drift import (
                    ExponentialDriftElement,
                    OffsetDriftElement,
@@ -43,7 +43,7 @@ from .static import GainElement, NonlinearGainElement, OffsetElement, Polynomial
 __all__ = ["ModelError", "short_repr", "smoke_records", "ElementStream", "ForwardElement", "Element", "PARAMETER_BOUNDS",
            "MAX_PREISACH_LEVELS", "ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement",
            "MAX_VOLUME_TERMS", "lowest_volume_fluidity", "series_fluidity", "KneeKelvinElement",
-           "reduced_time_s", "OffsetElement",
+           "reduced_time_s", "log_shift", "OffsetElement",
            "GainElement", "NonlinearGainElement",
            "SensorLagElement", "TransportDelayElement", "ResonanceElement", "ThermalDriftElement", "ThermalSensitivityElement",
            "OffsetDriftElement", "PreisachElement", "play_operator", "PlayHysteresisElement", "BridgeHysteresisElement",

@@ -255,6 +255,9 @@ PARAMETER_BOUNDS = {
     # time-temperature superposition: ln of the viscosities' shift factor per degree (polymers: 0.02-0.3 /degC)
     "shift_per_c": (0.0, 2.0, "1/degC", "a viscosity 7x smaller per degree is beyond any polymer"),
     "temperature_lag_s": (1e-3, 1e5, "s", "a core a day behind its thermometer follows the weather, not the sensor"),
+    # the WLF constant C2 relative to the reference: ln a_T = b dT C2 / (C2 + dT), the clock stopping C2 below it
+    "wlf_c2_c": (1.0, 1e4, "degC", "a clock that stops within a degree of the reference is a glass; beyond 10 000 degC "
+                 "the law is straight (0)"),
     "deadband_n": (0.0, 1e6, "N", "the inverse's dead band on the core's force, a few times its noise"),
     # polynomial offset drift: y = x + r t + c2 t**2 + c3 t**3 (t since the first sample)
     # polynomial gain y = x + q x**2 + c x**3 (V in, V out); monotone over the range it was fitted on
@@ -274,7 +277,8 @@ PARAMETER_BOUNDS = {
     "cubic_v_per_s3": (-1e3, 1e3, "V/s^3", "over 24 h at most 6.5e17 V: finite"),
 }
 # Parameters where 0 means "off" and is allowed besides the range.
-_ZERO_MEANS_OFF = {"noise_filter_tau_s", "thermal_tau_s", "floor_n", "flow_volume_scale_n_s", "temperature_lag_s"}
+_ZERO_MEANS_OFF = {"noise_filter_tau_s", "thermal_tau_s", "floor_n", "flow_volume_scale_n_s", "temperature_lag_s",
+                   "wlf_c2_c"}
 #: Preisach levels: 5x seed 001's 40; n (n + 1) / 2 relays cost O(n**2) per sample.
 MAX_PREISACH_LEVELS = 200
 # The record a model must carry: 24 h (exp(-r * 86400 s) decays, never grows) and

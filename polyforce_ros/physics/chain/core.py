@@ -20,13 +20,13 @@ from ..viscoelastic import (
     compensate,
     simulate_deformation,
 )
-from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, Frozen, FunctionStream, ModelError, check_keys, check_number,
+from .base import (DAY_S, MAX_RATE_PER_S, FloatArray, FloatOrArray, Frozen, FunctionStream, ModelError, check_keys, check_number,
                    float_list, short_repr, smoke_records, stream_backward, temperature_c_of)
 from .drift import LaggedTemperatureStream, ThermalForwardState, lagged_temperature_c, thermal_forward_state
 
 __all__ = ["ViscoelasticElement", "ThermoRheologicalElement", "PowerFlowElement", "MAX_VOLUME_TERMS",
            "volume_fluidity", "lowest_volume_fluidity", "series_fluidity", "KneeKelvinElement", "reduced_time_s",
-           "wrapped_core_from_dict", "MAX_LOG_SHIFT"]
+           "log_shift", "wrapped_core_from_dict", "MAX_LOG_SHIFT"]
 
 
 def _laplace_mismatch(rel: RelaxationModulus, comp: CreepCompliance, s: npt.ArrayLike) -> FloatArray:
@@ -165,19 +165,31 @@ def wrapped_core_from_dict(kind: str, core: object, wrappers: tuple[str, ...] = 
 MAX_LOG_SHIFT = 10.0
 
 
+def log_shift(departure_c: FloatOrArray, shift_per_c: float, wlf_c2_c: float = 0.0) -> FloatOrArray:
+    """ln of the viscosities' shift factor a_T at a departure from the reference temperature [degC]: ``b dT``, or with
+    the WLF constant ``C2 = wlf_c2_c`` > 0 ``b dT C2 / (C2 + dT)`` (the same slope b at the reference, bending as
+    the Williams-Landel-Ferry and Vogel-Fulcher laws do: ever steeper toward C2 below it, where the clock stops,
+    and flatter above it); within +-``MAX_LOG_SHIFT``."""
+    raw = shift_per_c * departure_c
+    if wlf_c2_c > 0.0:  # at and below -C2 the denominator is held just above 0: the clock's slowest
+        raw = raw * wlf_c2_c / np.maximum(wlf_c2_c + departure_c, wlf_c2_c * 1e-9)
+    out: FloatOrArray = np.clip(raw, -MAX_LOG_SHIFT, MAX_LOG_SHIFT)
+    return out
+
+
 def reduced_time_s(t_s: npt.ArrayLike, temperature_c: Optional[npt.ArrayLike], shift_per_c: float,
-                   reference_c: float) -> FloatArray:
+                   reference_c: float, wlf_c2_c: float = 0.0) -> FloatArray:
     """The reduced time of a thermo-rheologically simple material [s]: the clock of its viscosities.
 
-    ``xi_0 = t_0``, ``xi_k = xi_{k-1} + (t_k - t_{k-1}) (e_k + e_{k-1}) / 2`` with ``e = exp(b (T - T_ref))``: a
-    viscosity ``eta(T) = eta(T_ref) exp(-b (T - T_ref))`` acts over ``dt`` as ``eta(T_ref)`` over ``e dt``.
-    Without temperature the reduced time is the time itself.
+    ``xi_0 = t_0``, ``xi_k = xi_{k-1} + (t_k - t_{k-1}) (e_k + e_{k-1}) / 2`` with ``e = a_T`` of :func:`log_shift`
+    (``exp(b (T - T_ref))`` without ``wlf_c2_c``): a viscosity ``eta(T) = eta(T_ref) / a_T`` acts over ``dt`` as
+    ``eta(T_ref)`` over ``a_T dt``. Without temperature the reduced time is the time itself.
     """
     t = np.asarray(t_s, dtype=float)
     if temperature_c is None or t.size == 0:
         return t.copy()
     temp = np.broadcast_to(np.asarray(temperature_c, dtype=float), t.shape)
-    rate = np.exp(np.clip(shift_per_c * (temp - reference_c), -MAX_LOG_SHIFT, MAX_LOG_SHIFT))
+    rate = np.exp(log_shift(temp - reference_c, shift_per_c, wlf_c2_c))
     rate = np.where(np.isfinite(rate), rate, 1.0)
     steps = np.diff(t) * 0.5 * (rate[1:] + rate[:-1])
     out: FloatArray = t[0] + np.concatenate([[0.0], np.cumsum(steps)])
@@ -197,8 +209,8 @@ class _ReducedTimeStream:
     core's temperature behind the thermometer's when ``temperature_lag_s`` > 0."""
 
     def __init__(self, inner: StreamingCompensator, shift_per_c: float, reference_c: float,
-                 temperature_lag_s: float = 0.0) -> None:
-        self.inner, self.b, self.ref = inner, shift_per_c, reference_c
+                 temperature_lag_s: float = 0.0, wlf_c2_c: float = 0.0) -> None:
+        self.inner, self.b, self.ref, self.c2 = inner, shift_per_c, reference_c, wlf_c2_c
         self.lag = LaggedTemperatureStream(temperature_lag_s) if temperature_lag_s > 0.0 else None
         self.reset()
 
@@ -219,7 +231,7 @@ class _ReducedTimeStream:
         rate = 1.0
         if temp is not None:
             core_c = self._core_temperature(t_s, float(temp))
-            e = math.exp(min(max(self.b * (core_c - self.ref), -MAX_LOG_SHIFT), MAX_LOG_SHIFT))
+            e = math.exp(float(log_shift(core_c - self.ref, self.b, self.c2)))
             rate = e if math.isfinite(e) else 1.0
         xi = t_s if self.t_prev is None else self.xi + (t_s - self.t_prev) * 0.5 * (rate + self.rate_prev)
         return xi, rate
@@ -259,23 +271,28 @@ class ThermoRheologicalElement(ViscoelasticElement):
     temperature_lag_s : float >= 0, optional
         The time constant [s] of the core's temperature behind the thermometer's; 0 (the default, not written) for
         none.
+    wlf_c2_c : float >= 0, optional
+        The WLF constant C2 [degC] of :func:`log_shift`: the shift bends, the clock stopping C2 below the reference;
+        0 (the default, not written) for the straight law ``b dT``.
     """
 
     KEYS = ("core", "shift_per_c", "reference_c")
-    OPTIONAL = {"temperature_lag_s": 0.0}
+    OPTIONAL = {"temperature_lag_s": 0.0, "wlf_c2_c": 0.0}
     shift_per_c: float
     reference_c: float
     temperature_lag_s: float
+    wlf_c2_c: float
 
     def __init__(self, core: ViscoelasticElement, shift_per_c: float, reference_c: float,
-                 temperature_lag_s: float = 0.0) -> None:
+                 temperature_lag_s: float = 0.0, wlf_c2_c: float = 0.0) -> None:
         if not isinstance(core, ViscoelasticElement) or isinstance(core, ThermoRheologicalElement):
             raise ModelError("thermo_rheological: core must be a viscoelastic core")
         shift_per_c = check_number("thermo_rheological", "shift_per_c", shift_per_c, positive=False)
         reference_c = check_number("thermo_rheological", "reference_c", reference_c, positive=False)
         lag_s = check_number("thermo_rheological", "temperature_lag_s", temperature_lag_s, positive=False)
+        c2 = check_number("thermo_rheological", "wlf_c2_c", wlf_c2_c, positive=False)
         self._freeze(model=core.model, kind="thermo_rheological", shift_per_c=shift_per_c, reference_c=reference_c,
-                     temperature_lag_s=lag_s)
+                     temperature_lag_s=lag_s, wlf_c2_c=c2)
 
     def _core_temperature_c(self, t_s: npt.ArrayLike, temp_c: Optional[FloatArray],
                             state: Optional[ThermalForwardState] = None) -> Optional[FloatArray]:
@@ -286,7 +303,7 @@ class ThermoRheologicalElement(ViscoelasticElement):
 
     def _xi(self, t_s: npt.ArrayLike, aux: Optional[Mapping[str, Any]]) -> FloatArray:
         temp = self._core_temperature_c(t_s, temperature_c_of(aux, np.size(t_s)))
-        return reduced_time_s(t_s, temp, self.shift_per_c, self.reference_c)
+        return reduced_time_s(t_s, temp, self.shift_per_c, self.reference_c, self.wlf_c2_c)
 
     def forward_state(self) -> _ClockState:  # type: ignore[override]
         """A fresh state for block-wise :meth:`forward` runs: the core's, the reduced time's last stamp and the
@@ -304,10 +321,11 @@ class ThermoRheologicalElement(ViscoelasticElement):
         if st["t"] is not None and t.size:  # continue the clock from the previous block's last sample
             before = st["temperature_c"] if st["temperature_c"] is not None else self.reference_c
             temps = None if temp is None else np.concatenate([[before], temp])
-            xi = reduced_time_s(np.concatenate([[st["t"]], t]), temps, self.shift_per_c, self.reference_c)[1:]
+            xi = reduced_time_s(np.concatenate([[st["t"]], t]), temps, self.shift_per_c, self.reference_c,
+                                self.wlf_c2_c)[1:]
             xi = xi - st["t"] + st["xi"]
         else:
-            xi = reduced_time_s(t, temp, self.shift_per_c, self.reference_c)
+            xi = reduced_time_s(t, temp, self.shift_per_c, self.reference_c, self.wlf_c2_c)
         if t.size:
             st["t"], st["xi"] = float(t[-1]), float(xi[-1])
             st["temperature_c"] = None if temp is None else float(temp[-1])
@@ -321,14 +339,15 @@ class ThermoRheologicalElement(ViscoelasticElement):
     def streaming(self) -> _ReducedTimeStream:  # type: ignore[override]
         """The per-sample inverse on the reduced time, equal to :meth:`backward` sample by sample."""
         return _ReducedTimeStream(StreamingCompensator(self.model), self.shift_per_c, self.reference_c,
-                                  self.temperature_lag_s)
+                                  self.temperature_lag_s, self.wlf_c2_c)
 
     def to_dict(self) -> dict[str, Any]:
         """The element as a model-file mapping."""
         out = {"type": self.kind, "core": ViscoelasticElement(self.model).to_dict(),
                "shift_per_c": float(self.shift_per_c), "reference_c": float(self.reference_c)}
-        if self.temperature_lag_s > 0.0:
-            out["temperature_lag_s"] = float(self.temperature_lag_s)
+        for key in self.OPTIONAL:  # 0, the default, is not written: a plain clock writes the file it always did
+            if getattr(self, key) > 0.0:
+                out[key] = float(getattr(self, key))
         return out
 
     @classmethod
@@ -336,7 +355,7 @@ class ThermoRheologicalElement(ViscoelasticElement):
         """The element from a model-file mapping."""
         check_keys("thermo_rheological", d, cls.KEYS, cls.OPTIONAL)
         return cls(wrapped_core_from_dict("thermo_rheological", d["core"]), d["shift_per_c"], d["reference_c"],
-                   d.get("temperature_lag_s", 0.0))
+                   d.get("temperature_lag_s", 0.0), d.get("wlf_c2_c", 0.0))
 
 
 class _FlowState(TypedDict):

@@ -1137,29 +1137,10 @@ OUTSIDE = ("cracked_trim_joint", "lossy_dct_link")
 RATES = (185.0, 325.0, 1070.0, 1310.0)  # four rates, three profiles: every profile at every rate
 
 
-class SplitAD(ShapeSplit):
-    """:class:`ShapeSplit` whose ``--check`` sizes a case on a Zener base (a leak) against its bare Zener core: the
-    same springs and Kelvin unit with neither the leak nor the other hidden effect."""
-
-    def check_case(self, item):
-        i, (hidden, m) = item
-        rate = self.rate(hidden, i)
-        rng = np.random.default_rng(self.seed0 + i)
-        t, f = self.load(hidden, i, rate, rng)
-        temp = self.temperature(t, rng)
-        base, truth = self.sensor(hidden, m, rng)
-        leaking = [e for e in truth.chain.elements if isinstance(e, LeakingCore)]
-        if not leaking:
-            return super().check_case(item)
-        bare = Parts(base, LeakingCore(leaking[0].zener, None)).truth()
-        gap = truth.voltage(t, f, temp) - bare.voltage(t, f, temp)
-        return i, hidden, float(np.sqrt(np.mean((gap - gap.mean()) ** 2)) / 2e-3)
-
-
-SPLIT = SplitAD("independent split AD", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.32, 0.84),
-                pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=molecular_bench,
-                make_parts=make_parts, duration_s=DURATION_S, noise_v=(0.75e-3, 2.65e-3), jitter=0.38,
-                gap_s=(0.12, 2.7))
+SPLIT = ShapeSplit("independent split AD", SEED0, SHAPES, PAIRS, OUTSIDE, magnitudes=(0.32, 0.84),
+                   pair_shapes=(0, -1), rates=RATES, profiles=PROFILES, temperature=molecular_bench,
+                   make_parts=make_parts, duration_s=DURATION_S, noise_v=(0.75e-3, 2.65e-3), jitter=0.38,
+                   gap_s=(0.12, 2.7))
 cases, simulate = SPLIT.cases, SPLIT.simulate
 
 

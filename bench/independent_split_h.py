@@ -36,8 +36,8 @@ from scipy import integrate, interpolate
 
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (ForcePath, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, core_output, kelvin,
-                       ramp_and_hold, relaxing_play, repeated_insertions, uniform_grid)
+from split_kit import (band_play, core_output, ForcePath, kelvin, lagged, LinearFilter, Parts, ramp_and_hold,
+                       relaxing_play, repeated_insertions, ShapeSplit, SimOnly, uniform_grid)
 
 SEED0 = 540_000  # never a seed of the registry's splits nor of splits A (90000..) to G (470000..)
 FORCE_MAX_N = 9.0
@@ -196,11 +196,6 @@ class LaggedShiftBurgers(SimOnly):
         dTl = lagged(t, temp, self.tau) - T_REF_C
         xi = integrate.cumulative_trapezoid(np.exp(self.b * dTl + self.q * dTl ** 2), t, initial=0.0)
         return simulate_deformation(self.c, xi, f)
-
-
-def lagged(t, x, tau_s):
-    """``x`` through a first-order lag of ``tau_s``, settled at ``x[0]`` before the record."""
-    return x[0] + kelvin(t, x - x[0], 1.0, tau_s)
 
 
 def random_band(f, r_n, rng):

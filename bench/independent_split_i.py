@@ -35,8 +35,8 @@ from scipy import integrate
 
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (ForcePath, LinearFilter, Parts, ShapeSplit, ShiftedBurgers, SimOnly, band_play, core_output,
-                       kelvin, ramp_and_hold, repeated_insertions, uniform_grid)
+from split_kit import (band_play, core_output, ForcePath, kelvin, lagged, LinearFilter, Parts, ramp_and_hold,
+                       repeated_insertions, ShapeSplit, ShiftedBurgers, SimOnly, uniform_grid)
 
 SEED0 = 610_000  # never a seed of the registry's splits nor of splits A (90000..) to H (540000..)
 FORCE_MAX_N = 9.0
@@ -193,11 +193,6 @@ def lugre(t, f, r_n, sigma0_per_n, viscous_n_s):
         z = min(max(z, -r_n), r_n)
         out[i] = f[i] - z - viscous_n_s * v
     return out
-
-
-def lagged(t, x, tau_s):
-    """``x`` through a first-order lag of ``tau_s``, settled at ``x[0]`` before the record."""
-    return x[0] + kelvin(t, x - x[0], 1.0, tau_s)
 
 
 # ----------------------------------------------------------------------------- truths

@@ -80,10 +80,11 @@ import numpy as np
 from scipy import integrate, optimize, signal
 
 from independent_split import puncture_train
-from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
+from polyforce_ros.physics.viscoelastic import simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import ForcePath, Parts, ShapeSplit, SimOnly, band_play, coarse, kelvin, uniform_grid
+from split_kit import (band_play, coarse, ForcePath, kelvin, Parts, quintic, ShapeSplit, SimOnly, uniform_grid,
+                       ZenerWithFlow)
 
 SEED0 = 1_030_000  # never a seed of the registry's splits nor of splits A (90000..) to N (960000..)
 FORCE_MAX_N = 9.0
@@ -92,12 +93,6 @@ DURATION_S = 450.0
 
 
 # ----------------------------------------------------------------------------- profiles and temperature
-
-def quintic(u):
-    """A smooth step from 0 to 1 over ``u`` in [0, 1] (zero speed and acceleration at both ends)."""
-    u = np.clip(u, 0.0, 1.0)
-    return ((6.0 * u - 15.0) * u + 10.0) * u ** 3
-
 
 def quintic_rate(u):
     """d quintic / du."""
@@ -306,17 +301,6 @@ def follow(t, temp, tau_s, step_s=0.5):
         y = goal + (y - goal) * keep
         out[i] = y
     return np.interp(t, grid, out)
-
-
-class ZenerFlowing(SimOnly):
-    """A Zener core (the Burgers core without its dashpot) plus a flow ``rule(t, F) -> V``."""
-
-    def __init__(self, c, rule):
-        self.zener, self.rule = Zener(c.k1_n_per_v, c.k2_n_per_v, c.eta2_n_s_per_v), rule
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        return simulate_deformation(self.zener, t, f) + self.rule(t, f)
 
 
 def recovery_creep(fluidity, hardening, recovery, step_s=0.05):
@@ -739,11 +723,11 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
             share, speed = rng.uniform(0.4, 0.75), 1.0 / rng.uniform(15.0, 80.0)  # steady back stress / F, 1/s
             fluidity = phi * rng.uniform(1.5, 2.5)
             rule = recovery_creep(fluidity, share * speed / fluidity, (1.0 - share) * speed)
-            return Parts("zener", ZenerFlowing(c, rule), core_changed=True)
+            return Parts("zener", ZenerWithFlow(c, rule), core_changed=True)
         fluidity, yield_n, ripple = phi * rng.uniform(2.0, 3.0), rng.uniform(0.5, 1.5), rng.uniform(0.4, 0.8)
         pitch = phi * 1100.0 / rng.uniform(2.0, 6.0)  # 2-6 layer lines over a plain flow of the record
         rule = layered_pull_out(fluidity, yield_n, ripple, pitch, rng.uniform(0.0, 2.0 * np.pi))
-        return Parts("zener", ZenerFlowing(c, rule), core_changed=True)
+        return Parts("zener", ZenerWithFlow(c, rule), core_changed=True)
     if effect == "delayed_elasticity":
         if shape == "ageing_kelvin":
             compliance, tau = float(np.interp(m, [0, 1], [0.004, 0.05])), rng.uniform(3.0, 30.0)

@@ -75,10 +75,11 @@ import numpy as np
 from scipy import integrate, signal
 
 from independent_split import puncture_train
-from independent_split_o import ZenerFlowing, follow, measured_insertion, quintic, telegraph, telegraph_level, temp_of
+from independent_split_o import follow, measured_insertion, telegraph, telegraph_level, temp_of
 from polyforce_ros.physics.viscoelastic import simulate_deformation
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import ForcePath, Parts, ShapeSplit, SimOnly, band_play, coarse, core_output, kelvin, uniform_grid
+from split_kit import (band_play, coarse, core_output, ForcePath, kelvin, mode_steps, Parts, quintic, ShapeSplit,
+                       SimOnly, ZenerWithFlow)
 
 SEED0 = 1_100_000  # never a seed of the registry's splits nor of splits A (90000..) to O (1030000..)
 FORCE_MAX_N = 9.0
@@ -437,12 +438,6 @@ def slips_zero(s, times, steps, widths):
     return sum(step * quintic((s - at) / w) for at, step, w in zip(times, steps, widths))
 
 
-def mode_steps(t, x, sub=4):
-    """A mode driven by ``x`` on a uniform grid at the median step: (grid, drive, its rate, sub-step)."""
-    tu, xu, h = uniform_grid(t, x)
-    return tu, xu.tolist(), np.gradient(xu, h).tolist(), h / sub
-
-
 class ClearanceMode(SimOnly):
     """y'' + 2 zeta w (y' - x') + w^2 (soft d + (1 - soft) (d - clip(d, +-gap))) = 0, d = y - x: a holder in a loose
     fit, soft within its clearance and stiff against its walls; semi-implicit Euler, four sub-steps, from rest."""
@@ -602,11 +597,11 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
         phi = 1.0 / float(np.exp(np.interp(m, [0, 1], np.log([8e4, 4e3]))))  # V / (N s)
         if shape == "seating_flow":
             fast, slow = phi * rng.uniform(3.0, 6.0), phi * rng.uniform(0.4, 0.8)
-            return Parts("zener", ZenerFlowing(c, seating_flow(fast, slow, phi * rng.uniform(500.0, 2000.0))),
+            return Parts("zener", ZenerWithFlow(c, seating_flow(fast, slow, phi * rng.uniform(500.0, 2000.0))),
                          core_changed=True)
         gap = rng.uniform(2.0, 6.0)
         rule = gap_extrusion(phi * rng.uniform(2.0, 4.0) / (1.0 + 3.0 / gap) ** 3, gap)  # 2-4 phi at 3 N
-        return Parts("zener", ZenerFlowing(c, rule), core_changed=True)
+        return Parts("zener", ZenerWithFlow(c, rule), core_changed=True)
     if effect == "delayed_elasticity":
         if shape == "gauge_bond_creep":
             share, tau = float(np.interp(m, [0, 1], [0.05, 0.25])), rng.uniform(3.0, 40.0)

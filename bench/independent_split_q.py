@@ -91,7 +91,8 @@ from scipy import integrate, optimize, signal
 from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import ForcePath, Parts, ShapeSplit, SimOnly, band_play, coarse, kelvin, uniform_grid
+from split_kit import (band_play, coarse, ForcePath, kelvin, mode_steps, Parts, quintic, ShapeSplit, SimOnly,
+                       uniform_grid, ZenerWithFlow)
 
 SEED0 = 1_170_000  # never a seed of the registry's splits nor of splits A (90000..) to P (1100000..)
 FORCE_MAX_N = 9.0
@@ -100,12 +101,6 @@ DURATION_S = 470.0
 
 
 # ----------------------------------------------------------------------------- profiles and temperature
-
-def quintic(u):
-    """A smooth step from 0 to 1 over ``u`` in [0, 1] (zero speed and acceleration at both ends)."""
-    u = np.clip(u, 0.0, 1.0)
-    return ((6.0 * u - 15.0) * u + 10.0) * u ** 3
-
 
 @functools.lru_cache(maxsize=1)
 def measured_needle(bin_mm=0.1):
@@ -362,17 +357,6 @@ def follow(t, temp, tau_s, step_s=0.5):
         y = goal + (y - goal) * keep
         out[i] = y
     return np.interp(t, grid, out)
-
-
-class ZenerFlowing(SimOnly):
-    """A Zener core (the Burgers core without its dashpot) plus a flow ``rule(t, F) -> V``."""
-
-    def __init__(self, c, rule):
-        self.zener, self.rule = Zener(c.k1_n_per_v, c.k2_n_per_v, c.eta2_n_s_per_v), rule
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        return simulate_deformation(self.zener, t, f) + self.rule(t, f)
 
 
 def fick_uptake(tau, terms=60):
@@ -646,12 +630,6 @@ def tribo_zero(s, moves, leak_s):
     return out
 
 
-def mode_steps(t, x, sub=4):
-    """A mode driven by ``x`` on a uniform grid at the median step: (grid, drive, its rate, sub-step)."""
-    tu, xu, h = uniform_grid(t, x)
-    return tu, xu.tolist(), np.gradient(xu, h).tolist(), h / sub
-
-
 class LatencyDamper(SimOnly):
     """y'' + 2 zeta w (y' - x') + w^2 (y - x) + g (y' - x')(t - d) = 0: a mode with a velocity feedback that
     arrives ``delay_s`` late; semi-implicit Euler, four sub-steps, from rest (the feedback's history at zero)."""
@@ -836,9 +814,9 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
         if shape == "wetting_flow":
             rule = wetting_flow(phi * rng.uniform(0.3, 0.6), phi * rng.uniform(2.0, 4.0), rng.uniform(150.0, 600.0),
                                 rng.uniform(0.0, 120.0))
-            return Parts("zener", ZenerFlowing(c, rule), core_changed=True)
+            return Parts("zener", ZenerWithFlow(c, rule), core_changed=True)
         rule = pivot_cold_flow(phi * rng.uniform(2.0, 4.0), phi * rng.uniform(40.0, 300.0))
-        return Parts("zener", ZenerFlowing(c, rule), core_changed=True)
+        return Parts("zener", ZenerWithFlow(c, rule), core_changed=True)
     if effect == "delayed_elasticity":
         if shape == "relaxing_grommet":
             p.before.append(ForcePath(relaxing_grommet(float(np.interp(m, [0, 1], [0.05, 0.3])),

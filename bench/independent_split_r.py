@@ -89,10 +89,11 @@ import numpy as np
 from scipy import integrate, optimize
 
 from polyforce_ros.physics.expconv import exp_convolve
-from polyforce_ros.physics.viscoelastic import Zener, simulate_deformation
+from polyforce_ros.physics.viscoelastic import simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import ForcePath, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, coarse, dead_time, kelvin, uniform_grid
+from split_kit import (band_play, coarse, dead_time, ForcePath, kelvin, LinearFilter, mode_steps, Parts, quintic,
+                       ShapeSplit, SimOnly, uniform_grid, ZenerWithFlow)
 
 SEED0 = 1_240_000  # never a seed of the registry's splits nor of splits A (90000..) to Q (1170000..)
 FORCE_MAX_N = 9.0
@@ -101,12 +102,6 @@ DURATION_S = 440.0
 
 
 # ----------------------------------------------------------------------------- profiles and temperature
-
-def quintic(u):
-    """A smooth step from 0 to 1 over ``u`` in [0, 1] (zero speed and acceleration at both ends)."""
-    u = np.clip(u, 0.0, 1.0)
-    return ((6.0 * u - 15.0) * u + 10.0) * u ** 3
-
 
 def spans(t):
     """``span(now, length)``: the slice of ``t`` in [now, now + length) and the times since ``now`` there."""
@@ -361,17 +356,6 @@ def follow(t, temp, tau_s, step_s=0.5):
 def lowpass(t, x, tau_s):
     """``x`` through a first-order lag of ``tau_s``, settled at ``x[0]``."""
     return x[0] + kelvin(t, x - x[0], 1.0, tau_s)
-
-
-class ZenerFlowing(SimOnly):
-    """A Zener core (the Burgers core without its dashpot) plus a flow ``rule(t, F) -> V``."""
-
-    def __init__(self, c, rule):
-        self.zener, self.rule = Zener(c.k1_n_per_v, c.k2_n_per_v, c.eta2_n_s_per_v), rule
-
-    def forward(self, t_s, x, aux=None, state=None):
-        t, f = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        return simulate_deformation(self.zener, t, f) + self.rule(t, f)
 
 
 def overload_cracked_flow(fluidity, gain, onset_n, power, full_n=6.0):
@@ -686,12 +670,6 @@ def dendrite_zero(s, episodes):
     return out
 
 
-def mode_steps(t, x, sub=4):
-    """A mode driven by ``x`` on a uniform grid at the median step: (grid, drive, its rate, sub-step)."""
-    tu, xu, h = uniform_grid(t, x)
-    return tu, xu.tolist(), np.gradient(xu, h).tolist(), h / sub
-
-
 class BeltDriveMode(SimOnly):
     """y'' + 2 zeta w (y' - x') + w^2 (y - x) = 0, the carriage of a belt drive at the position p(t) (0..1 along the
     belt): w = w_mid sqrt((1 / p + 1 / (1 - p)) / 4) (the belt's two free lengths in parallel); p moves by
@@ -881,12 +859,12 @@ def make_parts(effect, shape, m, c, rng):  # noqa: C901 - one branch per shape i
         if shape == "overload_cracked_flow":
             rule = overload_cracked_flow(phi * rng.uniform(0.6, 1.1), rng.uniform(3.0, 6.0), rng.uniform(0.5, 2.5),
                                          rng.uniform(1.0, 2.0))
-            return Parts("zener", ZenerFlowing(c, rule), core_changed=True)
+            return Parts("zener", ZenerWithFlow(c, rule), core_changed=True)
         transition = rng.uniform(0.5, 2.0)
         phi_t, rho_t = blasius_table()
         at_3n = 0.5 * transition * float(np.interp(3.0 / transition, phi_t, rho_t))  # the rate at 3 N per unit fluidity
         rule = labyrinth_flow(3.0 * phi * rng.uniform(1.5, 3.0) / at_3n, transition)
-        return Parts("zener", ZenerFlowing(c, rule), core_changed=True)
+        return Parts("zener", ZenerWithFlow(c, rule), core_changed=True)
     if effect == "delayed_elasticity":
         if shape == "mismatched_creep_compensation":
             share, fast = float(np.interp(m, [0, 1], [0.03, 0.22])), rng.uniform(0.5, 5.0)

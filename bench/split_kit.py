@@ -343,6 +343,16 @@ class ZenerWithFlow(SimOnly):
         return simulate_deformation(self.zener, t, f) + self.rule(t, f)
 
 
+def lagged(t, x, tau_s):
+    """``x`` through a first-order lag of ``tau_s``, settled at ``x[0]`` before the record."""
+    return x[0] + kelvin(t, x - x[0], 1.0, tau_s)
+
+
+def mode_steps(t, x, sub=4):
+    """A mode driven by ``x`` on a uniform grid at the median step: (grid, drive, its rate, sub-step)."""
+    tu, xu, h = uniform_grid(t, x)
+    return tu, xu.tolist(), np.gradient(xu, h).tolist(), h / sub
+
 
 @dataclass(frozen=True)
 class ShapeSplit:

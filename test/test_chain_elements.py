@@ -588,6 +588,19 @@ def test_a_peeked_temperature_lag_is_the_update_it_foretells_and_moves_nothing(t
         assert peeking.lag.y == plain.lag.y and peeking.lag.t_prev_s == plain.lag.t_prev_s
 
 
+@settings(max_examples=200, deadline=None)
+@given(departure=st.one_of(st.floats(-1e3, 1e3), st.sampled_from([float("nan"), float("inf"), -float("inf")])),
+       shift=st.floats(0.0, 2.0), c2=st.one_of(st.just(0.0), st.floats(1.0, 1e4)))
+def test_the_shift_law_of_one_sample_is_the_shift_law_of_an_array(departure, shift, c2):
+    from polyforce_ros.physics.chain import log_shift
+
+    one = log_shift(departure, shift, c2)
+    with np.errstate(invalid="ignore"):
+        many = log_shift(np.array([departure]), shift, c2)
+    assert type(one) is float
+    np.testing.assert_array_equal([one], many)
+
+
 @settings(max_examples=30, deadline=None)
 @given(shift=st.floats(0.0, 0.3), swing=st.floats(0.0, 8.0), seed=st.integers(0, 2**31 - 1),
        lag_s=st.one_of(st.just(0.0), st.floats(0.5, 60.0)), c2=st.one_of(st.just(0.0), st.floats(1.0, 200.0)))

@@ -170,6 +170,11 @@ def log_shift(departure_c: FloatOrArray, shift_per_c: float, wlf_c2_c: float = 0
     the WLF constant ``C2 = wlf_c2_c`` > 0 ``b dT C2 / (C2 + dT)`` (the same slope b at the reference, bending as
     the Williams-Landel-Ferry and Vogel-Fulcher laws do: ever steeper toward C2 below it, where the clock stops,
     and flatter above it); within +-``MAX_LOG_SHIFT``."""
+    if isinstance(departure_c, float):  # one sample of the 1 kHz path: plain floats, no numpy call per sample
+        one = shift_per_c * departure_c
+        if wlf_c2_c > 0.0:
+            one = one * wlf_c2_c / max(wlf_c2_c + departure_c, wlf_c2_c * 1e-9)
+        return min(max(one, -MAX_LOG_SHIFT), MAX_LOG_SHIFT)
     raw = shift_per_c * departure_c
     if wlf_c2_c > 0.0:  # at and below -C2 the denominator is held just above 0: the clock's slowest
         raw = raw * wlf_c2_c / np.maximum(wlf_c2_c + departure_c, wlf_c2_c * 1e-9)
@@ -231,7 +236,7 @@ class _ReducedTimeStream:
         rate = 1.0
         if temp is not None:
             core_c = self._core_temperature(t_s, float(temp))
-            e = math.exp(float(log_shift(core_c - self.ref, self.b, self.c2)))
+            e = math.exp(log_shift(core_c - self.ref, self.b, self.c2))
             rate = e if math.isfinite(e) else 1.0
         xi = t_s if self.t_prev is None else self.xi + (t_s - self.t_prev) * 0.5 * (rate + self.rate_prev)
         return xi, rate

@@ -60,7 +60,9 @@ Procedure (:func:`diagnose`):
    band, is reported as ``unexplained``. When no effect was justified but structure remains, the
    answer is ``"unexplained"``, never a catalogue name; so it is when the
    named effects worsen the out-of-sample error at the record's rate, or
-   leave structure while explaining less than ``min_explained`` of the
+   leave structure, or an error whose excess over the floor is itself at least
+   ``unexplained_ratio`` of the floor (structure the tests above do not see:
+   bursts, chatter), while explaining less than ``min_explained`` of the
    base's error above the floor (partial fits of something outside the
    catalogue, listed under ``unexplained.partial_fits``). Before that judgement, structure in the residual, or
    a named sensor lag, is offered to a mechanical mode fitted at the record's rate (:mod:`.resonance`), named
@@ -511,8 +513,11 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     # two thirds of it), and naming them would be worse than saying so. The base's excess is counted as the
     # acceptance test counts it, so a base at the floor does not make the share a ratio over ~0.
     explained = float(np.clip(1.0 - (rmse_after ** 2 - floor ** 2) / excess(rmse_before ** 2, floor ** 2), 0.0, 1.0))
+    # an error left well above the floor is something left, seen or not by the tests of structure (a burst of
+    # chatter at high load has no band or 1 s average of its own)
+    left_over = test.present or math.sqrt(max(rmse_after ** 2 - floor ** 2, 0.0)) >= unexplained_ratio * floor
     partial: list[str] = []
-    if selection.accepted and (rmse_after >= rmse_before or (test.present and explained < min_explained)):
+    if selection.accepted and (rmse_after >= rmse_before or (left_over and explained < min_explained)):
         partial = list(selection.accepted)
         say("partial fits only: unexplained")
         selection.clear()

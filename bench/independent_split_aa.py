@@ -98,7 +98,7 @@ from polyforce_ros.physics.viscoelastic import Burgers
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
 from split_kit import (coarse_force, cutter, ease, fit_departure, follow, LeakingCore, on_clock, Parts, ShapeSplit,
-                       SimOnly, sized as sized_over, temp_of, uniform_grid)
+                       GridMode, SimOnly, sized as sized_over, temp_of, uniform_grid)
 
 SEED0 = 1_900_000  # never a seed of the registry's splits nor of splits A (90000..) to Z (1800000..)
 FORCE_MAX_N = 9.0
@@ -740,7 +740,7 @@ def infusion_head(rng, horizon_s=HORIZON_S, step_s=0.5):
 
 # ----------------------------------------------------------------------------- resonance
 
-class EnergySinkMode(SimOnly):
+class EnergySinkMode(GridMode):
     """A needle holder's mode at ``f0_hz`` (damping ratio ``zeta``; unit gain at rest) with a nonlinear energy sink: a
     mass of ``mass_ratio`` of the mode's on an essentially cubic spring (hardening from nothing, its frequency equal to
     the mode's at a relative travel ``engage_v``, straightened beyond three times that) and a damper of ratio
@@ -755,11 +755,7 @@ class EnergySinkMode(SimOnly):
         self.r_max = 3.0 * engage_v
         self.damp = 2.0 * sink_zeta * self.w * mass_ratio
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = 1.0 / self.fs
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         w2, c1, eps, kappa, damp, r_max = self.w ** 2, 2.0 * self.zeta * self.w, self.eps, self.kappa, self.damp, self.r_max
         edge, slope = kappa * r_max ** 3, 3.0 * kappa * r_max ** 2
         y = v = z = vz = 0.0
@@ -778,10 +774,10 @@ class EnergySinkMode(SimOnly):
             y += v * h
             z += vz * h
             out[i] = y
-        return np.interp(t, tu, out) + x[0]
+        return out
 
 
-class BallPassMode(SimOnly):
+class BallPassMode(GridMode):
     """A needle holder's mode at ``f0_hz`` (damping ratio ``zeta``; unit gain at rest) on a spindle's rolling bearing:
     while the spindle turns (bouts of 3-25 s, 5-40 s apart, drawn from ``seed``) the stiffness varies by +-``depth`` as
     the balls pass at ``pass_hz`` (the frequency with its square root, the damping fixed). Semi-implicit Euler on a
@@ -792,11 +788,7 @@ class BallPassMode(SimOnly):
     def __init__(self, f0_hz, zeta, depth, pass_hz, seed):
         self.w, self.zeta, self.depth, self.pass_hz, self.seed = 2.0 * math.pi * f0_hz, zeta, depth, pass_hz, seed
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = 1.0 / self.fs
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         rng = np.random.default_rng(self.seed)
         turning = np.zeros(tu.size, dtype=bool)
         at = t[0] + rng.uniform(0.0, 30.0)
@@ -813,7 +805,7 @@ class BallPassMode(SimOnly):
             v += (k * (xi - y) - c1 * v) * h
             y += v * h
             out[i] = y
-        return np.interp(t, tu, out) + x[0]
+        return out
 
 
 # ----------------------------------------------------------------------------- friction

@@ -103,7 +103,7 @@ from polyforce_ros.physics.viscoelastic import Burgers
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
 from split_kit import (coarse_force, cutter, ease, fit_departure, follow, LeakingCore, on_clock, Parts, ShapeSplit,
-                       SimOnly, sized as sized_over, temp_of)
+                       GridMode, SimOnly, sized as sized_over, temp_of)
 
 SEED0 = 2_000_000  # never a seed of the registry's splits nor of splits A (90000..) to AA (1900000..)
 FORCE_MAX_N = 9.0
@@ -836,7 +836,7 @@ def hunting_damper(rng, horizon_s=HORIZON_S, step_s=0.1):
 
 # ----------------------------------------------------------------------------- resonance
 
-class CantileverModes(SimOnly):
+class CantileverModes(GridMode):
     """A needle holder built as a cantilever: three bending modes at f1 (``f1_hz``), 6.27 f1 and 17.55 f1, carrying
     1 - w2 - w3, ``w2`` and ``w3`` of the static response (unit gain at rest), with Rayleigh damping (the first mode's
     ratio ``zeta``, ``stiff_share`` of it stiffness-proportional: the higher modes are damped more). Bilinear on a
@@ -853,15 +853,12 @@ class CantileverModes(SimOnly):
             z = min(alpha / (2.0 * w) + beta * w / 2.0, 0.9)
             self.modes.append((weight, signal.bilinear([w * w], [1.0, 2.0 * z * w, w * w], fs=self.fs)))
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        tu = np.arange(t[0], t[-1] + 1.0 / self.fs, 1.0 / self.fs)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         y = sum(weight * signal.lfilter(b, a, xu) for weight, (b, a) in self.modes)
-        return np.interp(t, tu, y) + x[0]
+        return y
 
 
-class SelfHeatingDamperMode(SimOnly):
+class SelfHeatingDamperMode(GridMode):
     """A needle holder's mode at ``f0_hz`` (unit gain at rest) whose oil damper heats with the power it dissipates and
     cools with ``cool_s``: its damping ratio ``zeta`` when cold falls as exp(-theta), theta the damper's heat in units
     such that the record's largest heat on a damper that did not thin would be -ln(1 - ``drop``): after the largest
@@ -873,11 +870,7 @@ class SelfHeatingDamperMode(SimOnly):
     def __init__(self, f0_hz, zeta, drop, cool_s):
         self.w, self.zeta, self.drop, self.cool = 2.0 * math.pi * f0_hz, zeta, drop, cool_s
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = 1.0 / self.fs
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         w, c0 = self.w, 2.0 * self.zeta * self.w
         b, a = signal.bilinear([w * w], [1.0, c0, w * w], fs=self.fs)
         cold = signal.lfilter(b, a, xu)
@@ -894,7 +887,7 @@ class SelfHeatingDamperMode(SimOnly):
             y += v * h
             theta = theta * loss + gain * c * v * v
             out[i] = y
-        return np.interp(t, tu, out) + x[0]
+        return out
 
 
 # ----------------------------------------------------------------------------- friction

@@ -91,8 +91,8 @@ from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers, simulate_deformation
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (ForcePath, LeakingCore, Parts, ShapeSplit, SimOnly, band_play, coarse, ease, fit_departure, follow,
-                       kelvin, on_clock, sized as sized_over, temp_of, uniform_grid)
+from split_kit import (ForcePath, GridMode, LeakingCore, Parts, ShapeSplit, SimOnly, band_play, coarse, ease,
+                       fit_departure, follow, kelvin, on_clock, sized as sized_over, temp_of, uniform_grid)
 
 SEED0 = 2_100_000  # never a seed of the registry's splits nor of splits A (90000..) to AB (2000000..)
 FORCE_MAX_N = 9.0
@@ -725,7 +725,7 @@ def mode_coefficients(f0_hz, zeta, fs):
     return signal.bilinear([w * w], [1.0, 2.0 * zeta * w, w * w], fs=fs)
 
 
-class PayneMountMode(SimOnly):
+class PayneMountMode(GridMode):
     """A needle holder's mode at ``f0_hz`` (unit gain at rest) on a carbon-black filled rubber mount: the mount softens
     with the amplitude it carries (the Payne effect after Kraus: the stiffness 1 - ``drop`` q / (1 + q), q = (e /
     e_c)^2, e the envelope of the relative motion, which rises at once and recovers with ``recover_s``; e_c ``knee`` of
@@ -739,11 +739,7 @@ class PayneMountMode(SimOnly):
         self.w, self.zeta, self.drop, self.knee, self.recover, self.bump = (2.0 * math.pi * f0_hz, zeta, drop, knee,
                                                                             recover_s, bump)
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = 1.0 / self.fs
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         b, a = mode_coefficients(self.w / (2.0 * math.pi), self.zeta, self.fs)
         ec = self.knee * max(float(np.max(np.abs(signal.lfilter(b, a, xu) - xu))), 1e-12)
         w, z0, drop, bump = self.w, self.zeta, self.drop, self.bump
@@ -758,10 +754,10 @@ class PayneMountMode(SimOnly):
             v += (w * w * stiff * (xi - y) - 2.0 * zeta * w * math.sqrt(stiff) * v) * h
             y += v * h
             out[i] = y
-        return np.interp(t, tu, out) + x[0]
+        return out
 
 
-class MagnetSuspensionMode(SimOnly):
+class MagnetSuspensionMode(GridMode):
     """A needle holder's mode at ``f0_hz`` (unit gain at rest, damping ratio ``zeta``) whose spring is ``share`` a pair
     of repelling magnets (their force as the inverse fourth power of the gap, which the holder's motion closes on the
     ``way`` side): the magnets' part of the restoring force is s (k_m g / 4) ((1 - s z / g)^-4 - 1), stiffer toward the
@@ -774,11 +770,7 @@ class MagnetSuspensionMode(SimOnly):
     def __init__(self, f0_hz, zeta, share, gap, way):
         self.w, self.zeta, self.share, self.gap, self.way = 2.0 * math.pi * f0_hz, zeta, share, gap, way
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = 1.0 / self.fs
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         b, a = mode_coefficients(self.w / (2.0 * math.pi), self.zeta, self.fs)
         g = self.gap * max(float(np.max(np.abs(signal.lfilter(b, a, xu) - xu))), 1e-12)
         w2, c, q, s = self.w * self.w, 2.0 * self.zeta * self.w, self.share, self.way
@@ -791,7 +783,7 @@ class MagnetSuspensionMode(SimOnly):
             v += (-w2 * ((1.0 - q) * z + push) - c * v) * h
             y += v * h
             out[i] = y
-        return np.interp(t, tu, out) + x[0]
+        return out
 
 
 # ----------------------------------------------------------------------------- friction

@@ -105,7 +105,7 @@ from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (ForcePath, LeakingCore, LinearFilter, Parts, ShapeSplit, SimOnly, band_play, coarse, ease,
+from split_kit import (ForcePath, LeakingCore, LinearFilter, Parts, ShapeSplit, GridMode, SimOnly, band_play, coarse, ease,
                        fit_departure, follow, logistic, on_clock, sized, temp_of)
 
 SEED0 = 2_200_000  # never a seed of the registry's splits nor of splits A (90000..) to AC (2100000..)
@@ -796,7 +796,7 @@ def pitting_arm(rng, horizon_s=HORIZON_S, step_s=0.1):
 
 # ----------------------------------------------------------------------------- resonance
 
-class HydraulicMountMode(SimOnly):
+class HydraulicMountMode(GridMode):
     """A needle holder's mode at ``f0_hz`` (unit gain at rest, damping ratio ``zeta`` on its rubber spring) on a
     hydraulic mount: beside the rubber a fluid chamber ``chamber`` times as stiff whose volume a free-floating
     decoupler passes (a fast first-order bypass) while it stays within ``travel`` of the largest relative motion a
@@ -810,11 +810,7 @@ class HydraulicMountMode(SimOnly):
         self.w, self.zeta, self.chamber, self.travel = 2.0 * math.pi * f0_hz, zeta, chamber, travel
         self.wt, self.zt = self.w * track, track_zeta
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = 1.0 / self.fs
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         stop = self.travel * largest_linear_motion(xu, self.w / (2.0 * math.pi), self.zeta, self.fs)
         w2, kc, wt2 = self.w * self.w, self.chamber * self.w * self.w, self.wt * self.wt
         c, ct = 2.0 * self.zeta * self.w, 2.0 * self.zt * self.wt
@@ -831,10 +827,10 @@ class HydraulicMountMode(SimOnly):
             v += (w2 * e + kc * squeeze - c * v) * h
             y += v * h
             out[i] = y
-        return np.interp(t, tu, out) + x[0]
+        return out
 
 
-class SqueezeFilmMode(SimOnly):
+class SqueezeFilmMode(GridMode):
     """A needle holder's mode at ``f0_hz`` (unit gain at rest) whose paddle squeezes an air film between two plates,
     each ``gap`` times the largest relative motion a linear mode gives the record away at rest: the damping ratio
     ``zeta`` times the mean of (g / (g - z))^3 and (g / (g + z))^3 (Reynolds; z held within 0.8 g), so large swings are
@@ -845,11 +841,7 @@ class SqueezeFilmMode(SimOnly):
     def __init__(self, f0_hz, zeta, gap):
         self.w, self.zeta, self.gap = 2.0 * math.pi * f0_hz, zeta, gap
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = 1.0 / self.fs
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         g = self.gap * largest_linear_motion(xu, self.w / (2.0 * math.pi), self.zeta, self.fs)
         w2, c0 = self.w * self.w, 2.0 * self.zeta * self.w
         y = v = 0.0
@@ -860,7 +852,7 @@ class SqueezeFilmMode(SimOnly):
             v += (w2 * (xi - y) - c * v) * h
             y += v * h
             out[i] = y
-        return np.interp(t, tu, out) + x[0]
+        return out
 
 
 # ----------------------------------------------------------------------------- friction

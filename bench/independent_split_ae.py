@@ -83,7 +83,7 @@ from polyforce_ros.physics.expconv import exp_convolve
 from polyforce_ros.physics.viscoelastic import Burgers
 from polyforce_ros.sim import profiles
 from polyforce_ros.sim.truths import StaticMap
-from split_kit import (ForcePath, LeakingCore, Parts, ShapeSplit, SimOnly, band_play, coarse, ease, fit_departure,
+from split_kit import (ForcePath, GridMode, LeakingCore, Parts, ShapeSplit, SimOnly, band_play, coarse, ease, fit_departure,
                        follow, logistic, on_clock, schedule, sized, temp_of, uniform_grid, within)
 
 SEED0 = 2_300_000  # never a seed of the registry's splits nor of splits A (90000..) to AD (2200000..)
@@ -557,7 +557,7 @@ def sunlit_die(rng, horizon_s=HORIZON_S, step_s=0.1):
 
 # ----------------------------------------------------------------------------- resonance
 
-class DragMode(SimOnly):
+class DragMode(GridMode):
     """A needle holder's mode at ``f0_hz`` (unit gain, damping ratio ``zeta``) whose paddle also meets air drag: the
     damping (1 + ``drag`` |v| / v_max) times the linear one, v_max the largest relative speed a linear mode gives the
     record. Semi-implicit Euler on a uniform grid of ``fs`` Hz, from rest."""
@@ -567,11 +567,7 @@ class DragMode(SimOnly):
     def __init__(self, f0_hz, zeta, drag):
         self.w, self.zeta, self.drag = 2.0 * math.pi * f0_hz, zeta, drag
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = 1.0 / self.fs
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         _, vmax = linear_peak(xu, self.w, self.zeta, self.fs)
         w2, c0, per = self.w * self.w, 2.0 * self.zeta * self.w, self.drag / vmax
         y = v = 0.0
@@ -580,10 +576,10 @@ class DragMode(SimOnly):
             v += (w2 * (xi - y) - c0 * (1.0 + per * abs(v)) * v) * h
             y += v * h
             out[i] = y
-        return np.interp(t, tu, out) + x[0]
+        return out
 
 
-class BumpStopMode(SimOnly):
+class BumpStopMode(GridMode):
     """A needle holder's mode at ``f0_hz`` (unit gain, damping ratio ``zeta``) that hits a rubber bump stop once its
     relative motion passes ``clearance`` of the largest a linear mode gives the record, ``stiffer`` times as stiff
     beyond it. Semi-implicit Euler on a uniform grid of ``fs`` Hz, from rest."""
@@ -593,11 +589,7 @@ class BumpStopMode(SimOnly):
     def __init__(self, f0_hz, zeta, clearance, stiffer):
         self.w, self.zeta, self.clearance, self.stiffer = 2.0 * math.pi * f0_hz, zeta, clearance, stiffer
 
-    def forward(self, t_s, x, aux=None, state=None):
-        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
-        h = 1.0 / self.fs
-        tu = np.arange(t[0], t[-1] + h, h)
-        xu = np.interp(tu, t, x) - x[0]
+    def on_grid(self, t, tu, xu, h):
         zmax, _ = linear_peak(xu, self.w, self.zeta, self.fs)
         gap, w2, c = self.clearance * zmax, self.w * self.w, 2.0 * self.zeta * self.w
         extra = (self.stiffer - 1.0) * w2
@@ -609,7 +601,7 @@ class BumpStopMode(SimOnly):
             v += (-w2 * z - extra * over - c * v) * h
             y += v * h
             out[i] = y
-        return np.interp(t, tu, out) + x[0]
+        return out
 
 
 # ----------------------------------------------------------------------------- friction

@@ -38,6 +38,23 @@ class SimOnly:
         return {}
 
 
+class GridMode(SimOnly):
+    """A simulated element (a mode) that runs from rest on a uniform grid of ``fs`` Hz: the input less its first
+    value is interpolated onto the grid, :meth:`on_grid` runs there (``t`` the record's times, ``tu`` the grid's,
+    ``xu`` the input on it, ``h`` the step), and its output is read back at ``t`` with the first value added."""
+
+    fs = 3000.0
+
+    def forward(self, t_s, x, aux=None, state=None):
+        t, x = np.asarray(t_s, dtype=float), np.asarray(x, dtype=float)
+        h = 1.0 / self.fs
+        tu = np.arange(t[0], t[-1] + h, h)
+        return np.interp(t, tu, self.on_grid(t, tu, np.interp(tu, t, x) - x[0], h)) + x[0]
+
+    def on_grid(self, t, tu, xu, h):
+        raise NotImplementedError
+
+
 @dataclass
 class Parts:
     """A sensor in pieces, so that two effects can be put into one: elements before and after the core, the core

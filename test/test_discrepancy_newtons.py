@@ -1123,3 +1123,18 @@ def test_a_catalogue_name_that_explains_little_of_an_error_left_well_above_the_f
     diag = _diagnose_spent_case("independent_split_ad", 51)
     assert diag.missing_effects == [] and diag.missing_effect == "unexplained", diag.missing_effects
     assert "nonlinear_gain" in diag.unexplained["partial_fits"]
+
+
+def test_partial_fits_are_unexplained_even_when_no_test_of_structure_sees_the_base_residual(monkeypatch):
+    """The same AD record with every test of structure made blind: its named gain still leaves an error well above
+    the floor, so it is a partial fit, and a record with partial fits is ``unexplained``, never ``none``."""
+    import dataclasses
+
+    from polyforce_ros.discrepancy import engine
+
+    seeing = engine.unexplained_test
+    monkeypatch.setattr(engine, "unexplained_test",
+                        lambda *args, **kwargs: dataclasses.replace(seeing(*args, **kwargs), present=False))
+    diag = _diagnose_spent_case("independent_split_ad", 51)
+    assert diag.unexplained["partial_fits"], diag.unexplained
+    assert diag.missing_effect == "unexplained" and diag.unexplained["present"], diag.unexplained

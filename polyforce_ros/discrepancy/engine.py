@@ -533,7 +533,8 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     # 6. judged in newtons
     judged = _judge_in_newtons(rec, force_n, data, fitter.fold[bin_of_sample], chain, base_chain, base_fit, current, sig,
                                selection.accepted, floor, say, finish)
-    present = test.present
+    # partial fits are something the catalogue does not hold, whether or not the base's residual shows structure
+    present = test.present or bool(partial)
     if judged.rejected:
         partial = partial + [e for e in selection.accepted if e not in partial]
         selection.clear()

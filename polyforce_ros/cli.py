@@ -18,7 +18,7 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Mapping, Optional, Sequence
+from typing import Any, Mapping, Optional, Sequence
 
 import numpy as np
 
@@ -167,6 +167,25 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     return 0 if data["polymer_sensor_all_met"] else 4
 
 
+def compensated_force_lines(newtons: Mapping[str, Any], max_noise_gain: float) -> list[str]:
+    """The printout's lines on the left-out blocks' compensated force, for the base, the saved model and the saved
+    model as the runtime runs it; a model whose noise gain is above ``max_noise_gain`` says that the runtime
+    refuses it, since its force figures (a stiff core's inverse passes the bridge noise on at that gain) are not
+    a force any haptic master would receive."""
+    lines = []
+    for label, q in (("base model", newtons.get("base")), ("saved model", newtons.get("saved")),
+                     ("saved model as the runtime runs it (time drifts left out)", newtons.get("saved_runtime"))):
+        if q:
+            gain = q["noise_gain_n_per_v"]
+            lines.append(f"compensated force, left-out blocks, {label}: RMSE {q['rmse_n']:.4f} N "
+                         f"({q['rmse_percent_full_scale']:.2f} % FS), largest error {q['max_error_n']:.4f} N "
+                         f"({q['max_error_percent_full_scale']:.2f} % FS), R2 {q['r2']:.4f}; noise gain "
+                         f"{gain:.3g} N/V at {q['noise_gain']['rate_hz']:g} Hz"
+                         + ("" if gain <= max_noise_gain else
+                            f", above the default max_noise_gain {max_noise_gain:g} N/V: the runtime refuses it"))
+    return lines
+
+
 def cmd_diagnose(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
@@ -191,13 +210,8 @@ def cmd_diagnose(args: argparse.Namespace) -> int:
     if diag.unexplained["present"]:
         print(f"unexplained: structured residual {diag.unexplained['rms_v']:.3e} V that no catalogue effect describes")
     runtime_view = diag.newtons.get("saved_runtime")
-    for label, q in (("base model", diag.newtons["base"]), ("saved model", diag.newtons["saved"]),
-                     ("saved model as the runtime runs it (time drifts left out)", runtime_view)):
-        if q:
-            print(f"compensated force, left-out blocks, {label}: RMSE {q['rmse_n']:.4f} N "
-                  f"({q['rmse_percent_full_scale']:.2f} % FS), largest error {q['max_error_n']:.4f} N "
-                  f"({q['max_error_percent_full_scale']:.2f} % FS), R2 {q['r2']:.4f}; noise gain "
-                  f"{q['noise_gain_n_per_v']:.3g} N/V at {q['noise_gain']['rate_hz']:g} Hz")
+    for line in compensated_force_lines(diag.newtons, CompensatorConfig.max_noise_gain):
+        print(line)
     if runtime_view:
         print(f"  this record's drift left in that force: {runtime_view['drift_in_force_rms_n']:.4f} N rms (live, the "
               "start-up zeroing and ~/tare set the zero, and drift_tracking follows it at rest)")

@@ -103,3 +103,23 @@ def test_plays_at_the_bridge_are_judged_against_their_core_alone():
     alone = backward_noise_gain(SensorChain([core, OffsetElement(0.01)]), 1000.0)
     assert with_plays.element == alone.element == "burgers"  # the plays (slope >= 1 in the solve) amplify nothing
     assert with_plays.gain_n_per_v <= 1.05 * alone.gain_n_per_v
+
+
+def test_the_diagnose_printout_says_which_model_the_runtime_refuses():
+    """A core stiffer than ``max_noise_gain`` passes the bridge noise on at its own gain: its left-out force figures
+    are printed with the refusal beside them; a model within the guard is printed plainly."""
+    from polyforce_ros.cli import compensated_force_lines
+    from polyforce_ros.discrepancy.newtons import force_quality
+
+    t = np.arange(0.0, 20.0, 0.01)
+    force = 2.0 + np.sin(t)
+    limit = CompensatorConfig.max_noise_gain
+    quality = {}
+    for label, k in (("base", 5.0 * limit), ("saved", 0.5 * limit)):
+        chain = SensorChain([ViscoelasticElement(Elastic(k)), OffsetElement(0.0)])
+        volts = chain.forward(t, force) + np.random.default_rng(1).normal(0.0, 2e-3, t.size)
+        quality[label] = force_quality([chain], np.zeros(t.size, dtype=int), t, volts, force).to_dict()
+    base_line, saved_line = compensated_force_lines(quality, limit)
+    assert base_line.startswith("compensated force, left-out blocks, base model") and "refuses" in base_line
+    assert saved_line.startswith("compensated force, left-out blocks, saved model") and "refuses" not in saved_line
+    assert f"{quality['base']['noise_gain_n_per_v']:.3g} N/V" in base_line

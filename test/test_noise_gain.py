@@ -123,3 +123,10 @@ def test_the_diagnose_printout_says_which_model_the_runtime_refuses():
     assert base_line.startswith("compensated force, left-out blocks, base model") and "refuses" in base_line
     assert saved_line.startswith("compensated force, left-out blocks, saved model") and "refuses" not in saved_line
     assert f"{quality['base']['noise_gain_n_per_v']:.3g} N/V" in base_line
+
+
+def test_a_core_refused_for_its_own_stiffness_is_told_to_raise_the_guard_not_to_add_a_bandwidth():
+    stiff = SensorChain([ViscoelasticElement(Elastic(3.0 * CompensatorConfig.max_noise_gain)), OffsetElement(0.0)])
+    with pytest.raises(ModelError, match=r"elastic core passes it on at its own stiffness") as info:
+        Compensator(stiff)
+    assert "raised max_noise_gain" in str(info.value) and "noise_filter_tau_s" not in str(info.value)

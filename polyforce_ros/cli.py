@@ -169,9 +169,10 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
 def compensated_force_lines(newtons: Mapping[str, Any], max_noise_gain: float) -> list[str]:
     """The printout's lines on the left-out blocks' compensated force, for the base, the saved model and the saved
-    model as the runtime runs it; a model whose noise gain is above ``max_noise_gain`` says that the runtime
-    refuses it, since its force figures (a stiff core's inverse passes the bridge noise on at that gain) are not
-    a force any haptic master would receive."""
+    model as the runtime runs it. A model whose noise gain at the record's rate is above ``max_noise_gain`` says so:
+    its force figures (a stiff core's inverse passes the bridge noise on at that gain) are not a force the runtime's
+    guard lets through at that rate. Whether the runtime accepts the saved model at its own rate is the
+    ``runtime_guard`` line's."""
     lines = []
     for label, q in (("base model", newtons.get("base")), ("saved model", newtons.get("saved")),
                      ("saved model as the runtime runs it (time drifts left out)", newtons.get("saved_runtime"))):
@@ -182,7 +183,7 @@ def compensated_force_lines(newtons: Mapping[str, Any], max_noise_gain: float) -
                          f"({q['max_error_percent_full_scale']:.2f} % FS), R2 {q['r2']:.4f}; noise gain "
                          f"{gain:.3g} N/V at {q['noise_gain']['rate_hz']:g} Hz"
                          + ("" if gain <= max_noise_gain else
-                            f", above the default max_noise_gain {max_noise_gain:g} N/V: the runtime refuses it"))
+                            f", above the default max_noise_gain {max_noise_gain:g} N/V at this rate"))
     return lines
 
 

@@ -936,3 +936,20 @@ def test_the_column_cache_drops_its_least_recently_used_columns_past_its_bound_n
     assert list(cache) == ["scalar"] and cache.held_bytes == 0
     sig = Signals(np.arange(3.0), np.zeros(3), np.zeros(3), None, 0.0, 2.0, 20.0)
     assert isinstance(sig.cache, ColumnCache) and sig.cache.max_bytes == CACHE_BYTES
+
+
+@settings(max_examples=200, deadline=None)
+@given(floor=st_.floats(1e-5, 1e-1), over=st_.floats(0.0, 3.0), ratio=st_.floats(0.1, 2.0), seen=st_.booleans())
+def test_something_is_left_when_structure_is_seen_or_the_error_stands_ratio_floors_above_the_floor(floor, over, ratio,
+                                                                                                      seen):
+    """An error whose own excess over the floor is ``over`` floors: left exactly when ``over >= ratio`` (away from
+    the line, where rounding decides), or whenever the tests of structure see something."""
+    from polyforce_ros.discrepancy.residual import something_left
+
+    rmse = floor * math.hypot(1.0, over)
+    left = something_left(seen, rmse, floor, ratio)
+    if seen:
+        assert left
+    elif abs(over - ratio) > 1e-9 * max(ratio, 1.0):
+        assert left == (over >= ratio), (over, ratio)
+    assert not something_left(False, 0.5 * floor, floor, ratio)  # below the floor: nothing

@@ -108,7 +108,8 @@ from .newtons import (FRICTION_INVERSE_SHARES, fold_chains, force_quality, rate_
                       with_friction_deadband, with_friction_share, with_safe_bandwidth)
 from .refit import base_structure, refine, settle
 from .refit import polish as _polish, without as _without  # noqa: F401 - stages the tests run on their own, named here
-from .residual import excess, noise_floor, out_of_sample, shown_share, unexplained_test, where, zero_jumps
+from .residual import (excess, noise_floor, out_of_sample, shown_share, something_left, unexplained_test, where,
+                       zero_jumps)
 from .resonance import ModeFit, choose_mode, with_mode
 from .result import Diagnosis
 from .selection import Candidate, Selection
@@ -513,13 +514,11 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     # two thirds of it), and naming them would be worse than saying so. The base's excess is counted as the
     # acceptance test counts it, so a base at the floor does not make the share a ratio over ~0.
     explained = float(np.clip(1.0 - (rmse_after ** 2 - floor ** 2) / excess(rmse_before ** 2, floor ** 2), 0.0, 1.0))
-    # an error left well above the floor is something left, seen or not by the tests of structure (a burst of
-    # chatter at high load has no band or 1 s average of its own)
-    left_over = test.present or math.sqrt(max(rmse_after ** 2 - floor ** 2, 0.0)) >= unexplained_ratio * floor
     partial: list[str] = []
-    if selection.accepted and (rmse_after >= rmse_before or (left_over and explained < min_explained)):
+    if selection.accepted and (rmse_after >= rmse_before or (
+            something_left(test.present, rmse_after, floor, unexplained_ratio) and explained < min_explained)):
         partial = list(selection.accepted)
-        say("partial fits only: unexplained")
+        say("named effects dropped as partial fits")
         selection.clear()
         current = base_fit
         sig = fitter.sig = refresh_ref(fitter.sig, base_core)
@@ -533,8 +532,9 @@ def diagnose(rec: Record, base: str = "burgers", fit_rate_hz: float = 100.0, n_f
     # 6. judged in newtons
     judged = _judge_in_newtons(rec, force_n, data, fitter.fold[bin_of_sample], chain, base_chain, base_fit, current, sig,
                                selection.accepted, floor, say, finish)
-    # partial fits are something the catalogue does not hold, whether or not the base's residual shows structure
-    present = test.present or bool(partial)
+    # partial fits of what the base leaves well above the floor are something the catalogue does not hold, whether
+    # or not its residual shows structure; names that only predict worse than the base, at the floor, leave nothing
+    present = test.present or (bool(partial) and something_left(False, rmse_after, floor, unexplained_ratio))
     if judged.rejected:
         partial = partial + [e for e in selection.accepted if e not in partial]
         selection.clear()

@@ -70,6 +70,13 @@ def excess(mse: float, floor_mse: float) -> float:
     return max(mse - floor_mse, 0.25 * floor_mse)
 
 
+def something_left(structure_seen: bool, rmse_v: float, floor_v: float, ratio: float) -> bool:
+    """Whether a model leaves something of the record unexplained: structure that :func:`unexplained_test` sees, or
+    an error whose own excess over the noise floor, ``sqrt(rmse_v**2 - floor_v**2)``, is at least ``ratio`` times
+    the floor (chatter in bursts of a few milliseconds has no band or 1 s average of its own) [V]."""
+    return structure_seen or math.sqrt(max(rmse_v ** 2 - floor_v ** 2, 0.0)) >= ratio * floor_v
+
+
 def passes(confidence: float, excess_share: float, min_confidence: float, min_excess_share: float) -> bool:
     """The acceptance test on a model's gain over another: it lowers the out-of-sample error in ``min_confidence``
     of the folds and removes ``min_excess_share`` of the other's error above the floor (:func:`excess`). The one

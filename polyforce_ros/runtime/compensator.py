@@ -616,11 +616,19 @@ def check_noise_gain(chain: SensorChain, rate_hz: float, max_gain: float) -> Noi
     """
     gain = backward_noise_gain(chain, rate_hz)
     if not gain.gain_n_per_v <= max_gain:
-        # no element adds to the core's own gain: no bandwidth helps, the sensor's stiffness passes the noise on
-        culprit = (f"the {gain.element} core passes it on at its own stiffness (no other element adds to it): a "
-                   f"sensor this stiff needs a raised max_noise_gain" if gain.element_factor <= 1.0 else
-                   f"the {gain.element} element multiplies it by {gain.element_factor:.3g}: give it a bandwidth "
-                   f"(sensor_lag: noise_filter_tau_s) or raise max_noise_gain")
+        # a chain still above the limit without its loudest element is refused for its core's own inverse: no
+        # bandwidth on that element can bring it within the limit
+        rest_n_per_v = gain.gain_n_per_v / gain.element_factor
+        if gain.element_factor == 1.0:
+            culprit = (f"the {gain.element} core's own inverse passes it on at that gain (no other element adds to "
+                       f"it): a sensor like this needs a raised max_noise_gain")
+        elif not rest_n_per_v <= max_gain:
+            culprit = (f"the {gain.element} element multiplies it by {gain.element_factor:.3g}, and without it the "
+                       f"core's own inverse still passes {rest_n_per_v:.4g} N per V: a sensor like this needs a raised "
+                       f"max_noise_gain")
+        else:
+            culprit = (f"the {gain.element} element multiplies it by {gain.element_factor:.3g}: give it a bandwidth "
+                       f"(sensor_lag: noise_filter_tau_s) or raise max_noise_gain")
         raise ModelError(
             f"model refused: its inverse turns white bridge noise into {gain.gain_n_per_v:.4g} N per V "
             f"at {rate_hz:g} Hz, above max_noise_gain {max_gain:g} N/V (1 mV of noise would move the master by "

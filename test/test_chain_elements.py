@@ -566,6 +566,90 @@ def test_a_friction_outside_its_ranges_is_a_model_error(bad):
     assert FrictionElement.from_dict(good.to_dict()).to_dict() == good.to_dict()
 
 
+@settings(max_examples=40, deadline=None)
+@given(slope=st.floats(-0.5, 0.5), lag_s=st.sampled_from([0.0, 0.5, 20.0]), coupling=st.floats(0.0, 1.0),
+       share=st.sampled_from([0.0, 0.5, 1.0]), deadband=st.sampled_from([0.0, 0.02]), seed=st.integers(0, 2**31 - 1))
+def test_a_friction_band_that_follows_temperature_streams_as_it_runs_in_batch_and_blocks(slope, lag_s, coupling, share,
+                                                                                        deadband, seed):
+    """A band r = radius_n exp(slope (T_lag - reference_c)): forward block by block equals forward in one run, the
+    per-sample inverse equals the batch one on irregular stamps, and the inverse stays within 2 c (r_max + d) of the
+    applied force; without a temperature the band is radius_n."""
+    from polyforce_ros.physics.chain import FrictionElement
+    from polyforce_ros.physics.chain.hysteresis import BAND_FACTOR_MAX
+
+    rng = np.random.default_rng(seed)
+    t = np.cumsum(rng.uniform(0.5e-3, 1.5e-3, 3000))
+    force = np.cumsum(rng.normal(0.0, 0.05, t.size)) + 3.0 * np.sin(t * rng.uniform(0.5, 5.0))
+    temp = 22.0 + rng.uniform(-8.0, 8.0) * np.sin(t * rng.uniform(0.2, 2.0)) + rng.normal(0.0, 0.05, t.size)
+    aux = {"temperature_c": temp}
+    e = FrictionElement(0.2, coupling, deadband, share, band_log_slope_per_c=slope, reference_c=22.0,
+                        temperature_lag_s=lag_s)
+    core_force = e.forward(t, force, aux)
+    state = e.forward_state()
+    blocks = [e.forward(t[a:b], force[a:b], {"temperature_c": temp[a:b]}, state) for a, b in ((0, 1100), (1100, t.size))]
+    np.testing.assert_allclose(np.concatenate(blocks), core_force, atol=1e-12)
+    back = e.backward(t, core_force, aux)
+    stream = e.streaming()
+    np.testing.assert_allclose([stream.step(float(a), float(y), {"temperature_c": float(c)})
+                                for a, y, c in zip(t, core_force, temp)], back, atol=1e-9)
+    widest = 0.2 * min(float(np.exp(abs(slope) * np.abs(temp - 22.0).max())), BAND_FACTOR_MAX)  # a lag stays inside
+    assert np.all(np.abs(back - force) <= 2.0 * coupling * (widest + deadband) + 1e-9)
+    np.testing.assert_array_equal(e.forward(t, force), FrictionElement(0.2, coupling).forward(t, force))
+    assert FrictionElement.from_dict(e.to_dict()).to_dict() == e.to_dict()
+    assert ("band_log_slope_per_c" in e.to_dict()) == (slope != 0.0)
+
+
+def test_a_friction_band_that_widens_in_the_cold_is_undone_exactly_while_the_force_slides():
+    """A rising force through a band that widens as the mechanism cools (slope < 0): the core sees F - r(T), and the
+    inverse, whose band follows the same temperature, gives F back exactly once the force has left the first band."""
+    from polyforce_ros.physics.chain import FrictionElement
+
+    t = np.arange(0.0, 20.0, 1e-3)
+    force = 0.5 * t
+    temp = 22.0 - 0.3 * t  # 6 degC colder at the end: the band 1.8 times wider
+    e = FrictionElement(0.1, 1.0, band_log_slope_per_c=-0.1, reference_c=22.0)
+    core_force = e.forward(t, force, {"temperature_c": temp})
+    band = 0.1 * np.exp(-0.1 * (temp - 22.0))
+    sliding = force > 2.0 * band.max()
+    np.testing.assert_allclose(core_force[sliding], (force - band)[sliding], atol=1e-12)
+    np.testing.assert_allclose(e.backward(t, core_force, {"temperature_c": temp})[sliding], force[sliding], atol=1e-9)
+    # the plain band would leave the widening in the force
+    plain = FrictionElement(0.1, 1.0).backward(t, core_force)
+    assert np.abs(plain - force)[sliding].max() > 0.05
+
+
+def test_the_runtime_moves_a_friction_band_with_the_temperature_topic_as_the_batch_inverse_does():
+    """The compensator, given a temperature reading before each sample, runs the same inverse as the chain's batch
+    backward with that temperature: the band is followed live, not only in the diagnosis."""
+    from polyforce_ros.physics.chain import FrictionElement, OffsetElement, SensorChain, ViscoelasticElement
+    from polyforce_ros.physics.viscoelastic import Burgers
+    from polyforce_ros.runtime import Compensator, CompensatorConfig
+
+    t = np.arange(0.0, 30.0, 1e-3)
+    force = 4.0 + 3.0 * np.sin(0.7 * t) * np.sin(0.05 * t)
+    temp = 22.0 - 6.0 * np.sin(0.1 * t)
+    chain = SensorChain([FrictionElement(0.2, 1.0, 0.0, band_log_slope_per_c=-0.08, reference_c=22.0,
+                                         temperature_lag_s=5.0),
+                         ViscoelasticElement(Burgers(5.0, 10.0, 5000.0, 50.0)), OffsetElement(0.0)])
+    volts = chain.forward(t, force, {"temperature_c": temp})
+    _, live = Compensator(chain, CompensatorConfig(auto_tare=False)).run(np.round(t * 1e9).astype(np.int64), volts,
+                                                                         temperature_c=temp)
+    batch = chain.backward(t, volts, {"temperature_c": temp})
+    np.testing.assert_allclose(live, batch, atol=1e-6)
+    assert np.abs(live - chain.backward(t, volts)).max() > 0.05  # without the temperature the band stays radius_n
+
+
+@pytest.mark.parametrize("bad", [{"band_log_slope_per_c": 0.6}, {"band_log_slope_per_c": float("inf")},
+                                 {"band_log_slope_per_c": 0.1, "reference_c": 400.0},
+                                 {"band_log_slope_per_c": 0.1, "temperature_lag_s": -1.0},
+                                 {"band_log_slope_per_c": "0.1"}])
+def test_a_friction_band_slope_outside_its_ranges_is_a_model_error(bad):
+    from polyforce_ros.physics.chain import FrictionElement, ModelError
+
+    with pytest.raises(ModelError):
+        FrictionElement.from_dict({"type": "friction", "radius_n": 0.1, "coupling": 1.0, **bad})
+
+
 # -- thermo_rheological: a core whose viscosities follow temperature ---------------------------------------------
 
 @settings(max_examples=40, deadline=None)

@@ -252,6 +252,7 @@ PARAMETER_BOUNDS = {
     "radius_n": (1e-9, 1e6, "N", "a friction force of 1 MN is beyond any mechanism"),
     "coupling": (0.0, 1.0, "", "a share of the friction force"),
     "inverse_share": (0.0, 1.0, "", "a share of the friction the inverse adds back"),
+    "band_log_slope_per_c": (-0.5, 0.5, "1/degC", "a band e times wider per 2 degC is beyond any grease or fit"),
     # time-temperature superposition: ln of the viscosities' shift factor per degree (polymers: 0.02-0.3 /degC)
     "shift_per_c": (0.0, 2.0, "1/degC", "a viscosity 7x smaller per degree is beyond any polymer"),
     "temperature_lag_s": (1e-3, 1e5, "s", "a core a day behind its thermometer follows the weather, not the sensor"),

@@ -21,7 +21,9 @@ from .base import (
     check_keys,
     check_number,
     short_repr,
+    temperature_c_of,
 )
+from .drift import LaggedTemperatureStream, ThermalForwardState, lagged_temperature_c, thermal_forward_state
 
 if TYPE_CHECKING:  # for annotations only: at run time the Preisach model loads when first used
     from ..preisach import ContinuousPreisachStream, PreisachModel, PreisachStream
@@ -335,6 +337,23 @@ class PlayHysteresisElement(Frozen):
 
 class _FrictionForwardState(TypedDict):
     play_n: float  # the forward play's state [N]
+    thermal: ThermalForwardState  # the band's lagged temperature
+
+
+#: A band that follows temperature stays within this factor of ``radius_n`` either way.
+BAND_FACTOR_MAX = 1e3
+_LOG_BAND_MAX = math.log(BAND_FACTOR_MAX)
+
+
+def moving_band_play(x: FloatArray, radius_n: FloatArray, start: float = 0.0) -> FloatArray:
+    """A play operator whose half-width changes from sample to sample: y_k = min(max(y_{k-1}, x_k - r_k), x_k + r_k),
+    from ``start`` [N]. A band that narrows drags the state with it; one that widens leaves it where it is."""
+    out = np.empty(x.size)
+    y = float(start)
+    for k, (xk, rk) in enumerate(zip(x.tolist(), radius_n.tolist())):
+        y = min(max(y, xk - rk), xk + rk)
+        out[k] = y
+    return out
 
 
 class FrictionElement(Frozen):
@@ -369,36 +388,80 @@ class FrictionElement(Frozen):
         the best estimate; while the contact sticks the applied force lies anywhere in the band, and the core's
         force itself (share 0) is never more than r away. Which is better depends on how the force is used (long
         holds, or reversals and puncture drops): ``polyforce diagnose`` chooses it by the compensated force.
+    band_log_slope_per_c : float, optional
+        How the band follows the mechanism's temperature T [1/degC]: r = radius_n exp(band_log_slope_per_c
+        (T - reference_c)), within a factor :data:`BAND_FACTOR_MAX` of radius_n either way (a grease that stiffens
+        as it cools, a housing that shrinks onto its sleeve: negative). 0 (the default): the same band at every
+        temperature. T is ``aux['temperature_c']``; without it, or where it is not finite, the band is radius_n.
+    reference_c : float, optional
+        The temperature at which the band is radius_n [degC].
+    temperature_lag_s : float, optional
+        The mechanism's temperature follows the thermometer's through a first-order lag of this time, settled at the
+        first temperature [s]; 0 (the default): the thermometer's own.
 
-    Both runs start from rest (the play at 0: a virgin mechanism).
+    Both runs start from rest (the play at 0: a virgin mechanism). The inverse's band follows the same temperature
+    as the forward one, sample by sample.
     """
 
     kind = "friction"
     KEYS = ("radius_n", "coupling")
-    OPTIONAL = {"deadband_n": 0.0, "inverse_share": 1.0}
+    OPTIONAL = {"deadband_n": 0.0, "inverse_share": 1.0, "band_log_slope_per_c": 0.0, "reference_c": 0.0,
+                "temperature_lag_s": 0.0}
     radius_n: float
     coupling: float
     deadband_n: float
     inverse_share: float
+    band_log_slope_per_c: float
+    reference_c: float
+    temperature_lag_s: float
 
     def __init__(self, radius_n: float, coupling: float = 1.0, deadband_n: float = 0.0,
-                 inverse_share: float = 1.0) -> None:
+                 inverse_share: float = 1.0, band_log_slope_per_c: float = 0.0, reference_c: float = 0.0,
+                 temperature_lag_s: float = 0.0) -> None:
         radius_n = check_number(self.kind, "radius_n", radius_n, positive=True)
         coupling = check_number(self.kind, "coupling", coupling, positive=False)
         deadband_n = check_number(self.kind, "deadband_n", deadband_n, positive=False)
         inverse_share = check_number(self.kind, "inverse_share", inverse_share, positive=False)
-        self._freeze(radius_n=radius_n, coupling=coupling, deadband_n=deadband_n, inverse_share=inverse_share)
+        slope = check_number(self.kind, "band_log_slope_per_c", band_log_slope_per_c, positive=False)
+        reference = check_number(self.kind, "reference_c", reference_c, positive=False)
+        lag = check_number(self.kind, "temperature_lag_s", temperature_lag_s, positive=False)
+        self._freeze(radius_n=radius_n, coupling=coupling, deadband_n=deadband_n, inverse_share=inverse_share,
+                     band_log_slope_per_c=slope, reference_c=reference, temperature_lag_s=lag)
+
+    def _band_of(self, temp_c: float) -> float:
+        """The band's half-width at the mechanism's temperature ``temp_c`` [N] (radius_n where it is not finite)."""
+        exponent = self.band_log_slope_per_c * (temp_c - self.reference_c)
+        if not math.isfinite(exponent):
+            return self.radius_n
+        return self.radius_n * math.exp(min(max(exponent, -_LOG_BAND_MAX), _LOG_BAND_MAX))
+
+    def _bands(self, t_s: npt.ArrayLike, n: int, aux: Optional[Mapping[str, Any]],
+               state: Optional[ThermalForwardState] = None) -> Optional[FloatArray]:
+        """The band's half-width at each sample [N], or None for a band that does not follow temperature here."""
+        temp = temperature_c_of(aux, n) if self.band_log_slope_per_c else None
+        if temp is None or n == 0:
+            return None
+        if self.temperature_lag_s > 0:
+            temp = lagged_temperature_c(t_s, np.asarray(temp, dtype=float), self.temperature_lag_s, state)
+        with np.errstate(invalid="ignore", over="ignore"):
+            exponent = np.clip(self.band_log_slope_per_c * (np.asarray(temp, dtype=float) - self.reference_c),
+                               -_LOG_BAND_MAX, _LOG_BAND_MAX)
+        bands: FloatArray = np.where(np.isfinite(exponent), self.radius_n * np.exp(np.nan_to_num(exponent)),
+                                     self.radius_n)
+        return bands
 
     def forward_state(self) -> _FrictionForwardState:
-        """A fresh state for block-wise :meth:`forward` runs (the play at rest)."""
-        return {"play_n": 0.0}
+        """A fresh state for block-wise :meth:`forward` runs (the play at rest, the temperature lag unsettled)."""
+        return {"play_n": 0.0, "thermal": thermal_forward_state()}
 
     def forward(self, t_s: npt.ArrayLike, force_n: npt.ArrayLike, aux: Optional[Mapping[str, Any]] = None,
                 state: Optional[_FrictionForwardState] = None) -> FloatArray:
         """The force the core sees [N] for the applied force ``force_n`` [N]."""
         f = np.asarray(force_n, dtype=float)
         st = state if state is not None else self.forward_state()
-        play = play_operator(f, [self.radius_n], [st["play_n"]])[:, 0]
+        bands = self._bands(t_s, f.size, aux, st["thermal"])
+        play = (play_operator(f, [self.radius_n], [st["play_n"]])[:, 0] if bands is None
+                else moving_band_play(f, bands, st["play_n"]))
         if f.size:
             st["play_n"] = float(play[-1])
         out: FloatArray = f - self.coupling * (f - play)
@@ -408,44 +471,61 @@ class FrictionElement(Frozen):
         """The applied force [N] for the core's force ``y`` [N] (see the class docstring for its error bound)."""
         y = np.asarray(y, dtype=float)
         q = play_operator(y, [self.deadband_n])[:, 0] if self.deadband_n > 0 else y
-        out: FloatArray = y + self.coupling * self.inverse_share * (q - play_operator(q, [self.radius_n])[:, 0])
+        bands = self._bands(t_s, y.size, aux)
+        play = play_operator(q, [self.radius_n])[:, 0] if bands is None else moving_band_play(q, bands)
+        out: FloatArray = y + self.coupling * self.inverse_share * (q - play)
         return out
 
     def streaming(self) -> ElementStream:
         """The per-sample form of :meth:`backward`, O(1) per sample."""
         r, c, d = self.radius_n, self.coupling * self.inverse_share, self.deadband_n
         state = [0.0, 0.0]  # the dead band's play, the stiction band's play [N]
+        lag = LaggedTemperatureStream(self.temperature_lag_s) if self.temperature_lag_s > 0 else None
+        follows = bool(self.band_log_slope_per_c)
 
         def step(t_s: float, y: float, aux: Optional[Mapping[str, Any]] = None) -> float:
+            band = r
+            temp = aux.get("temperature_c") if follows and aux else None
+            if temp is not None:
+                band = self._band_of(lag.update(t_s, temp) if lag is not None else float(temp))
             q = min(max(state[0], y - d), y + d)
-            p = min(max(state[1], q - r), q + r)
+            p = min(max(state[1], q - band), q + band)
             state[0], state[1] = q, p
             return y + c * (q - p)
 
         def reset() -> None:
             state[:] = [0.0, 0.0]
+            if lag is not None:
+                lag.reset()
 
         return FunctionStream(step, reset)
 
     def to_dict(self) -> dict[str, Any]:
-        """The element as a model-file mapping."""
-        out = {"type": self.kind, "radius_n": float(self.radius_n), "coupling": float(self.coupling)}
+        """The element as a model-file mapping (defaults left out)."""
+        out: dict[str, Any] = {"type": self.kind, "radius_n": float(self.radius_n), "coupling": float(self.coupling)}
         if self.deadband_n:
             out["deadband_n"] = float(self.deadband_n)
         if self.inverse_share != 1.0:
             out["inverse_share"] = float(self.inverse_share)
+        for key in ("band_log_slope_per_c", "reference_c", "temperature_lag_s"):
+            if getattr(self, key) != 0.0:
+                out[key] = float(getattr(self, key))
         return out
+
+    def _with(self, **changes: float) -> FrictionElement:
+        keys = {k: getattr(self, k) for k in ("radius_n", "coupling", *self.OPTIONAL)}
+        return FrictionElement(**{**keys, **changes})
 
     def with_deadband(self, deadband_n: float) -> FrictionElement:
         """The same friction with the inverse's dead band ``deadband_n`` [N]."""
-        return FrictionElement(self.radius_n, self.coupling, deadband_n, self.inverse_share)
+        return self._with(deadband_n=deadband_n)
 
     def with_inverse_share(self, inverse_share: float) -> FrictionElement:
         """The same friction whose inverse adds back ``inverse_share`` of it."""
-        return FrictionElement(self.radius_n, self.coupling, self.deadband_n, inverse_share)
+        return self._with(inverse_share=inverse_share)
 
     @classmethod
     def from_dict(cls, d: Mapping[str, Any]) -> Self:
         """The element from a model-file mapping."""
         check_keys(cls.kind, d, cls.KEYS, cls.OPTIONAL)
-        return cls(d["radius_n"], d["coupling"], d.get("deadband_n", 0.0), d.get("inverse_share", 1.0))
+        return cls(d["radius_n"], d["coupling"], **{k: d.get(k, v) for k, v in cls.OPTIONAL.items()})

@@ -599,6 +599,22 @@ def test_a_friction_band_that_follows_temperature_streams_as_it_runs_in_batch_an
     assert ("band_log_slope_per_c" in e.to_dict()) == (slope != 0.0)
 
 
+@settings(max_examples=40, deadline=None)
+@given(seed=st.integers(0, 2**31 - 1), chunk=st.sampled_from([None, 64, 97]), start=st.floats(-1.0, 1.0))
+def test_a_play_with_a_half_width_per_sample_is_the_clamp_sample_by_sample(seed, chunk, start):
+    from polyforce_ros.physics.chain.hysteresis import play_operator
+
+    rng = np.random.default_rng(seed)
+    x = np.cumsum(rng.normal(0.0, 0.3, 700))
+    radii = np.abs(rng.normal(0.5, 0.3, (700, 2)))
+    y, expected = np.array([start, -start]), np.empty((700, 2))
+    for k in range(700):
+        y = np.minimum(np.maximum(y, x[k] - radii[k]), x[k] + radii[k])
+        expected[k] = y
+    np.testing.assert_allclose(play_operator(x, radii, [start, -start], chunk=chunk), expected, atol=1e-12)
+    np.testing.assert_array_equal(play_operator(x, np.full((700, 1), 0.4), chunk=chunk), play_operator(x, [0.4], chunk=chunk))
+
+
 def test_a_friction_band_that_widens_in_the_cold_is_undone_exactly_while_the_force_slides():
     """A rising force through a band that widens as the mechanism cools (slope < 0): the core sees F - r(T), and the
     inverse, whose band follows the same temperature, gives F back exactly once the force has left the first band."""

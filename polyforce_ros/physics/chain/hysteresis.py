@@ -115,8 +115,9 @@ def play_operator(x: npt.ArrayLike, radii: npt.ArrayLike, y0: Optional[npt.Array
     ----------
     x : (n,) array_like of float
         Input sequence [any unit, e.g. N or V].
-    radii : (m,) array_like of float
-        Half-widths of the plays [the input's unit].
+    radii : (m,) or (n, m) array_like of float
+        Half-widths of the plays [the input's unit]; (n, m): a half-width per sample (a band that moves, each step
+        still a clamp).
     y0 : (m,) array_like of float, optional
         Each play's state before the first sample [the input's unit]; zeros when omitted.
     chunk : int, optional
@@ -129,21 +130,25 @@ def play_operator(x: npt.ArrayLike, radii: npt.ArrayLike, y0: Optional[npt.Array
         Each play's output at each sample [the input's unit].
     """
     x = np.asarray(x, dtype=float)
-    r = np.atleast_1d(np.asarray(radii, dtype=float))
-    y = np.zeros(r.size) if y0 is None else np.array(y0, dtype=float)
-    out = np.empty((x.size, r.size))
+    r = np.asarray(radii, dtype=float)
+    moving = r.ndim == 2
+    r = r if moving else np.atleast_1d(r)
+    m = r.shape[-1]
+    y = np.zeros(m) if y0 is None else np.array(y0, dtype=float)
+    out = np.empty((x.size, m))
     if x.size == 0:
         return out
     if chunk is None:
-        chunk = 1 << max(6, int(math.log2(max(1, (1 << 15) // max(r.size, 1)))))
+        chunk = 1 << max(6, int(math.log2(max(1, (1 << 15) // max(m, 1)))))
     width = min(chunk, x.size)
-    lo_buf, hi_buf, tmp = (np.empty((width, r.size)) for _ in range(3))
+    lo_buf, hi_buf, tmp = (np.empty((width, m)) for _ in range(3))
     for start in range(0, x.size, chunk):
         xc = x[start:start + chunk, None]
         n = xc.shape[0]
         lo, hi = lo_buf[:n], hi_buf[:n]
-        np.subtract(xc, r, out=lo)
-        np.add(xc, r, out=hi)
+        rc = r[start:start + n] if moving else r
+        np.subtract(xc, rc, out=lo)
+        np.add(xc, rc, out=hi)
         shift = 1
         while shift < n:
             # the block ending at k composed after the block ending at k - shift, in place:
@@ -345,17 +350,6 @@ BAND_FACTOR_MAX = 1e3
 _LOG_BAND_MAX = math.log(BAND_FACTOR_MAX)
 
 
-def moving_band_play(x: FloatArray, radius_n: FloatArray, start: float = 0.0) -> FloatArray:
-    """A play operator whose half-width changes from sample to sample: y_k = min(max(y_{k-1}, x_k - r_k), x_k + r_k),
-    from ``start`` [N]. A band that narrows drags the state with it; one that widens leaves it where it is."""
-    out = np.empty(x.size)
-    y = float(start)
-    for k, (xk, rk) in enumerate(zip(x.tolist(), radius_n.tolist())):
-        y = min(max(y, xk - rk), xk + rk)
-        out[k] = y
-    return out
-
-
 class FrictionElement(Frozen):
     """Coulomb friction in the mechanism, on the force path before the core: the core sees
 
@@ -460,8 +454,7 @@ class FrictionElement(Frozen):
         f = np.asarray(force_n, dtype=float)
         st = state if state is not None else self.forward_state()
         bands = self._bands(t_s, f.size, aux, st["thermal"])
-        play = (play_operator(f, [self.radius_n], [st["play_n"]])[:, 0] if bands is None
-                else moving_band_play(f, bands, st["play_n"]))
+        play = play_operator(f, [self.radius_n] if bands is None else bands[:, None], [st["play_n"]])[:, 0]
         if f.size:
             st["play_n"] = float(play[-1])
         out: FloatArray = f - self.coupling * (f - play)
@@ -472,7 +465,7 @@ class FrictionElement(Frozen):
         y = np.asarray(y, dtype=float)
         q = play_operator(y, [self.deadband_n])[:, 0] if self.deadband_n > 0 else y
         bands = self._bands(t_s, y.size, aux)
-        play = play_operator(q, [self.radius_n])[:, 0] if bands is None else moving_band_play(q, bands)
+        play = play_operator(q, [self.radius_n] if bands is None else bands[:, None])[:, 0]
         out: FloatArray = y + self.coupling * self.inverse_share * (q - play)
         return out
 
@@ -503,13 +496,8 @@ class FrictionElement(Frozen):
     def to_dict(self) -> dict[str, Any]:
         """The element as a model-file mapping (defaults left out)."""
         out: dict[str, Any] = {"type": self.kind, "radius_n": float(self.radius_n), "coupling": float(self.coupling)}
-        if self.deadband_n:
-            out["deadband_n"] = float(self.deadband_n)
-        if self.inverse_share != 1.0:
-            out["inverse_share"] = float(self.inverse_share)
-        for key in ("band_log_slope_per_c", "reference_c", "temperature_lag_s"):
-            if getattr(self, key) != 0.0:
-                out[key] = float(getattr(self, key))
+        out.update({key: float(getattr(self, key)) for key, default in self.OPTIONAL.items()
+                    if getattr(self, key) != default})
         return out
 
     def _with(self, **changes: float) -> FrictionElement:

@@ -1127,7 +1127,8 @@ def test_a_catalogue_name_that_explains_little_of_an_error_left_well_above_the_f
 
 def test_partial_fits_are_unexplained_even_when_no_test_of_structure_sees_the_base_residual(monkeypatch):
     """The same AD record with every test of structure made blind: its named gain still leaves an error well above
-    the floor, so it is a partial fit, and a record with partial fits is ``unexplained``, never ``none``."""
+    the floor, so it is a partial fit, and a record whose partial fits leave the base's error well above the floor is
+    ``unexplained``, never ``none``."""
     import dataclasses
 
     from polyforce_ros.discrepancy import engine

@@ -773,7 +773,7 @@ def test_the_low_pass_rival_replaces_a_named_lags_stages_by_the_equal_poles_the_
     delay (the fit rate's choice), is taken by the rival to within a small share of the pair's error, the pair's
     stages undone first; without them undone the rival can only add poles to the pair, and does worse."""
     from polyforce_ros.discrepancy.resonance import through_equal_poles
-    from polyforce_ros.discrepancy.effects import lag_columns
+    from polyforce_ros.discrepancy.columns import lag_columns
 
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, 60.0, 1e-3)

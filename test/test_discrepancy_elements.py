@@ -196,7 +196,8 @@ def test_parsimony_compares_every_smaller_candidate_with_the_overall_best():
 
 @pytest.mark.parametrize("sigma_n", [0.002, 0.01, 0.05])
 def test_the_reference_force_noise_is_measured_under_a_moving_load_and_bounds_the_narrowest_friction(sigma_n):
-    from polyforce_ros.discrepancy.effects import EFFECTS, FRICTION_NOISE_SIGMAS, force_noise_n
+    from polyforce_ros.discrepancy.effects import EFFECTS
+    from polyforce_ros.discrepancy.friction import FRICTION_NOISE_SIGMAS, force_noise_n
     from polyforce_ros.discrepancy.signals import Signals
 
     rng = np.random.default_rng(int(sigma_n * 1e4))
@@ -214,7 +215,8 @@ def test_a_stiction_band_at_the_narrowest_searched_is_at_its_noise_limit(sigma_n
     """A friction fitted at the grid's narrowest band (set by the reference force's noise, or by 0.1 % of the span
     when the noise is smaller) wanted a narrower one, where a play acts on the force's smallest wiggles: the
     selection does not judge it. A band above that bound, or another effect, is not limited."""
-    from polyforce_ros.discrepancy.effects import EFFECTS, at_noise_limit
+    from polyforce_ros.discrepancy.effects import EFFECTS
+    from polyforce_ros.discrepancy.friction import at_noise_limit
     from polyforce_ros.discrepancy.signals import Signals
 
     rng = np.random.default_rng(int(sigma_n * 1e4))
@@ -297,3 +299,90 @@ def test_scaled_plays_beside_the_bridge_are_kept_by_their_summed_weight_not_each
     alone = selection._nested([larger, _fit("force", ["j0", "play0", "offset"], [[0.2, 0.01, 0.02]] * n_folds,
                                             np.full(n_folds, 2.0))], "hysteresis")
     assert not any(f is larger for f in alone)
+
+
+@settings(max_examples=200, deadline=None)
+@given(steps=st.lists(st.floats(-2.0, 2.0), min_size=1, max_size=200), radius=st.floats(0.01, 3.0))
+def test_the_last_slide_of_a_friction_is_read_from_its_play(steps, radius):
+    """Direction and index of each sample's last slide, read from the play's output, are those of a contact
+    followed sample by sample (it slides when the force leaves the band around it)."""
+    from polyforce_ros.discrepancy.friction import last_slides
+    from polyforce_ros.physics.chain import play_operator
+
+    force = np.cumsum(steps)
+    contact, sigma_loop, last_loop = 0.0, [], []
+    direction, last = 0.0, 0
+    for k, x in enumerate(force):
+        if x - radius > contact:
+            contact, direction, last = x - radius, 1.0, k
+        elif x + radius < contact:
+            contact, direction, last = x + radius, -1.0, k
+        sigma_loop.append(direction)
+        last_loop.append(last)
+    sigma, last_index = last_slides(play_operator(force, [radius])[:, 0])
+    assert sigma.tolist() == sigma_loop
+    assert last_index.tolist() == last_loop
+
+
+def _friction_signals(temperature_c):
+    from polyforce_ros.discrepancy.signals import Signals
+
+    t = np.arange(6000) * 0.1
+    force = 5.0 + 4.0 * np.sin(2 * np.pi * t / 37.0) + 1.5 * np.sin(2 * np.pi * t / 5.3)
+    temp = None if temperature_c is None else temperature_c(t)
+    return Signals(t=t, f=force, v=np.zeros_like(t), temp=temp, t0=0.0, duration_s=float(t[-1]),
+                   temp_ref=0.0 if temp is None else float(np.mean(temp)), core_ref=PAPER_BURGERS,
+                   span_f=float(np.ptp(force)))
+
+
+@pytest.mark.parametrize("variant", ["thermal", "thermal_lag15"])
+def test_the_thermal_band_column_is_the_first_order_change_of_the_stop_with_its_band(variant):
+    """The band column times the log-slope s is the change of the core's output when the stop's band is
+    r exp(s (T - T_ref)), to first order in s: the error left falls faster than s (about as s**1.5, since a
+    reversal moves by O(s) in time as well), so it is a small part of the change."""
+    from polyforce_ros.discrepancy.effects import EFFECTS
+    from polyforce_ros.discrepancy.friction import BAND_LAGS_S
+    from polyforce_ros.physics.chain import lagged_temperature_c, play_operator
+    from polyforce_ros.physics.viscoelastic import simulate_deformation_columns
+
+    sig = _friction_signals(lambda t: 20.0 + 8.0 * np.sin(2 * np.pi * t / 300.0))
+    radius = 0.4
+    cols = {c[0]: c[1] for c in EFFECTS["friction"].columns(sig, variant, radius)}
+    lag_s = BAND_LAGS_S[variant]
+    temp = lagged_temperature_c(sig.t, sig.temp, lag_s) if lag_s else sig.temp
+
+    def core_of_stop(slope):
+        bands = radius * np.exp(slope * (temp - sig.temp_ref))
+        stop = sig.f - play_operator(sig.f, bands[:, None])[:, 0]
+        return -simulate_deformation_columns(PAPER_BURGERS, sig.t, stop[:, None])[:, 0]
+
+    def rms(x):
+        return float(np.sqrt(np.mean(x ** 2)))
+
+    errors = [rms(core_of_stop(s) - cols["friction"] - s * cols["friction_band"]) for s in (0.02, 0.01)]
+    assert errors[0] < 0.25 * rms(core_of_stop(0.02) - cols["friction"])
+    assert errors[1] < errors[0] / 2.5
+
+
+def test_a_friction_band_that_follows_temperature_is_searched_only_where_there_is_a_temperature():
+    from polyforce_ros.discrepancy.effects import EFFECTS
+
+    without, warm = _friction_signals(None), _friction_signals(lambda t: 20.0 + 0.01 * t)
+    assert EFFECTS["friction"].grid("", without) and EFFECTS["friction"].grid("", warm)
+    for variant in ("thermal", "thermal_lag15"):
+        assert EFFECTS["friction"].grid(variant, without) == []
+        assert EFFECTS["friction"].grid(variant, warm) == EFFECTS["friction"].grid("", warm)
+
+
+def test_a_fitted_thermal_band_is_saved_as_its_friction_element():
+    from polyforce_ros.discrepancy.effects import EFFECTS
+    from polyforce_ros.physics.chain import FrictionElement
+
+    sig = _friction_signals(lambda t: 20.0 + 0.01 * t)
+    (slot, element), = EFFECTS["friction"].to_elements({"friction": 0.8, "friction_band": -0.04}, "thermal_lag15", 0.3, sig)
+    assert slot == "before" and isinstance(element, FrictionElement)
+    assert (element.radius_n, element.coupling, element.band_log_slope_per_c) == pytest.approx((0.3, 0.8, -0.05))
+    assert (element.reference_c, element.temperature_lag_s) == pytest.approx((sig.temp_ref, 15.0))
+    (_, plain), = EFFECTS["friction"].to_elements({"friction": 0.8, "friction_band": -0.04}, "", 0.3, sig)
+    assert plain.band_log_slope_per_c == 0.0
+    assert EFFECTS["friction"].to_elements({"friction": 0.0, "friction_band": -0.04}, "thermal", 0.3, sig) == []

@@ -9,6 +9,7 @@ Okamura needle profile (the synthetic one when the data is absent), and
 ``polyforce compensate --model M.yaml`` must leave at most 1 % hysteresis
 (seed 000's normalised first-cycle measure) and R^2 >= 0.99.
 """
+import dataclasses
 import json
 import subprocess
 import sys
@@ -34,6 +35,15 @@ def _polyforce(*args):
                           timeout=600)
 
 
+def _diagnose_saving(bench, tmp_path):
+    """``polyforce diagnose BENCH --base burgers --save-model M.yaml --json d.json``: (JSON answer, model path)."""
+    model = tmp_path / "M.yaml"
+    proc = _polyforce("diagnose", str(bench), "--base", "burgers", "--save-model", str(model), "--json",
+                      str(tmp_path / "d.json"))
+    assert proc.returncode == 0, proc.stderr
+    return json.loads((tmp_path / "d.json").read_text()), model
+
+
 def _read_through(truth, t, f, path, seed, noise_std_v=1e-3):
     sim = BridgeSimulator(noise_std_v=noise_std_v, seed=seed)
     sim.chain, sim._states = truth, truth.forward_states()
@@ -57,11 +67,8 @@ def _diagnosed_bench(family, tmp_path, rate_hz):
                                          seed=seed, split="held_out", families={"hysteresis": family})
     bench = tmp_path / "bench.mcap"
     write_bench_bag(bench, t, f, v, temperature_c=temp, temperature_every=10)
-    model = tmp_path / "M.yaml"
-    proc = _polyforce("diagnose", str(bench), "--base", "burgers", "--save-model", str(model), "--json",
-                      str(tmp_path / "d.json"))
-    assert proc.returncode == 0, proc.stderr
-    return case, seed, json.loads((tmp_path / "d.json").read_text()), model
+    data, model = _diagnose_saving(bench, tmp_path)
+    return case, seed, data, model
 
 
 def _compensated_readings(case, seed, model, tmp_path, saw_rate_hz, needle_rate_hz, noise_std_v):
@@ -123,11 +130,7 @@ def test_diagnose_save_model_then_compensate_for_each_newer_effect(effect, famil
     t, f, v, temp, case = simulate_bench([effect], magnitude, "burgers", duration_s=420.0, rate_hz=rate_hz, seed=seed,
                                          families={effect: family})
     write_bench_bag(tmp_path / "bench.mcap", t, f, v, temperature_c=temp, temperature_every=10)
-    model = tmp_path / "M.yaml"
-    proc = _polyforce("diagnose", str(tmp_path / "bench.mcap"), "--base", "burgers", "--save-model", str(model), "--json",
-                      str(tmp_path / "d.json"))
-    assert proc.returncode == 0, proc.stderr
-    data = json.loads((tmp_path / "d.json").read_text())
+    data, model = _diagnose_saving(tmp_path / "bench.mcap", tmp_path)
     assert data["missing_effects"] == [effect], (data["missing_effects"], data["unexplained"])
     chain = load_model(model).chain
     # the JSON reports the saved element's own figures (a mode's frequency and damping, a friction's band...)
@@ -178,11 +181,7 @@ def test_a_kelvin_unit_that_a_preload_holds_or_that_stiffens_is_named_saved_and_
     t, f, v, temp, case = simulate_bench("none", 0.0, "burgers", duration_s=420.0, rate_hz=200.0, seed=seed)
     extra = _kelvin_held(t, f, shape, rng)
     write_bench_bag(tmp_path / "bench.mcap", t, f, v + extra(t, f), temperature_c=temp, temperature_every=10)
-    model = tmp_path / "M.yaml"
-    proc = _polyforce("diagnose", str(tmp_path / "bench.mcap"), "--base", "burgers", "--save-model", str(model), "--json",
-                      str(tmp_path / "d.json"))
-    assert proc.returncode == 0, proc.stderr
-    data = json.loads((tmp_path / "d.json").read_text())
+    data, model = _diagnose_saving(tmp_path / "bench.mcap", tmp_path)
     assert data["missing_effects"] == ["delayed_elasticity"], (data["missing_effects"], data["unexplained"])
     assert any(e.kind == "knee_kelvin" for e in load_model(model).chain.elements)
     ts, fs = profiles.sawtooth(peak_n=10.0, cycles=3, ramp_rate_n_per_s=0.5, rate_hz=200.0)
@@ -195,3 +194,50 @@ def test_a_kelvin_unit_that_a_preload_holds_or_that_stiffens_is_named_saved_and_
         tc, comp = _compensated(tmp_path / f"{name}.mcap", tmp_path / f"{name}_out.mcap", model)
         rmse_n = float(np.sqrt(np.mean((comp - np.interp(tc, tr, fr)) ** 2)))
         assert rmse_n <= 0.01 * np.ptp(fr), (name, rmse_n, np.ptp(fr))
+
+
+@pytest.mark.parametrize("seed", [3721, 3722])
+def test_a_friction_band_that_follows_temperature_is_named_saved_and_compensated_warm_and_cold(seed, tmp_path):
+    """A rigid Coulomb contact whose band follows the mechanism's temperature (random log-slope of 4-12 %/degC,
+    either sign, the thermometer's own temperature or one 8-25 s behind it): named ``friction`` with a band
+    that follows temperature and saved with the slope's sign; the same sensor's new records, colder and warmer
+    than the bench, are compensated better than with the band held at its reference width, and within the band
+    at that temperature."""
+    from polyforce_ros.model_file import load_model, save_model
+    from polyforce_ros.physics.chain import FrictionElement, SensorChain
+
+    rng = np.random.default_rng(seed)
+    t, f, _, temp, case = simulate_bench("none", 0.0, "burgers", duration_s=420.0, rate_hz=200.0, seed=seed)
+    slope = float(rng.choice([-1.0, 1.0]) * rng.uniform(0.04, 0.12))
+    lag_s = float(rng.choice([0.0, rng.uniform(8.0, 25.0)]))
+    band = FrictionElement(radius_n=float(rng.uniform(0.02, 0.03) * np.ptp(f)), coupling=1.0, band_log_slope_per_c=slope,
+                           reference_c=24.0, temperature_lag_s=lag_s)
+    truth = SensorChain([band, *case.truth.elements], forward_only=True)
+
+    def read(t_s, f_n, temp_c, noise_seed):
+        sim = BridgeSimulator(noise_std_v=2e-3, seed=noise_seed)
+        sim.chain, sim._states = truth, truth.forward_states()
+        return sim.simulate(t_s, f_n, temperature_c=temp_c)
+
+    write_bench_bag(tmp_path / "bench.mcap", t, f, read(t, f, temp, seed), temperature_c=temp, temperature_every=10)
+    data, model = _diagnose_saving(tmp_path / "bench.mcap", tmp_path)
+    assert data["missing_effects"] == ["friction"], (data["missing_effects"], data["unexplained"])
+    saved = next(e for e in load_model(model).chain.elements if isinstance(e, FrictionElement))
+    assert np.sign(saved.band_log_slope_per_c) == np.sign(slope), (saved.to_dict(), slope, lag_s)
+
+    # the same sensor on slow 0-10 N ramps, 7 degC below and above the reference: while it slides the band's width
+    # is the whole error of a compensator that holds it at its reference width
+    loaded = load_model(model)
+    held = SensorChain([FrictionElement.from_dict({**e.to_dict(), "band_log_slope_per_c": 0.0})
+                        if isinstance(e, FrictionElement) else e for e in loaded.chain.elements])
+    save_model(tmp_path / "held.yaml", dataclasses.replace(loaded, chain=held))
+    ts, fs = profiles.sawtooth(peak_n=10.0, cycles=3, ramp_rate_n_per_s=0.5, rate_hz=200.0)
+    for label, temp_c in {"cold": 17.0, "warm": 31.0}.items():
+        write_bench_bag(tmp_path / f"{label}.mcap", ts, fs, read(ts, fs, temp_c, seed + 2), temperature_c=temp_c)
+        errors = {}
+        for name, path in {"saved": model, "held": tmp_path / "held.yaml"}.items():
+            tc, comp = _compensated(tmp_path / f"{label}.mcap", tmp_path / f"{label}_{name}.mcap", path)
+            errors[name] = float(np.sqrt(np.mean((comp - np.interp(tc, ts, fs)) ** 2)))
+        band_there_n = band.radius_n * np.exp(slope * (temp_c - band.reference_c))
+        assert errors["saved"] < errors["held"], (label, errors, saved.to_dict(), slope, lag_s)
+        assert errors["saved"] <= band_there_n, (label, errors, band_there_n)

@@ -23,8 +23,8 @@ from ..physics.chain import (BridgeHysteresisElement, Element, KneeKelvinElement
                              reduced_time_s)
 from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
-from .effects import (EFFECTS as REGISTRY, PLAY_RIDGE, Col, clock_of, knee_beside, lag_columns, volume_beside, lag_stages,
-                      parameter)
+from .columns import Col, lag_columns, parameter
+from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, clock_of, knee_beside, lag_stages, volume_beside
 from .signals import BoolArray, FloatArray, IntArray, Signals
 
 __all__ = ["BASES", "BLOCKS_PER_FOLD", "CORE_SHAPE", "TAU_GRID", "TAU_BOUNDS", "Term", "Structure", "Design", "design",

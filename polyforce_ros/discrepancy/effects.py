@@ -30,13 +30,13 @@ form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, Optional, Sequence
+from typing import Mapping, Optional, Sequence
 
 import numpy as np
 import numpy.typing as npt
 
 from ..physics.chain import (
-    BridgeHysteresisElement, Element, ExponentialDriftElement, FrictionElement, KneeKelvinElement, PlayHysteresisElement,
+    BridgeHysteresisElement, ExponentialDriftElement, KneeKelvinElement, PlayHysteresisElement,
     PolynomialDriftElement,
     PolynomialGainElement, ViscoelasticElement,
     SensorLagElement, SplineDriftElement, StepDriftElement, ThermalDriftElement, ThermalLagElement, ThermalSensitivityElement,
@@ -48,28 +48,14 @@ from ..physics.chain import (
     ThermoRheologicalElement,
     TransportDelayElement, lagged_temperature_c, play_operator, scaled_input, scaled_output,
 )
-from ..physics.expconv import exp_convolve, exp_convolve_columns
 from ..physics.viscoelastic import simulate_deformation_columns
-from .signals import FloatArray, Signals, noise_std
+from . import friction
+from .columns import Col, ColumnsFn, ElementsFn, GridFn, Slot, lag_columns, log_grid, parameter
+from .signals import FloatArray, Signals
 
-__all__ = ["SPREAD_RATIO",
-           "Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
+__all__ = ["SPREAD_RATIO", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
            "SPLINE_INTERVALS", "KNEE_FRACTIONS", "KNEE_FLOOR_SHARE", "knees_n", "knee_beside", "volume_beside",
-           "FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "force_noise_n",
-           "at_noise_limit", "lag_columns", "lag_stages", "CLOCK_LAGS_S", "clock_of",
-           "variant_group", "parameter", "hints"]
-
-#: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
-Col = tuple[str, FloatArray, float, float, str, Optional[str]]
-#: Where an element goes in the chain: "before" the core (force path), "core" (wraps it), "after" it (voltage path), "lag",
-#: "late".
-Slot = tuple[str, Element]
-#: (variant, signals) -> values of the nonlinear parameter searched ([None]: the variant has none).
-GridFn = Callable[[str, Signals], Sequence[Optional[float]]]
-#: (signals, variant, parameter) -> the design columns the effect adds.
-ColumnsFn = Callable[[Signals, str, Optional[float]], list[Col]]
-#: (coefficient by column name, variant, parameter, signals) -> the chain elements of the fitted effect.
-ElementsFn = Callable[[Mapping[str, float], str, Optional[float], Signals], list[Slot]]
+           "lag_stages", "CLOCK_LAGS_S", "clock_of", "variant_group", "hints"]
 
 #: Play-operator half-widths of the hysteresis fit, as fractions of the input span (a regularised
 #: non-negative weight distribution over them is fitted). 22 log-spaced, ~27 % apart: with radii up to 2x
@@ -84,22 +70,6 @@ SCALED_RADII: FloatArray = np.geomspace(0.003, 1.0, 26)
 #: The scaled plays' floor, as a fraction of the force span: below it a band stops shrinking with the load (noise
 #: about zero force does not open a loop of its own).
 SCALED_FLOOR_FRACTION = 0.02
-
-
-def lag_columns(t: npt.ArrayLike, x: npt.ArrayLike, tau_s: float) -> FloatArray:
-    """Unit-gain first-order lag of each column of x (n,) or (n, m), from rest."""
-    x = np.asarray(x, dtype=float)
-    if x.ndim == 1:  # the design's columns, one by one: no stacking
-        out: FloatArray = exp_convolve(t, x, [1.0 / tau_s])[:, 0] / tau_s
-        return out
-    return exp_convolve_columns(t, x, 1.0 / tau_s) / tau_s  # one filter over all columns (column-major, contiguous)
-
-
-def parameter(param: Optional[float]) -> float:
-    """The value of a variant's nonlinear parameter; a ValueError for a variant searched without one."""
-    if param is None:
-        raise ValueError("this variant needs a value of its nonlinear parameter")
-    return param
 
 
 def _single(variant: str, sig: Signals) -> list[Optional[float]]:
@@ -181,10 +151,6 @@ class Effect:
 
 
 # --------------------------------------------------------------------------- columns and elements
-
-def _log_grid(lo: float, hi: float, n: int) -> list[Optional[float]]:
-    return list(np.exp(np.linspace(np.log(lo), np.log(hi), n)))
-
 
 def _hyst_start(radii: FloatArray, variant: str) -> FloatArray:
     """Play states before the record: virgin (zero) or after the input came down from the span (r)."""
@@ -274,64 +240,6 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
     return [("before" if path == "force" else "after", PlayHysteresisElement(linear, radii, weights, history_max=history))]
 
 
-#: Stiction half-widths searched for a friction, as fractions of the force span; the polish refines the radius
-#: within them (:func:`.refit.param_log_bounds`).
-FRICTION_FRACTIONS = (0.001, 0.15)
-
-
-#: The narrowest stiction band searched, in standard deviations of the reference force's noise: a play narrower
-#: than a few of them acts on that noise (it smooths the force the model reads), not on the sensor.
-FRICTION_NOISE_SIGMAS = 4.0
-
-
-def force_noise_n(sig: Signals) -> float:
-    """Standard deviation of the reference force's noise at the fit rate [N] (:func:`.signals.noise_std`: a smooth
-    load cancels in second differences), once per record."""
-    key = "force noise"
-    if key not in sig.record_cache:
-        sig.record_cache[key] = noise_std(sig.f)
-    return float(sig.record_cache[key])
-
-
-def _narrowest_band_n(sig: Signals) -> float:
-    """The narrowest stiction half-width searched (N): 0.1 % of the force span, and never narrower than
-    :data:`FRICTION_NOISE_SIGMAS` standard deviations of the reference force's noise."""
-    return max(FRICTION_FRACTIONS[0] * sig.span_f, FRICTION_NOISE_SIGMAS * force_noise_n(sig))
-
-
-def _friction_grid(variant: str, sig: Signals) -> list[Optional[float]]:
-    """Half-widths (N) of the stiction band searched: from :func:`_narrowest_band_n` to 15 % of the force span."""
-    low = _narrowest_band_n(sig)
-    return _log_grid(low, max(FRICTION_FRACTIONS[1] * sig.span_f, 2.0 * low), 12)
-
-
-def at_noise_limit(effect: str, param: Optional[float], sig: Signals) -> bool:
-    """Whether ``effect``'s fitted parameter sits at the bound the record sets: a stiction band as narrow as the
-    search goes (:func:`_narrowest_band_n`: the reference force's noise, or 0.1 % of the span) was wanted narrower
-    still, where the play acts on the force's smallest wiggles (it smooths the noise of the force the model reads),
-    not on a mechanism."""
-    if effect != "friction" or param is None:
-        return False
-    return param <= 1.05 * _narrowest_band_n(sig)
-
-
-def _friction_columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
-    """One column: the reference core's output for the stop of half-width ``param`` on the force, taken away
-    (F_core = F - w stop_r(F)); its weight w is the coupling, 1 for a rigid contact."""
-    r = parameter(param)
-    key = ("friction column", r)
-    if key not in sig.cache:
-        f = sig.f_nonlinear
-        stop = f - play_operator(f, [r])[:, 0]
-        sig.cache[key] = -simulate_deformation_columns(sig.reference_core, sig.t, stop[:, None])[:, 0]
-    return [("friction", sig.cache[key], 0.0, 1.0, "sensor", None)]
-
-
-def _friction_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
-    coupling = float(np.clip(coef.get("friction", 0.0), 0.0, 1.0))
-    return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling))] if coupling > 0 else []
-
-
 #: Clocks beside the plain one: the core's temperature lags [s] (``lag5``...), a bent shift's WLF C2 [degC] (``wlf25``...).
 CLOCK_LAGS_S, CLOCK_C2S_C = (5, 15, 45), (25, 80)
 
@@ -343,7 +251,7 @@ def clock_of(variant: str) -> tuple[float, float]:
 
 def _shift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     """ln of the viscosities' shift factor per degree searched [1/degC]: 0.005-0.4 (polymers in use: 0.02-0.3)."""
-    return _log_grid(0.005, 0.4, 10)
+    return log_grid(0.005, 0.4, 10)
 
 
 def _core_clock(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
@@ -615,7 +523,7 @@ LAG_DELAY_RANGE_S = (0.003, 0.8)
 def _lag_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     """Delays (s) searched: a transport delay of DAQ buffering (2-100 ms), or the total delay of one pole or two
     equal poles (:data:`LAG_DELAY_RANGE_S`)."""
-    return _log_grid(0.002, 0.1, 10) if variant == "delay" else _log_grid(*LAG_DELAY_RANGE_S, 12)
+    return log_grid(0.002, 0.1, 10) if variant == "delay" else log_grid(*LAG_DELAY_RANGE_S, 12)
 
 
 #: How much slower each further Kelvin unit of a spread delayed elasticity starts than the one before: apart enough
@@ -628,7 +536,7 @@ def _delayed_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     one up to the record's length (:func:`.refit.polish`), beyond which it is flow within the record. A spread one
     (two units) starts its second unit :data:`SPREAD_RATIO` times slower, so its first starts within the record
     divided by that."""
-    grid = _log_grid(0.3, max(min(300.0, sig.duration_s / 4.0), 1.0), 12)
+    grid = log_grid(0.3, max(min(300.0, sig.duration_s / 4.0), 1.0), 12)
     if variant == "spread":
         return [g for g in grid if g is not None and g * SPREAD_RATIO <= sig.duration_s / 2.0]
     return grid
@@ -702,7 +610,7 @@ def knee_beside(core: ViscoelasticElement, knees: npt.ArrayLike, compliances_v_p
 
 def _thermal_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     """Time constants (s) of the thermal lag; none for the direct variants."""
-    return _log_grid(3.0, 120.0, 6) if variant.startswith("lag") else [None]
+    return log_grid(3.0, 120.0, 6) if variant.startswith("lag") else [None]
 
 
 def _drift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
@@ -711,7 +619,7 @@ def _drift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
     if variant in ("steps", "jumps") and not sig.zero_jumps:
         return []
     if variant == "jumps":
-        return _log_grid(*JUMP_SETTLE_S, 5)
+        return log_grid(*JUMP_SETTLE_S, 5)
     return [sig.duration_s * f for f in (0.05, 0.1, 0.2, 0.35, 0.6, 1.0)] if variant == "settling" else [None]
 
 
@@ -748,7 +656,10 @@ EFFECTS: dict[str, Effect] = {
         columns=_hyst_columns, to_elements=_hyst_elements, rivals=("friction",)),
     "friction": Effect(
         "friction", "a dead band at load reversals, the same width at every load (friction)", ("load_reversal",),
-        ("load_direction",), ("friction",), grid=_friction_grid, columns=_friction_columns, to_elements=_friction_elements,
+        ("load_direction",), ("friction",), grid=friction.grid, columns=friction.columns, to_elements=friction.elements,
+        # a band of one width, or one that follows the mechanism's temperature (chosen only when its band column is
+        # significant)
+        variants=friction.VARIANTS, extends={v: "" for v in friction.BAND_LAGS_S},
         # a partial friction is a single force play (F - c stop = (1 - c) F + c play), and a few plays are a spread
         # friction: with both named, each takes the other's misfit between their radii
         rivals=("hysteresis",)),

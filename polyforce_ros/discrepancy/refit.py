@@ -18,7 +18,8 @@ from scipy import optimize
 from ..physics.fitting import multistart_least_squares
 from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, Term, bounded_solve, core_model,
                      design_columns, refresh_ref, stack)
-from .effects import EFFECTS as REGISTRY, KNEE_FRACTIONS, PLAY_RIDGE, SPREAD_RATIO, parameter
+from .columns import parameter
+from .effects import EFFECTS as REGISTRY, KNEE_FRACTIONS, PLAY_RIDGE, SPREAD_RATIO
 from .signals import FloatArray, Signals
 
 __all__ = ["polish", "is_core_time", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]

@@ -23,7 +23,7 @@ from scipy import ndimage, stats
 from ..physics.chain import lagged_temperature_c
 from ..physics.identification import block_average
 from .design import Fit, Fitter, design
-from .effects import Col, lag_columns
+from .columns import Col, lag_columns
 from .signals import MIN_GAP_S, FloatArray, IntArray, Signals, ZeroJump, noise_std
 
 __all__ = ["noise_std", "NoiseFloor", "noise_floor", "excess", "ljung_box", "band_structure", "Unexplained",

@@ -28,7 +28,8 @@ import numpy as np
 
 from ..physics.fitting import block_jackknife_standard_errors
 from .design import Fit, Fitter, Structure, design_columns, fitted, n_params, size, term_columns
-from .effects import EFFECTS as REGISTRY, SPREAD_RATIO, at_noise_limit, variant_group
+from .effects import EFFECTS as REGISTRY, SPREAD_RATIO, variant_group
+from .friction import at_noise_limit
 from .refit import candidates_for, is_core_time, polish, refine, without
 from .residual import drift_follows_load, excess, passes, shown_share, slow_response_columns
 
@@ -205,7 +206,7 @@ class Selection:
 
     def noise_limited(self, fit: Fit, name: str) -> bool:
         """Whether ``name``'s parameter in ``fit`` sits at the narrowest bound its search allows
-        (:func:`.effects.at_noise_limit`): such a fit describes the input's noise, and names nothing."""
+        (:func:`.friction.at_noise_limit`): such a fit describes the input's noise, and names nothing."""
         term = fit.structure.term(name)
         return term is not None and at_noise_limit(name, term.param, self.fitter.sig)
 

@@ -11,7 +11,9 @@ An :class:`Effect` holds everything the fitting side knows about one physical ef
 * its **localisation hint**: the segment kinds and signals its residual shows in.
 
 The engine (:mod:`.engine`), the localiser (:mod:`.localise`), the report and the CLI choices all read
-:data:`EFFECTS`; nothing about an effect's fit is spelled anywhere else. How each effect is *simulated* for the
+:data:`EFFECTS`; nothing about an effect's fit is spelled anywhere else than in its entry and the functions it
+names (here, or in the effect's own module when it outgrows a few functions: :mod:`.friction`; the columns' common
+vocabulary is :mod:`.columns`). How each effect is *simulated* for the
 bench generator (its truth families and the tune / held-out splits) is the simulation's own business:
 :mod:`polyforce_ros.sim.truths` maps every name of :data:`NAMES` to its families.
 

@@ -302,8 +302,8 @@ def test_scaled_plays_beside_the_bridge_are_kept_by_their_summed_weight_not_each
 
 
 @settings(max_examples=200, deadline=None)
-@given(steps=st.lists(st.floats(-2.0, 2.0), min_size=1, max_size=200), radius=st.floats(0.01, 3.0))
-def test_the_last_slide_of_a_friction_is_read_from_its_play(steps, radius):
+@given(steps=st.lists(st.floats(-2.0, 2.0), min_size=1, max_size=200), radius_n=st.floats(0.01, 3.0))
+def test_the_last_slide_of_a_friction_is_read_from_its_play(steps, radius_n):
     """Direction and index of each sample's last slide, read from the play's output, are those of a contact
     followed sample by sample (it slides when the force leaves the band around it)."""
     from polyforce_ros.discrepancy.friction import last_slides
@@ -313,13 +313,13 @@ def test_the_last_slide_of_a_friction_is_read_from_its_play(steps, radius):
     contact, sigma_loop, last_loop = 0.0, [], []
     direction, last = 0.0, 0
     for k, x in enumerate(force):
-        if x - radius > contact:
-            contact, direction, last = x - radius, 1.0, k
-        elif x + radius < contact:
-            contact, direction, last = x + radius, -1.0, k
+        if x - radius_n > contact:
+            contact, direction, last = x - radius_n, 1.0, k
+        elif x + radius_n < contact:
+            contact, direction, last = x + radius_n, -1.0, k
         sigma_loop.append(direction)
         last_loop.append(last)
-    sigma, last_index = last_slides(play_operator(force, [radius])[:, 0])
+    sigma, last_index = last_slides(play_operator(force, [radius_n])[:, 0])
     assert sigma.tolist() == sigma_loop
     assert last_index.tolist() == last_loop
 
@@ -346,13 +346,13 @@ def test_the_thermal_band_column_is_the_first_order_change_of_the_stop_with_its_
     from polyforce_ros.physics.viscoelastic import simulate_deformation_columns
 
     sig = _friction_signals(lambda t: 20.0 + 8.0 * np.sin(2 * np.pi * t / 300.0))
-    radius = 0.4
-    cols = {c[0]: c[1] for c in EFFECTS["friction"].columns(sig, variant, radius)}
+    radius_n = 0.4
+    cols = {c[0]: c[1] for c in EFFECTS["friction"].columns(sig, variant, radius_n)}
     lag_s = BAND_LAGS_S[variant]
     temp = lagged_temperature_c(sig.t, sig.temp, lag_s) if lag_s else sig.temp
 
     def core_of_stop(slope):
-        bands = radius * np.exp(slope * (temp - sig.temp_ref))
+        bands = radius_n * np.exp(slope * (temp - sig.temp_ref))
         stop = sig.f - play_operator(sig.f, bands[:, None])[:, 0]
         return -simulate_deformation_columns(PAPER_BURGERS, sig.t, stop[:, None])[:, 0]
 

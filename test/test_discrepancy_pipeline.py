@@ -146,7 +146,8 @@ def test_diagnose_save_model_then_compensate_for_each_newer_effect(effect, famil
     tc, comp = _compensated(tmp_path / "needle.mcap", tmp_path / "needle_out.mcap", model)
     late = np.interp(tc - chain.latency_s, tn, fn, left=fn[0])
     rmse_n = float(np.sqrt(np.mean((comp - late) ** 2)))
-    if effect == "friction":
+    if effect == "friction":  # a band of one width under the bench's temperature swing: none that follows it
+        assert data["effects"][0]["variant"] == "", data["effects"]
         band_n = next(e.radius_n for e in chain.elements if e.kind == "friction")
         assert rmse_n <= band_n
     else:
@@ -196,20 +197,21 @@ def test_a_kelvin_unit_that_a_preload_holds_or_that_stiffens_is_named_saved_and_
         assert rmse_n <= 0.01 * np.ptp(fr), (name, rmse_n, np.ptp(fr))
 
 
-@pytest.mark.parametrize("seed", [3721, 3722])
-def test_a_friction_band_that_follows_temperature_is_named_saved_and_compensated_warm_and_cold(seed, tmp_path):
-    """A rigid Coulomb contact whose band follows the mechanism's temperature (random log-slope of 4-12 %/degC,
-    either sign, the thermometer's own temperature or one 8-25 s behind it): named ``friction`` with a band
-    that follows temperature and saved with the slope's sign; the same sensor's new records, colder and warmer
-    than the bench, are compensated better than with the band held at its reference width, and within the band
-    at that temperature."""
+@pytest.mark.parametrize("seed, sign, lagged", [(3721, 1.0, False), (3722, -1.0, True)])
+def test_a_friction_band_that_follows_temperature_is_named_saved_and_compensated_warm_and_cold(seed, sign, lagged,
+                                                                                               tmp_path):
+    """A rigid Coulomb contact whose band follows the mechanism's temperature (a log-slope of 4-12 %/degC, widening
+    as it warms or as it cools, on the thermometer's own temperature or on one 8-25 s behind it): named
+    ``friction`` with a band that follows temperature and saved with the slope's sign, within a factor of two; the
+    same sensor's new records, colder and warmer than the bench, are compensated better than with the band held at
+    its reference width, and within the band at that temperature."""
     from polyforce_ros.model_file import load_model, save_model
     from polyforce_ros.physics.chain import FrictionElement, SensorChain
 
     rng = np.random.default_rng(seed)
     t, f, _, temp, case = simulate_bench("none", 0.0, "burgers", duration_s=420.0, rate_hz=200.0, seed=seed)
-    slope = float(rng.choice([-1.0, 1.0]) * rng.uniform(0.04, 0.12))
-    lag_s = float(rng.choice([0.0, rng.uniform(8.0, 25.0)]))
+    slope = sign * float(rng.uniform(0.04, 0.12))
+    lag_s = float(rng.uniform(8.0, 25.0)) if lagged else 0.0
     band = FrictionElement(radius_n=float(rng.uniform(0.02, 0.03) * np.ptp(f)), coupling=1.0, band_log_slope_per_c=slope,
                            reference_c=24.0, temperature_lag_s=lag_s)
     truth = SensorChain([band, *case.truth.elements], forward_only=True)
@@ -223,7 +225,7 @@ def test_a_friction_band_that_follows_temperature_is_named_saved_and_compensated
     data, model = _diagnose_saving(tmp_path / "bench.mcap", tmp_path)
     assert data["missing_effects"] == ["friction"], (data["missing_effects"], data["unexplained"])
     saved = next(e for e in load_model(model).chain.elements if isinstance(e, FrictionElement))
-    assert np.sign(saved.band_log_slope_per_c) == np.sign(slope), (saved.to_dict(), slope, lag_s)
+    assert 0.5 <= saved.band_log_slope_per_c / slope <= 2.0, (saved.to_dict(), slope, lag_s)
 
     # the same sensor on slow 0-10 N ramps, 7 degC below and above the reference: while it slides the band's width
     # is the whole error of a compensator that holds it at its reference width

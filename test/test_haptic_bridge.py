@@ -375,8 +375,11 @@ def test_node_scales_saturates_slews_rejects_nan_and_ramps_to_zero_over_dds():
         assert h.spin_until(lambda: commanded(probe, -2.0), 2.0)
 
         n_before_stale = len(probe.commands)
-        bad_sent = sum(feed(h, probe, bad, 0.05) for bad in (math.nan, math.inf, -math.inf))  # rejected: stale, ramp to zero
-        assert h.spin_until(lambda: node.bridge.stale and commanded(probe, 0.0), 5.0)
+        # rejected: for longer than stale_timeout_s they do not keep the bridge fresh, so it is stale while they
+        # still flow, and ramps to zero
+        bad_sent = sum(feed(h, probe, bad, 0.5) for bad in (math.nan, math.inf, -math.inf))
+        assert node.bridge.stale, "invalid wrenches kept the bridge fresh"
+        assert h.spin_until(lambda: commanded(probe, 0.0), 5.0)
         assert h.spin_until(lambda: node.bridge.counts["invalid"] == bad_sent, 3.0), (node.bridge.counts, bad_sent)
         falling = [c.wrench.force.y for c in probe.commands[n_before_stale:]]
         assert all(abs(b) <= abs(a) for a, b in zip(falling, falling[1:])), "the stale ramp never rises"

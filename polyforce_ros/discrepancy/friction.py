@@ -4,10 +4,14 @@ mechanism), its search grid, its design columns and its chain element.
 The core sees ``F - c stop_r(F)``, ``stop_r(F) = F - play_r(F)``: c is the coupling (1 for a rigid contact) and
 the stop's design column is the reference core's output for it. In the ``thermal`` variants the band follows the
 mechanism's temperature, ``r(T) = r exp(s (T - T_ref))`` (grease that stiffens in the cold, a bushing that grows
-into its bore), directly or through a first-order lag of :data:`BAND_LAGS_S`. The stop depends on the band only
-while the contact slides: after the last slide at time t*, in direction sigma, it holds ``sigma r(T(t*))``, so to
-first order in s the band adds the column ``-core(sigma r (T(t*) - T_ref))`` with the coefficient ``c s``. The
-saved element runs the exact moving band (:class:`~polyforce_ros.physics.chain.FrictionElement`).
+into its bore), directly or through a first-order lag of :data:`BAND_LAGS_S`. The band moves the contact only while
+it slides: after the last slide at time t*, in direction sigma, the play holds ``F(t*) - sigma r(T(t*))``, so the
+stop ``F(t) - F(t*) + sigma r(T(t*))`` changes with the band by ``sigma (r(T(t*)) - r)``, and to first order in s
+the band adds the column ``-core(sigma r (T(t*) - T_ref))`` with the coefficient ``c s``. The saved element runs the
+exact moving band (:class:`~polyforce_ros.physics.chain.FrictionElement`). What the first order leaves out: a
+contact resting at its band's edge (a hold after a ramp) is dragged by a band that narrows there and left alone by
+one that widens, which no column linear in s holds; the fit sees only the part of that drag the holds' noise does
+not already move.
 """
 from __future__ import annotations
 
@@ -32,8 +36,8 @@ FRICTION_FRACTIONS = (0.001, 0.15)
 FRICTION_NOISE_SIGMAS = 4.0
 
 #: The band's temperature lag of each thermal variant [s]: the thermometer's own temperature, or a mechanism a
-#: quarter of a minute behind it (a guide or a bushing warms through the housing).
-BAND_LAGS_S = {"thermal": 0.0, "thermal_lag15": 15.0}
+#: quarter of a minute behind it (a guide or a bushing warms through the housing). Each variant is named by its lag.
+BAND_LAGS_S = {f"thermal_lag{lag_s:g}" if lag_s else "thermal": lag_s for lag_s in (0.0, 15.0)}
 
 #: The friction's variants: a band of one width, and the bands that follow temperature.
 VARIANTS = ("", *BAND_LAGS_S)
@@ -116,8 +120,8 @@ def columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
         lagged = lagged_temperature_c(sig.t, sig.temperature, lag_s) if lag_s > 0.0 else None
         departure_c = (sig.temperature if lagged is None else lagged) - sig.temp_ref
         sigma, last = last_slides(play)
-        drive = sigma * r * departure_c[last]
-        sig.cache[band_key] = -simulate_deformation_columns(sig.reference_core, sig.t, drive[:, None])[:, 0]
+        band_change_n_c = sigma * r * departure_c[last]  # the stop's change per unit log-slope [N degC]
+        sig.cache[band_key] = -simulate_deformation_columns(sig.reference_core, sig.t, band_change_n_c[:, None])[:, 0]
     low, high = PARAMETER_BOUNDS["band_log_slope_per_c"][:2]
     return out + [("friction_band", sig.cache[band_key], low, high, "sensor", None)]
 

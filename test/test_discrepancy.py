@@ -114,6 +114,30 @@ def test_a_missing_dashpot_beside_a_drift_is_named_flow_not_a_slow_delayed_elast
     assert longest <= rec.t_s[-1] - rec.t_s[0]  # no retardation time beyond the record
 
 
+@given(st_.sampled_from(["t_s", "force_n", "voltage_v", "temperature_c"]), st_.integers(0, 5999),
+       st_.sampled_from([np.nan, np.inf, -np.inf, "short", "2-D"]))
+@settings(max_examples=60, deadline=None)
+def test_a_record_with_a_bad_signal_is_refused_with_a_message_before_any_fit(name, at, bad):
+    """Any signal (the temperature too) holding a non-finite sample, of another length or not 1-D: a ValueError that
+    says which, raised before the diagnosis fits anything."""
+    import dataclasses
+
+    from polyforce_ros.record import Record
+
+    t = np.arange(6000) * 0.01
+    good = {"t_s": t, "force_n": np.sin(t), "voltage_v": 0.1 * np.sin(t), "temperature_c": 23.0 + 0.01 * t}
+    rec = Record(**good)
+    value = good[name].copy()
+    if bad == "short":
+        value = value[:-1]
+    elif bad == "2-D":
+        value = value.reshape(-1, 2)
+    else:
+        value[at] = bad
+    with pytest.raises(ValueError, match="non-finite|shapes"):
+        diagnose(dataclasses.replace(rec, **{name: value}), base="burgers")
+
+
 def test_folds_are_interleaved_blocks_of_equal_length():
     t = np.linspace(0.0, 600.0, 60001)
     fold = fold_of(t, 0.0, 600.0, n_folds=5, blocks_per_fold=3)

@@ -347,6 +347,33 @@ def test_creep_that_speeds_up_with_a_core_behind_its_thermometer_is_named_with_t
     assert _warm_needle_rmse_fraction(diag.chain, case.truth, 200.0, 63, core_lag_s=40.0) <= 0.01
 
 
+@pytest.mark.parametrize("seed, lag_range_s", [(75, (7.0, 11.0)), (76, (20.0, 35.0))])
+def test_a_steep_clock_behind_its_thermometer_is_saved_with_the_lag_and_slope_it_has(seed, lag_range_s):
+    """A clock as steep as a polymer's near its glass transition (0.5-0.8 per degC drawn), the core's temperature
+    behind the thermometer's by a lag drawn between the clock variants' starting lags: named ``thermo_rheological``
+    alone, saved with its lag and its slope each within 25 % of the truth's, and a new needle record under a
+    temperature swing, the truth's core as far behind, compensated within 1 % of full scale."""
+    import dataclasses
+
+    from polyforce_ros.physics.chain import SensorChain, ThermoRheologicalElement
+    from polyforce_ros.sim.truths import ShiftedClockCore
+
+    rng = np.random.default_rng(seed)
+    slope, lag_s = rng.uniform(0.5, 0.8), rng.uniform(*lag_range_s)
+    rec, case = bench_record("thermo_rheological", 0.9, rate_hz=200.0, duration_s=600.0, seed=seed,
+                             families={"thermo_rheological": "arrhenius"})
+    truth = SensorChain([ShiftedClockCore(e.core, lambda temp: -slope * (temp - 24.0))
+                         if isinstance(e, ShiftedClockCore) else e for e in case.truth.elements], forward_only=True)
+    volts = truth.forward(rec.t_s, rec.force_n, aux={"temperature_c": _behind(rec.t_s, rec.temperature_c, lag_s)})
+    rec = dataclasses.replace(rec, voltage_v=volts + rng.normal(0.0, 2e-3, volts.size))
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == ["thermo_rheological"], (diag.missing_effects, diag.unexplained["partial_fits"])
+    saved = next(e for e in diag.chain.elements if isinstance(e, ThermoRheologicalElement))
+    assert saved.temperature_lag_s == pytest.approx(lag_s, rel=0.25), diag.variants
+    assert saved.shift_per_c == pytest.approx(slope, rel=0.25)
+    assert _warm_needle_rmse_fraction(diag.chain, truth, 200.0, seed, core_lag_s=lag_s) <= 0.01
+
+
 def test_creep_whose_clock_bends_toward_a_vogel_temperature_is_named_with_a_wlf_clock_and_compensates():
     """The truth's viscosities follow the Vogel-Fulcher law, ln eta = B / (T - T0) + const, T0 20 degC below the
     record's mean temperature (the clock slows ever more steeply as it cools): named ``thermo_rheological`` with a

@@ -57,7 +57,7 @@ from .signals import FloatArray, Signals
 
 __all__ = ["SPREAD_RATIO", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
            "SPLINE_INTERVALS", "KNEE_FRACTIONS", "KNEE_FLOOR_SHARE", "knees_n", "knee_beside", "volume_beside",
-           "lag_stages", "CLOCK_LAGS_S", "clock_of", "variant_group", "hints"]
+           "lag_stages", "CLOCK_LAGS_S", "CLOCK_LAG_BOUNDS_S", "clock_of", "clock_lag_variant", "variant_group", "hints"]
 
 #: Play-operator half-widths of the hysteresis fit, as fractions of the input span (a regularised
 #: non-negative weight distribution over them is fitted). 22 log-spaced, ~27 % apart: with radii up to 2x
@@ -242,8 +242,11 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
     return [("before" if path == "force" else "after", PlayHysteresisElement(linear, radii, weights, history_max=history))]
 
 
-#: Clocks beside the plain one: the core's temperature lags [s] (``lag5``...), a bent shift's WLF C2 [degC] (``wlf25``...).
+#: Clocks beside the plain one: the core's temperature lags [s] (``lag5``...: where the polish starts, it refines the
+#: lag within :data:`CLOCK_LAG_BOUNDS_S`), a bent shift's WLF C2 [degC] (``wlf25``...).
 CLOCK_LAGS_S, CLOCK_C2S_C = (5, 15, 45), (25, 80)
+#: The core's temperature lag's bounds in the polish [s]: from a thin part warming with its air to a thick housing.
+CLOCK_LAG_BOUNDS_S = (2.0, 120.0)
 
 
 def clock_of(variant: str) -> tuple[float, float]:
@@ -251,9 +254,16 @@ def clock_of(variant: str) -> tuple[float, float]:
     return float(variant[3:]) if variant[:3] == "lag" else 0.0, float(variant[3:]) if variant[:3] == "wlf" else 0.0
 
 
+def clock_lag_variant(lag_s: float, digits: int = 3) -> str:
+    """The thermo-rheological variant of a core's temperature lag [s] to ``digits`` significant digits (``lag15``,
+    ``lag23.3``): the polish refines the lag through it."""
+    return f"lag{lag_s:.{digits}g}"
+
+
 def _shift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
-    """ln of the viscosities' shift factor per degree searched [1/degC]: 0.005-0.4 (polymers in use: 0.02-0.3)."""
-    return log_grid(0.005, 0.4, 10)
+    """ln of the viscosities' shift factor per degree searched [1/degC]: 0.005-1 (polymers well below their glass
+    transition: 0.02-0.3; WLF's universal constants give 0.78 at it)."""
+    return log_grid(0.005, 1.0, 12)
 
 
 def _core_clock(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
@@ -690,7 +700,7 @@ EFFECTS: dict[str, Effect] = {
     "thermo_rheological": Effect(
         "thermo_rheological", "creep that speeds up when warm (thermo_rheological)", ("temperature_change", "hold_under_load"),
         ("temperature", "load_history"), ("thermo_rheological",), grid=_shift_grid, columns=_core_clock,
-        variants=("", *(f"lag{s}" for s in CLOCK_LAGS_S), *(f"wlf{c}" for c in CLOCK_C2S_C)),
+        variants=("", *(clock_lag_variant(s) for s in CLOCK_LAGS_S), *(f"wlf{c}" for c in CLOCK_C2S_C)),
         to_elements=_shift_elements, needs_temperature=True),
     "offset_drift": Effect(
         "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",),

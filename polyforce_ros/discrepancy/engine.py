@@ -128,7 +128,12 @@ def _check(rec: Record, base: str, effects: Optional[Collection[str]]) -> FloatA
         raise ValueError(f"base must be one of {BASES}, got {base!r}")
     if rec.force_n is None:
         raise ValueError("record has no reference force")
-    bad = ~(np.isfinite(rec.t_s) & np.isfinite(rec.force_n) & np.isfinite(rec.voltage_v))
+    signals = [("t_s", rec.t_s), ("force_n", rec.force_n), ("voltage_v", rec.voltage_v)]
+    signals += [] if rec.temperature_c is None else [("temperature_c", rec.temperature_c)]
+    shapes = {name: np.shape(x) for name, x in signals}
+    if len(set(shapes.values())) > 1 or len(shapes["t_s"]) != 1:
+        raise ValueError(f"record's signals must be 1-D of one length, got shapes {shapes}")
+    bad = ~np.logical_and.reduce([np.isfinite(np.asarray(x, dtype=float)) for _, x in signals])
     if bad.any():
         raise ValueError(f"record holds {int(bad.sum())} non-finite samples")
     if rec.t_s.size < 100 or rec.t_s[-1] - rec.t_s[0] < 30.0:

@@ -1,8 +1,8 @@
 """The nonlinear side of a fit and the structures a selection step tries.
 
 :func:`polish` refits the few time constants of a structure (the core's retardation times, a lag's, a thermal
-lag's, a settling drift's) by multi-start least squares; :func:`settle` and :func:`refine` make the columns that
-follow the core consistent with the core they fit. :func:`base_structure` fits the base core,
+lag's, a settling drift's, a clock's slope and lag) by multi-start least squares; :func:`settle` and :func:`refine`
+make the columns that follow the core consistent with the core they fit. :func:`base_structure` fits the base core,
 :func:`candidates_for` lists the structures that add one effect, :func:`without` removes one.
 """
 from __future__ import annotations
@@ -19,14 +19,19 @@ from ..physics.fitting import multistart_least_squares
 from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, Term, bounded_solve, core_model,
                      design_columns, refresh_ref, stack)
 from .columns import parameter
-from .effects import EFFECTS as REGISTRY, KNEE_FRACTIONS, PLAY_RIDGE, SPREAD_RATIO
+from .effects import (CLOCK_LAG_BOUNDS_S, EFFECTS as REGISTRY, KNEE_FRACTIONS, PLAY_RIDGE, SPREAD_RATIO, clock_lag_variant,
+                      clock_of)
 from .signals import FloatArray, Signals
 
 __all__ = ["polish", "is_core_time", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]
 
+#: The log bounds of a clock's temperature lag in the polish.
+CLOCK_LAG_LOG_BOUNDS = (math.log(CLOCK_LAG_BOUNDS_S[0]), math.log(CLOCK_LAG_BOUNDS_S[1]))
+
 
 def polish(fitter: Fitter, st: Structure) -> Structure:
-    """Polish the nonlinear time constants (core, lag, thermal lag) by multi-start least squares in log space."""
+    """Polish the nonlinear time constants (core, lag, thermal lag, a clock's slope and lag) by multi-start least
+    squares in log space."""
     idx = [("core", i) for i in range(len(st.taus))]
     # a core effect's parameter (a delayed elasticity's time) is one of the core's times, not a column's: it is not
     # polished on its own (it would stay at its grid value while the core's time moves, and without() drops the core
@@ -34,15 +39,21 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
     own_tau = {k: int(np.argmin([abs(math.log(tau / parameter(t.param))) for tau in st.taus]))
                for k, t in enumerate(st.terms) if is_core_time(t) and st.taus}
     idx += [("term", k) for k, t in enumerate(st.terms) if t.param is not None and not is_core_time(t)]
+    # a clock's temperature lag is named by its variant (lag15) and refined beside the clock's parameter: the core's
+    # temperature trails the thermometer's by however long its part takes to warm, not by a grid value
+    idx += [("clock lag", k) for k, t in enumerate(st.terms) if _clock_lag_s(t) > 0.0]
     if not idx:
         return st
-    x0 = np.log([st.taus[i] if kind == "core" else parameter(st.terms[i].param) for kind, i in idx])
+    x0 = np.log([st.taus[i] if kind == "core" else _clock_lag_s(st.terms[i]) if kind == "clock lag"
+                 else parameter(st.terms[i].param) for kind, i in idx])
 
-    def make(theta: FloatArray) -> Structure:
+    def make(theta: FloatArray, digits: int = 12) -> Structure:
         taus, terms = list(st.taus), list(st.terms)
         for (kind, i), th in zip(idx, theta):
             if kind == "core":
                 taus[i] = float(math.exp(th))
+            elif kind == "clock lag":
+                terms[i] = replace(terms[i], variant=clock_lag_variant(math.exp(th), digits))
             else:
                 terms[i] = replace(terms[i], param=float(math.exp(th)))
         for k, i in own_tau.items():
@@ -71,7 +82,8 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
     # a retardation time longer than the record cannot be told from flow within it (its creep is still a
     # straight line at the end): bounded by the record, so that a missing dashpot is not fitted as a slow Kelvin
     longest = min(TAU_BOUNDS[1], math.log(max(fitter.sig.duration_s, 1.0)))
-    bounds = [(TAU_BOUNDS[0], longest) if kind == "core" else param_log_bounds(st.terms[i], sig) for kind, i in idx]
+    bounds = [(TAU_BOUNDS[0], longest) if kind == "core" else CLOCK_LAG_LOG_BOUNDS if kind == "clock lag"
+              else param_log_bounds(st.terms[i], sig) for kind, i in idx]
     lower, upper = np.array(bounds).T
     x0 = np.clip(x0, lower, upper)
     starts = [x0]
@@ -84,7 +96,13 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
                     x[j] = np.clip(math.log(g), lower[j], upper[j])
                     starts.append(x)
     sol = multistart_least_squares(residual, starts, lower, upper, max_nfev=8 * len(idx))
-    return make(sol.x)
+    return make(sol.x, digits=3)
+
+
+
+def _clock_lag_s(term: Term) -> float:
+    """The core's temperature lag [s] a thermo-rheological term's variant names (0: none)."""
+    return clock_of(term.variant)[0] if term.effect == "thermo_rheological" else 0.0
 
 
 def is_core_time(term: Term) -> bool:

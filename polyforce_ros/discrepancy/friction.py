@@ -24,8 +24,8 @@ from ..physics.viscoelastic import simulate_deformation_columns
 from .columns import Col, Slot, log_grid, parameter
 from .signals import FloatArray, IntArray, Signals, noise_std
 
-__all__ = ["FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "BAND_LAGS_S", "VARIANTS", "force_noise_n", "at_noise_limit",
-           "last_slides", "grid", "columns", "elements"]
+__all__ = ["FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "BAND_LAGS_S", "BAND_SLOPE_BOUNDS_PER_C", "VARIANTS",
+           "force_noise_n", "at_noise_limit", "last_slides", "grid", "columns", "elements"]
 
 #: Stiction half-widths searched for a friction, as fractions of the force span; the polish refines the radius
 #: within them (:func:`.refit.param_log_bounds`).
@@ -38,6 +38,8 @@ FRICTION_NOISE_SIGMAS = 4.0
 #: The band's temperature lag of each thermal variant [s]: the thermometer's own temperature, or a mechanism a
 #: quarter of a minute behind it (a guide or a bushing warms through the housing). Each variant is named by its lag.
 BAND_LAGS_S = {f"thermal_lag{lag_s:g}" if lag_s else "thermal": lag_s for lag_s in (0.0, 15.0)}
+#: The band's log-slope's bounds [1/degC] (the model file's): the bounds of its column's weight, and of the slope saved.
+BAND_SLOPE_BOUNDS_PER_C = PARAMETER_BOUNDS["band_log_slope_per_c"][:2]
 
 #: The friction's variants: a band of one width, and the bands that follow temperature.
 VARIANTS = ("", *BAND_LAGS_S)
@@ -122,7 +124,7 @@ def columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
         sigma, last = last_slides(play)
         band_change_n_c = sigma * r * departure_c[last]  # the stop's change per unit log-slope [N degC]
         sig.cache[band_key] = -simulate_deformation_columns(sig.reference_core, sig.t, band_change_n_c[:, None])[:, 0]
-    low, high = PARAMETER_BOUNDS["band_log_slope_per_c"][:2]
+    low, high = BAND_SLOPE_BOUNDS_PER_C
     return out + [("friction_band", sig.cache[band_key], low, high, "sensor", None)]
 
 
@@ -134,7 +136,7 @@ def elements(coef: Mapping[str, float], variant: str, param: Optional[float], si
         return []
     if variant not in BAND_LAGS_S:
         return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling))]
-    low, high = PARAMETER_BOUNDS["band_log_slope_per_c"][:2]
+    low, high = BAND_SLOPE_BOUNDS_PER_C
     ref_low, ref_high = PARAMETER_BOUNDS["reference_c"][:2]
     slope = float(np.clip(coef.get("friction_band", 0.0) / coupling, low, high))
     return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling, band_log_slope_per_c=slope,

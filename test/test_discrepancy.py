@@ -119,9 +119,11 @@ def test_a_missing_dashpot_beside_a_drift_is_named_flow_not_a_slow_delayed_elast
 @settings(max_examples=60, deadline=None)
 def test_a_record_with_a_bad_signal_is_refused_with_a_message_before_any_fit(name, at, bad):
     """Any signal (the temperature too) holding a non-finite sample, of another length or not 1-D: a ValueError that
-    says which, raised before the diagnosis fits anything."""
+    names it, raised before the diagnosis builds the signals it fits."""
     import dataclasses
+    from unittest import mock
 
+    from polyforce_ros.discrepancy import engine
     from polyforce_ros.record import Record
 
     t = np.arange(6000) * 0.01
@@ -134,7 +136,9 @@ def test_a_record_with_a_bad_signal_is_refused_with_a_message_before_any_fit(nam
         value = value.reshape(-1, 2)
     else:
         value[at] = bad
-    with pytest.raises(ValueError, match="non-finite|shapes"):
+    reached = AssertionError("a bad record reached the fit")
+    with mock.patch.object(engine, "_signals", side_effect=reached), \
+            pytest.raises(ValueError, match=f"(non-finite|shapes).*{name}"):
         diagnose(dataclasses.replace(rec, **{name: value}), base="burgers")
 
 

@@ -391,10 +391,13 @@ def test_a_fitted_thermal_band_is_saved_as_its_friction_element():
 @given(st.floats(1.0, 200.0))
 @settings(max_examples=200, deadline=None)
 def test_a_clock_lag_variant_names_the_lag_it_is_made_from(lag_s):
-    """The polish refines a clock's lag through its variant's name: at full precision the name gives the lag back
-    (so the polish sees every step it takes), at three digits within half a per cent (what the diagnosis reports)."""
-    from polyforce_ros.discrepancy.effects import CLOCK_LAGS_S, EFFECTS, clock_lag_variant, clock_of
+    """The polish refines a clock's lag through its variant's name: at twelve digits the name gives the lag back and
+    a step of the least squares' size (1e-8) changes it (so the polish sees every step it takes), at three digits
+    within half a per cent (what the diagnosis reports)."""
+    from polyforce_ros.discrepancy.effects import EFFECTS, clock_lag_variant, clock_of
 
-    assert clock_of(clock_lag_variant(lag_s, 12)) == (pytest.approx(lag_s, rel=1e-10), 0.0)
+    assert clock_of(clock_lag_variant(lag_s, 12)) == (pytest.approx(lag_s, rel=1e-11), 0.0)
+    stepped = clock_of(clock_lag_variant(lag_s * (1.0 + 1e-8), 12))[0]
+    assert stepped > clock_of(clock_lag_variant(lag_s, 12))[0]
     assert clock_of(clock_lag_variant(lag_s))[0] == pytest.approx(lag_s, rel=5e-3)
-    assert {clock_lag_variant(s) for s in CLOCK_LAGS_S} <= set(EFFECTS["thermo_rheological"].variants)
+    assert {"lag5", "lag15", "lag45"} <= set(EFFECTS["thermo_rheological"].variants)

@@ -255,8 +255,22 @@ def clock_of(variant: str) -> tuple[float, float]:
 
 
 def clock_lag_variant(lag_s: float, digits: int = 3) -> str:
-    """The thermo-rheological variant of a core's temperature lag [s] to ``digits`` significant digits (``lag15``,
-    ``lag23.3``): the polish refines the lag through it."""
+    """The thermo-rheological variant of a core's temperature lag.
+
+    Parameters
+    ----------
+    lag_s : float
+        The core's temperature lag behind the thermometer's [s].
+    digits : int
+        Significant digits the name keeps: 3 for an answer (``lag15``, ``lag23.3``), 12 while the polish refines the
+        lag through the name (the lag back to 1e-12, far finer than the least squares' steps of about 1e-8, so it
+        sees every step it takes).
+
+    Returns
+    -------
+    str
+        The variant, read back by :func:`clock_of`.
+    """
     return f"lag{lag_s:.{digits}g}"
 
 

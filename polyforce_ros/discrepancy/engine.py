@@ -133,9 +133,10 @@ def _check(rec: Record, base: str, effects: Optional[Collection[str]]) -> FloatA
     shapes = {name: np.shape(x) for name, x in signals}
     if len(set(shapes.values())) > 1 or len(shapes["t_s"]) != 1:
         raise ValueError(f"record's signals must be 1-D of one length, got shapes {shapes}")
-    bad = ~np.logical_and.reduce([np.isfinite(np.asarray(x, dtype=float)) for _, x in signals])
-    if bad.any():
-        raise ValueError(f"record holds {int(bad.sum())} non-finite samples")
+    bad = {name: int(np.sum(~np.isfinite(np.asarray(x, dtype=float)))) for name, x in signals}
+    if any(bad.values()):
+        raise ValueError("record holds non-finite samples: "
+                         + ", ".join(f"{count} in {name}" for name, count in bad.items() if count))
     if rec.t_s.size < 100 or rec.t_s[-1] - rec.t_s[0] < 30.0:
         raise ValueError("record too short for a diagnosis (need at least 30 s)")
     unknown = sorted(set(effects or ()) - set(NAMES))

@@ -1,7 +1,7 @@
 """The nonlinear side of a fit and the structures a selection step tries.
 
-:func:`polish` refits the few time constants of a structure (the core's retardation times, a lag's, a thermal
-lag's, a settling drift's, a clock's slope and lag) by multi-start least squares; :func:`settle` and :func:`refine`
+:func:`polish` refits the few nonlinear parameters of a structure (the core's retardation times, a lag's, a
+thermal lag's, a settling drift's, a clock's slope and lag) by multi-start least squares; :func:`settle` and :func:`refine`
 make the columns that follow the core consistent with the core they fit. :func:`base_structure` fits the base core,
 :func:`candidates_for` lists the structures that add one effect, :func:`without` removes one.
 """
@@ -25,13 +25,13 @@ from .signals import FloatArray, Signals
 
 __all__ = ["polish", "is_core_time", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]
 
-#: The log bounds of a clock's temperature lag in the polish.
+#: The bounds of a clock's temperature lag in the polish [ln s].
 CLOCK_LAG_LOG_BOUNDS = (math.log(CLOCK_LAG_BOUNDS_S[0]), math.log(CLOCK_LAG_BOUNDS_S[1]))
 
 
 def polish(fitter: Fitter, st: Structure) -> Structure:
-    """Polish the nonlinear time constants (core, lag, thermal lag, a clock's slope and lag) by multi-start least
-    squares in log space."""
+    """Polish the nonlinear parameters (the core's times, a lag's, a thermal lag's [s], a clock's slope [1/degC] and
+    lag [s]) by multi-start least squares in log space."""
     idx = [("core", i) for i in range(len(st.taus))]
     # a core effect's parameter (a delayed elasticity's time) is one of the core's times, not a column's: it is not
     # polished on its own (it would stay at its grid value while the core's time moves, and without() drops the core
@@ -97,7 +97,6 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
                     starts.append(x)
     sol = multistart_least_squares(residual, starts, lower, upper, max_nfev=8 * len(idx))
     return make(sol.x, digits=3)
-
 
 
 def _clock_lag_s(term: Term) -> float:

@@ -335,20 +335,19 @@ def _friction_signals(temperature_c):
                    span_f=float(np.ptp(force)))
 
 
-@pytest.mark.parametrize("variant", ["thermal", "thermal_lag15"])
+@pytest.mark.parametrize("variant", ["thermal", "thermal_lag15", "thermal_lag47.5"])  # the last as the polish names it
 def test_the_thermal_band_column_is_the_first_order_change_of_the_stop_with_its_band(variant):
     """The band column times the log-slope s is the change of the core's output when the stop's band is
     r exp(s (T - T_ref)), to first order in s: the error left falls faster than s (about as s**1.5, since a
     reversal moves by O(s) in time as well), so it is a small part of the change."""
     from polyforce_ros.discrepancy.effects import EFFECTS
-    from polyforce_ros.discrepancy.friction import BAND_LAGS_S
     from polyforce_ros.physics.chain import lagged_temperature_c, play_operator
     from polyforce_ros.physics.viscoelastic import simulate_deformation_columns
 
     sig = _friction_signals(lambda t: 20.0 + 8.0 * np.sin(2 * np.pi * t / 300.0))
     radius_n = 0.4
     cols = {c[0]: c[1] for c in EFFECTS["friction"].columns(sig, variant, radius_n)}
-    lag_s = BAND_LAGS_S[variant]
+    lag_s = {"thermal": 0.0, "thermal_lag15": 15.0, "thermal_lag47.5": 47.5}[variant]
     temp = lagged_temperature_c(sig.t, sig.temp, lag_s) if lag_s else sig.temp
 
     def core_of_stop(slope):
@@ -401,3 +400,25 @@ def test_a_clock_lag_variant_names_the_lag_it_is_made_from(lag_s):
     assert stepped > clock_of(clock_lag_variant(lag_s, 12))[0]
     assert clock_of(clock_lag_variant(lag_s))[0] == pytest.approx(lag_s, rel=5e-3)
     assert {"lag5", "lag15", "lag45"} <= set(EFFECTS["thermo_rheological"].variants)
+
+
+@given(st.floats(1.0, 200.0))
+@settings(max_examples=200, deadline=None)
+def test_a_friction_band_lag_variant_names_its_lag_and_is_tested_as_the_grid_variant_it_started_from(lag_s):
+    """A friction band's lag is refined through its variant's name like a clock's; whatever lag it gets, the variant
+    is the grid's lagged band for the significance test of its band column (``extends``), and its element follows the
+    refined lag (its column: the band column's test)."""
+    from polyforce_ros.discrepancy.effects import EFFECTS
+    from polyforce_ros.discrepancy.friction import BAND_LAGS_S, band_lag_s, band_lag_variant, is_band
+
+    friction = EFFECTS["friction"]
+    assert band_lag_s(band_lag_variant(lag_s, 12)) == pytest.approx(lag_s, rel=1e-11)
+    assert band_lag_s(band_lag_variant(lag_s * (1.0 + 1e-8), 12)) > band_lag_s(band_lag_variant(lag_s, 12))
+    assert band_lag_s(band_lag_variant(lag_s)) == pytest.approx(lag_s, rel=5e-3)
+    refined = band_lag_variant(lag_s)
+    assert is_band(refined) and friction.grid_variant(refined) in friction.extends
+    assert friction.grid_variant(refined) in BAND_LAGS_S and BAND_LAGS_S[friction.grid_variant(refined)] > 0.0
+    assert [friction.grid_variant(v) for v in friction.variants] == list(friction.variants)
+    coef = {"friction": 1.0, "friction_band": 0.05}
+    element = friction.to_elements(coef, refined, 0.2, _friction_signals(lambda t: 20.0 + 0.0 * t))[0][1]
+    assert element.temperature_lag_s == pytest.approx(band_lag_s(refined))

@@ -32,7 +32,7 @@ form: j0 F + phi int F + sum_i c_i K_{tau_i}(F), K a unit-gain first-order lag.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Mapping, Optional, Sequence
+from typing import Callable, Mapping, Optional, Sequence
 
 import numpy as np
 import numpy.typing as npt
@@ -72,6 +72,11 @@ SCALED_RADII: FloatArray = np.geomspace(0.003, 1.0, 26)
 #: The scaled plays' floor, as a fraction of the force span: below it a band stops shrinking with the load (noise
 #: about zero force does not open a loop of its own).
 SCALED_FLOOR_FRACTION = 0.02
+
+
+def _same(variant: str) -> str:
+    """A variant that is its own grid variant (its name carries no refined parameter)."""
+    return variant
 
 
 def _single(variant: str, sig: Signals) -> list[Optional[float]]:
@@ -131,6 +136,9 @@ class Effect:
     summed : tuple of str
         Variants of ``extends`` whose added columns are the weights of one distribution (most of them at zero): the
         sum of the added weights must be significant, not each weight.
+    grid_variant : callable
+        ``variant ->`` the variant of ``variants`` it was refined from (a variant whose name carries a parameter the
+        polish refines: friction's band lag); ``extends`` and ``grid`` are keyed by that one.
     """
 
     name: str
@@ -150,6 +158,7 @@ class Effect:
     also_holds: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     core_times: Mapping[str, int] = field(default_factory=dict)
     summed: tuple[str, ...] = ()
+    grid_variant: Callable[[str], str] = _same
 
 
 # --------------------------------------------------------------------------- columns and elements
@@ -685,7 +694,7 @@ EFFECTS: dict[str, Effect] = {
         ("load_direction",), ("friction",), grid=friction.grid, columns=friction.columns, to_elements=friction.elements,
         # a band of one width, or one that follows the mechanism's temperature (chosen only when its band column is
         # significant)
-        variants=friction.VARIANTS, extends={v: "" for v in friction.BAND_LAGS_S},
+        variants=friction.VARIANTS, extends={v: "" for v in friction.BAND_LAGS_S}, grid_variant=friction.grid_variant,
         # a partial friction is a single force play (F - c stop = (1 - c) F + c play), and a few plays are a spread
         # friction: with both named, each takes the other's misfit between their radii
         rivals=("hysteresis",)),

@@ -4,14 +4,14 @@ mechanism), its search grid, its design columns and its chain element.
 The core sees ``F - c stop_r(F)``, ``stop_r(F) = F - play_r(F)``: c is the coupling (1 for a rigid contact) and
 the stop's design column is the reference core's output for it. In the ``thermal`` variants the band follows the
 mechanism's temperature, ``r(T) = r exp(s (T - T_ref))`` (grease that stiffens in the cold, a bushing that grows
-into its bore), directly or through a first-order lag of :data:`BAND_LAGS_S`. The band moves the contact only while
-it slides: after the last slide at time t*, in direction sigma, the play holds ``F(t*) - sigma r(T(t*))``, so the
-stop ``F(t) - F(t*) + sigma r(T(t*))`` changes with the band by ``sigma (r(T(t*)) - r)``, and to first order in s
-the band adds the column ``-core(sigma r (T(t*) - T_ref))`` with the coefficient ``c s``. The saved element runs the
-exact moving band (:class:`~polyforce_ros.physics.chain.FrictionElement`). What the first order leaves out: a
-contact resting at its band's edge (a hold after a ramp) is dragged by a band that narrows there and left alone by
-one that widens, which no column linear in s holds; the fit sees only the part of that drag the holds' noise does
-not already move.
+into its bore), directly or through a first-order lag (starting from :data:`LAGGED_START_S`, refined by the polish
+within :data:`BAND_LAG_BOUNDS_S`). The band moves the contact only while it slides: after the last slide at time
+t*, in direction sigma, the play holds ``F(t*) - sigma r(T(t*))``, so the stop ``F(t) - F(t*) + sigma r(T(t*))``
+changes with the band by ``sigma (r(T(t*)) - r)``, and to first order in s the band adds the column
+``-core(sigma r (T(t*) - T_ref))`` with the coefficient ``c s``. The saved element runs the exact moving band
+(:class:`~polyforce_ros.physics.chain.FrictionElement`). What the first order leaves out: a contact resting at its
+band's edge (a hold after a ramp) is dragged by a band that narrows there and left alone by one that widens, which
+no column linear in s holds; the fit sees only the part of that drag the holds' noise does not already move.
 """
 from __future__ import annotations
 
@@ -24,7 +24,8 @@ from ..physics.viscoelastic import simulate_deformation_columns
 from .columns import Col, Slot, log_grid, parameter
 from .signals import FloatArray, IntArray, Signals, noise_std
 
-__all__ = ["FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "BAND_LAGS_S", "BAND_SLOPE_BOUNDS_PER_C", "VARIANTS",
+__all__ = ["FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "LAGGED_START_S", "BAND_LAGS_S", "BAND_LAG_BOUNDS_S",
+           "BAND_SLOPE_BOUNDS_PER_C", "VARIANTS", "band_lag_variant", "band_lag_s", "is_band", "grid_variant",
            "force_noise_n", "at_noise_limit", "last_slides", "grid", "columns", "elements"]
 
 #: Stiction half-widths searched for a friction, as fractions of the force span; the polish refines the radius
@@ -35,14 +36,42 @@ FRICTION_FRACTIONS = (0.001, 0.15)
 #: than a few of them acts on that noise (it smooths the force the model reads), not on the sensor.
 FRICTION_NOISE_SIGMAS = 4.0
 
-#: The band's temperature lag of each thermal variant [s]: the thermometer's own temperature, or a mechanism a
-#: quarter of a minute behind it (a guide or a bushing warms through the housing). Each variant is named by its lag.
-BAND_LAGS_S = {f"thermal_lag{lag_s:g}" if lag_s else "thermal": lag_s for lag_s in (0.0, 15.0)}
+#: The lagged band's lag where the polish starts to refine it [s]: a mechanism a quarter of a minute behind the
+#: thermometer (a guide or a bushing warms through the housing).
+LAGGED_START_S = 15.0
+#: The band's temperature lag of each thermal variant on the grid [s]: the thermometer's own temperature, or
+#: :data:`LAGGED_START_S`. Each variant is named by its lag (:func:`band_lag_variant`).
+BAND_LAGS_S = {"thermal": 0.0, f"thermal_lag{LAGGED_START_S:g}": LAGGED_START_S}
+#: The lagged band's lag's bounds in the polish [s]: from a guide warming with the air to one inside a thick housing.
+BAND_LAG_BOUNDS_S = (2.0, 120.0)
 #: The band's log-slope's bounds [1/degC] (the model file's): the bounds of its column's weight, and of the slope saved.
 BAND_SLOPE_BOUNDS_PER_C = PARAMETER_BOUNDS["band_log_slope_per_c"][:2]
 
 #: The friction's variants: a band of one width, and the bands that follow temperature.
 VARIANTS = ("", *BAND_LAGS_S)
+
+
+def band_lag_variant(lag_s: float, digits: int = 3) -> str:
+    """The thermal variant whose band trails the thermometer by ``lag_s`` [s] (0: ``thermal``), its lag kept to
+    ``digits`` significant digits (3 in an answer: ``thermal_lag21.4``; 12 while the polish refines the lag through
+    the name, finer than the least squares' steps)."""
+    return f"thermal_lag{lag_s:.{digits}g}" if lag_s > 0.0 else "thermal"
+
+
+def band_lag_s(variant: str) -> float:
+    """The band's temperature lag [s] a variant names (0: the thermometer's own temperature, or no band)."""
+    return float(variant[len("thermal_lag"):]) if variant.startswith("thermal_lag") else 0.0
+
+
+def is_band(variant: str) -> bool:
+    """Whether a variant's band follows the temperature (a thermal variant, its lag refined or not)."""
+    return variant.startswith("thermal")
+
+
+def grid_variant(variant: str) -> str:
+    """The grid variant a variant was refined from (:attr:`.effects.Effect.grid_variant`): a lagged band's start,
+    whatever lag the polish gave it."""
+    return band_lag_variant(LAGGED_START_S) if band_lag_s(variant) > 0.0 else variant
 
 
 def force_noise_n(sig: Signals) -> float:
@@ -63,7 +92,7 @@ def _narrowest_band_n(sig: Signals) -> float:
 def grid(variant: str, sig: Signals) -> list[Optional[float]]:
     """Half-widths (N) of the stiction band searched: from :func:`_narrowest_band_n` to 15 % of the force span;
     none for a thermal variant on a record without temperature."""
-    if variant in BAND_LAGS_S and sig.temp is None:
+    if is_band(variant) and sig.temp is None:
         return []
     low = _narrowest_band_n(sig)
     return log_grid(low, max(FRICTION_FRACTIONS[1] * sig.span_f, 2.0 * low), 12)
@@ -114,11 +143,11 @@ def columns(sig: Signals, variant: str, param: Optional[float]) -> list[Col]:
         sig.cache[key] = (-simulate_deformation_columns(sig.reference_core, sig.t, (f - play)[:, None])[:, 0], play)
     stop_column, play = sig.cache[key]
     out: list[Col] = [("friction", stop_column, 0.0, 1.0, "sensor", None)]
-    if variant not in BAND_LAGS_S:
+    if not is_band(variant):
         return out
     band_key = ("friction band column", variant, r)
     if band_key not in sig.cache:
-        lag_s = BAND_LAGS_S[variant]
+        lag_s = band_lag_s(variant)
         lagged = lagged_temperature_c(sig.t, sig.temperature, lag_s) if lag_s > 0.0 else None
         departure_c = (sig.temperature if lagged is None else lagged) - sig.temp_ref
         sigma, last = last_slides(play)
@@ -134,11 +163,11 @@ def elements(coef: Mapping[str, float], variant: str, param: Optional[float], si
     coupling = float(np.clip(coef.get("friction", 0.0), 0.0, 1.0))
     if coupling <= 0.0:
         return []
-    if variant not in BAND_LAGS_S:
+    if not is_band(variant):
         return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling))]
     low, high = BAND_SLOPE_BOUNDS_PER_C
     ref_low, ref_high = PARAMETER_BOUNDS["reference_c"][:2]
     slope = float(np.clip(coef.get("friction_band", 0.0) / coupling, low, high))
     return [("before", FrictionElement(radius_n=parameter(param), coupling=coupling, band_log_slope_per_c=slope,
                                        reference_c=float(np.clip(sig.temp_ref, ref_low, ref_high)),
-                                       temperature_lag_s=BAND_LAGS_S[variant]))]
+                                       temperature_lag_s=band_lag_s(variant)))]

@@ -21,17 +21,19 @@ from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, T
 from .columns import parameter
 from .effects import (CLOCK_LAG_BOUNDS_S, EFFECTS as REGISTRY, KNEE_FRACTIONS, PLAY_RIDGE, SPREAD_RATIO, clock_lag_variant,
                       clock_of)
+from .friction import BAND_LAG_BOUNDS_S, band_lag_s, band_lag_variant
 from .signals import FloatArray, Signals
 
 __all__ = ["polish", "is_core_time", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]
 
-#: The bounds of a clock's temperature lag in the polish [ln s].
+#: The bounds of a clock's and of a friction band's temperature lag in the polish [ln s].
 CLOCK_LAG_LOG_BOUNDS = (math.log(CLOCK_LAG_BOUNDS_S[0]), math.log(CLOCK_LAG_BOUNDS_S[1]))
+BAND_LAG_LOG_BOUNDS = (math.log(BAND_LAG_BOUNDS_S[0]), math.log(BAND_LAG_BOUNDS_S[1]))
 
 
 def polish(fitter: Fitter, st: Structure) -> Structure:
     """Polish the nonlinear parameters (the core's times, a lag's, a thermal lag's [s], a clock's slope [1/degC] and
-    lag [s]) by multi-start least squares in log space."""
+    lag [s], a friction band's lag [s]) by multi-start least squares in log space."""
     idx = [("core", i) for i in range(len(st.taus))]
     # a core effect's parameter (a delayed elasticity's time) is one of the core's times, not a column's: it is not
     # polished on its own (it would stay at its grid value while the core's time moves, and without() drops the core
@@ -42,9 +44,12 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
     # a clock's temperature lag is named by its variant (lag15) and refined beside the clock's parameter: the core's
     # temperature trails the thermometer's by however long its part takes to warm, not by a grid value
     idx += [("clock lag", k) for k, t in enumerate(st.terms) if _clock_lag_s(t) > 0.0]
+    # so is a friction band's: a guide's temperature trails the thermometer's as its housing lets it
+    idx += [("band lag", k) for k, t in enumerate(st.terms) if _band_lag_s(t) > 0.0]
     if not idx:
         return st
     x0 = np.log([st.taus[i] if kind == "core" else _clock_lag_s(st.terms[i]) if kind == "clock lag"
+                 else _band_lag_s(st.terms[i]) if kind == "band lag"
                  else parameter(st.terms[i].param) for kind, i in idx])
 
     def make(theta: FloatArray, digits: int = 12) -> Structure:
@@ -54,6 +59,8 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
                 taus[i] = float(math.exp(th))
             elif kind == "clock lag":
                 terms[i] = replace(terms[i], variant=clock_lag_variant(math.exp(th), digits))
+            elif kind == "band lag":
+                terms[i] = replace(terms[i], variant=band_lag_variant(math.exp(th), digits))
             else:
                 terms[i] = replace(terms[i], param=float(math.exp(th)))
         for k, i in own_tau.items():
@@ -83,14 +90,15 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
     # straight line at the end): bounded by the record, so that a missing dashpot is not fitted as a slow Kelvin
     longest = min(TAU_BOUNDS[1], math.log(max(fitter.sig.duration_s, 1.0)))
     bounds = [(TAU_BOUNDS[0], longest) if kind == "core" else CLOCK_LAG_LOG_BOUNDS if kind == "clock lag"
-              else param_log_bounds(st.terms[i], sig) for kind, i in idx]
+              else BAND_LAG_LOG_BOUNDS if kind == "band lag" else param_log_bounds(st.terms[i], sig) for kind, i in idx]
     lower, upper = np.array(bounds).T
     x0 = np.clip(x0, lower, upper)
     starts = [x0]
     for j, (kind, i) in enumerate(idx):
-        if kind == "term" and st.terms[i].variant in REGISTRY[st.terms[i].effect].extends:
+        eff = REGISTRY[st.terms[i].effect] if kind == "term" else None
+        if eff is not None and eff.grid_variant(st.terms[i].variant) in eff.extends:
             # a variant that extends a smaller one has that variant's optima too: start from each grid value
-            for g in REGISTRY[st.terms[i].effect].grid(st.terms[i].variant, sig):
+            for g in eff.grid(eff.grid_variant(st.terms[i].variant), sig):
                 if g is not None:
                     x = x0.copy()
                     x[j] = np.clip(math.log(g), lower[j], upper[j])
@@ -102,6 +110,11 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
 def _clock_lag_s(term: Term) -> float:
     """The core's temperature lag [s] a thermo-rheological term's variant names (0: none)."""
     return clock_of(term.variant)[0] if term.effect == "thermo_rheological" else 0.0
+
+
+def _band_lag_s(term: Term) -> float:
+    """The band's temperature lag [s] a friction term's variant names (0: none)."""
+    return band_lag_s(term.variant) if term.effect == "friction" else 0.0
 
 
 def is_core_time(term: Term) -> bool:

@@ -335,7 +335,7 @@ class Selection:
                 smallest_fit[v] = f
 
         def kept_beside_smaller(f: Fit) -> bool:
-            v = _variant(f, name)
+            v = REGISTRY[name].grid_variant(_variant(f, name))
             if v not in extends:
                 return True
             co = f.coefficients()

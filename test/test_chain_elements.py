@@ -690,7 +690,7 @@ def test_a_peeked_temperature_lag_is_the_update_it_foretells_and_moves_nothing(t
 
 @settings(max_examples=200, deadline=None)
 @given(departure=st.one_of(st.floats(-1e3, 1e3), st.sampled_from([float("nan"), float("inf"), -float("inf")])),
-       shift=st.floats(0.0, 2.0), c2=st.one_of(st.just(0.0), st.floats(1.0, 1e4)))
+       shift=st.floats(-2.0, 2.0), c2=st.one_of(st.just(0.0), st.floats(1.0, 1e4)))
 def test_the_shift_law_of_one_sample_is_the_shift_law_of_an_array(departure, shift, c2):
     from polyforce_ros.physics.chain import log_shift
 
@@ -702,12 +702,14 @@ def test_the_shift_law_of_one_sample_is_the_shift_law_of_an_array(departure, shi
 
 
 @settings(max_examples=30, deadline=None)
-@given(shift=st.floats(0.0, 0.3), swing=st.floats(0.0, 8.0), seed=st.integers(0, 2**31 - 1),
+@given(shift=st.floats(-0.3, 0.3), swing=st.floats(0.0, 8.0), seed=st.integers(0, 2**31 - 1),
        lag_s=st.one_of(st.just(0.0), st.floats(0.5, 60.0)), c2=st.one_of(st.just(0.0), st.floats(1.0, 200.0)))
 def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_streaming_and_in_blocks(shift, swing, seed,
                                                                                                    lag_s, c2):
+    """A clock that runs faster when warm (shift > 0, straight or bent) or slower (shift < 0, straight)."""
     from polyforce_ros.physics.chain import ThermoRheologicalElement, ViscoelasticElement, reduced_time_s
 
+    c2 = c2 if shift >= 0.0 else 0.0
     rng = np.random.default_rng(seed)
     core = ViscoelasticElement(PAPER_BURGERS)
     e = ThermoRheologicalElement(core, shift, 24.0, temperature_lag_s=lag_s, wlf_c2_c=c2)
@@ -727,7 +729,7 @@ def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_str
     # the WLF law as Williams, Landel and Ferry write it, log10 a_T = -C1 dT / (C2 + dT), with C1 from the slope at
     # the reference (b = C1 ln 10 / C2), the clock stopped (a_T = e**-10) at and below -C2
     d = core_c - 24.0
-    if c2 > 0.0:
+    if c2 > 0.0 and shift > 0.0:  # a shift of zero is no shift, bent or not
         c1 = shift * c2 / np.log(10.0)
         with np.errstate(divide="ignore", invalid="ignore"):
             ln_a = np.where(d > -c2, np.log(10.0) * c1 * d / (c2 + d), -np.inf)
@@ -752,7 +754,8 @@ def test_a_thermo_rheological_core_runs_on_the_reduced_time_forward_backward_str
     np.testing.assert_allclose(e.forward(t, force), core.forward(t, force), atol=1e-12)
 
 
-@pytest.mark.parametrize("bad", [{"shift_per_c": -0.1}, {"shift_per_c": 5.0}, {"shift_per_c": float("nan")},
+@pytest.mark.parametrize("bad", [{"shift_per_c": -5.0}, {"shift_per_c": 5.0}, {"shift_per_c": float("nan")},
+                                 {"shift_per_c": -0.1, "wlf_c2_c": 50.0},
                                  {"reference_c": 1e4}, {"core": [1.0]}, {"core": {"type": "gain", "gain": 1.0}},
                                  {"temperature_lag_s": -1.0}, {"temperature_lag_s": 1e-5}, {"temperature_lag_s": 1e7},
                                  {"temperature_lag_s": "10"}, {"temperature_lag_s": float("inf")}, {"lag_s": 10.0},
@@ -765,7 +768,8 @@ def test_a_thermo_rheological_element_outside_its_ranges_is_a_model_error(bad):
     # a core on its thermometer's temperature, on a straight law, writes the file it always did
     assert "temperature_lag_s" not in good and "wlf_c2_c" not in good
     assert ThermoRheologicalElement.from_dict(good).to_dict() == good
-    for more in ({"temperature_lag_s": 30.0}, {"wlf_c2_c": 45.0}, {"temperature_lag_s": 3.0, "wlf_c2_c": 120.0}):
+    for more in ({"temperature_lag_s": 30.0}, {"wlf_c2_c": 45.0}, {"temperature_lag_s": 3.0, "wlf_c2_c": 120.0},
+                 {"shift_per_c": -0.3}, {"shift_per_c": -0.3, "temperature_lag_s": 10.0}):
         assert ThermoRheologicalElement.from_dict({**good, **more}).to_dict() == {**good, **more}
     with pytest.raises(ModelError):
         ThermoRheologicalElement.from_dict({**good, **bad})

@@ -400,6 +400,13 @@ def test_a_clock_lag_variant_names_the_lag_it_is_made_from(lag_s):
     assert stepped > clock_of(clock_lag_variant(lag_s, 12))[0]
     assert clock_of(clock_lag_variant(lag_s))[0] == pytest.approx(lag_s, rel=5e-3)
     assert {"lag5", "lag15", "lag45"} <= set(EFFECTS["thermo_rheological"].variants)
+    # a clock that slows as it warms: the same lag, the other sign
+    from polyforce_ros.discrepancy.effects import clock_sign
+
+    slowing = clock_lag_variant(lag_s, 12, slowing=True)
+    assert clock_of(slowing) == clock_of(clock_lag_variant(lag_s, 12)) and clock_sign(slowing) == -1.0
+    assert clock_sign(clock_lag_variant(lag_s)) == 1.0 and clock_sign("wlf25") == 1.0 and clock_sign("slowing") == -1.0
+    assert {"slowing", "slowing_lag15"} <= set(EFFECTS["thermo_rheological"].variants)
 
 
 @given(st.floats(1.0, 200.0))

@@ -246,6 +246,17 @@ def _warm_needle_rmse_fraction(chain, truth, rate_hz, seed, core_lag_s=0.0):
     return float(np.sqrt(np.mean((out - force) ** 2)) / np.ptp(force))
 
 
+def _named_alone(rec, volts, rng, effect, element_type):
+    """Diagnose ``rec`` read as ``volts`` with 2 mV of noise from ``rng``: ``effect`` must be named alone. Returns the
+    diagnosis and its saved element of ``element_type``."""
+    import dataclasses
+
+    rec = dataclasses.replace(rec, voltage_v=volts + rng.normal(0.0, 2e-3, volts.size))
+    diag = diagnose(rec, base="burgers")
+    assert diag.missing_effects == [effect], (diag.missing_effects, diag.unexplained["partial_fits"])
+    return diag, next(e for e in diag.chain.elements if isinstance(e, element_type))
+
+
 @pytest.mark.parametrize("magnitude, seed, rate_hz", [(0.3, 41, 200.0), (0.9, 42, 1000.0)])
 def test_a_span_that_follows_temperature_is_named_and_its_saved_model_compensates_a_new_record(magnitude, seed, rate_hz):
     from polyforce_ros.physics.chain import ThermalSensitivityElement
@@ -311,8 +322,6 @@ def test_a_friction_band_far_behind_its_thermometer_is_saved_with_the_lag_and_sl
     and its slope each within 25 % of the truth's. A new record of the sensor, slow 0-10 N ramps while the temperature
     swings, is compensated within 1 % of full scale, and better than with the band's lag at the search's start: the
     lag is worth its refinement in newtons."""
-    import dataclasses
-
     from polyforce_ros.physics.chain import FrictionElement, SensorChain
     from polyforce_ros.sim.bench import random_temperature
 
@@ -323,10 +332,7 @@ def test_a_friction_band_far_behind_its_thermometer_is_saved_with_the_lag_and_sl
                            band_log_slope_per_c=slope, reference_c=24.0, temperature_lag_s=lag_s)
     truth = SensorChain([band, *case.truth.elements], forward_only=True)
     volts = truth.forward(rec.t_s, rec.force_n, aux={"temperature_c": rec.temperature_c})
-    rec = dataclasses.replace(rec, voltage_v=volts + rng.normal(0.0, 2e-3, volts.size))
-    diag = diagnose(rec, base="burgers")
-    assert diag.missing_effects == ["friction"], (diag.missing_effects, diag.unexplained["partial_fits"])
-    saved = next(e for e in diag.chain.elements if isinstance(e, FrictionElement))
+    diag, saved = _named_alone(rec, volts, rng, "friction", FrictionElement)
     assert saved.temperature_lag_s == pytest.approx(lag_s, rel=0.25), diag.variants
     assert saved.band_log_slope_per_c == pytest.approx(slope, rel=0.25)
 
@@ -392,8 +398,6 @@ def test_a_steep_clock_behind_its_thermometer_is_saved_with_the_lag_and_slope_it
     behind the thermometer's by a lag drawn between the clock variants' starting lags: named ``thermo_rheological``
     alone, saved with its lag and its slope each within 25 % of the truth's, and a new needle record under a
     temperature swing, the truth's core as far behind, compensated within 1 % of full scale."""
-    import dataclasses
-
     from polyforce_ros.physics.chain import SensorChain, ThermoRheologicalElement
     from polyforce_ros.sim.truths import ShiftedClockCore
 
@@ -404,13 +408,35 @@ def test_a_steep_clock_behind_its_thermometer_is_saved_with_the_lag_and_slope_it
     truth = SensorChain([ShiftedClockCore(e.core, lambda temp: -slope * (temp - 24.0))
                          if isinstance(e, ShiftedClockCore) else e for e in case.truth.elements], forward_only=True)
     volts = truth.forward(rec.t_s, rec.force_n, aux={"temperature_c": _behind(rec.t_s, rec.temperature_c, lag_s)})
-    rec = dataclasses.replace(rec, voltage_v=volts + rng.normal(0.0, 2e-3, volts.size))
-    diag = diagnose(rec, base="burgers")
-    assert diag.missing_effects == ["thermo_rheological"], (diag.missing_effects, diag.unexplained["partial_fits"])
-    saved = next(e for e in diag.chain.elements if isinstance(e, ThermoRheologicalElement))
+    diag, saved = _named_alone(rec, volts, rng, "thermo_rheological", ThermoRheologicalElement)
     assert saved.temperature_lag_s == pytest.approx(lag_s, rel=0.25), diag.variants
     assert saved.shift_per_c == pytest.approx(slope, rel=0.25)
     assert _warm_needle_rmse_fraction(diag.chain, truth, 200.0, seed, core_lag_s=lag_s) <= 0.01
+
+
+@pytest.mark.parametrize("seed", [81, 82])
+def test_creep_that_slows_when_warm_is_named_with_a_negative_shift_and_compensates(seed):
+    """A core filled with something that gels as it warms (a thermogelling poloxamer): its viscosities grow by 10-50 %
+    per degC (drawn), on the thermometer's temperature or on the core's own 2-30 s behind it. Named
+    ``thermo_rheological`` alone with a clock that slows, saved with a negative shift within 25 % of the truth's,
+    and a new needle record under a temperature swing compensated within 1 % of full scale."""
+    from polyforce_ros.physics.chain import SensorChain, ThermoRheologicalElement
+    from polyforce_ros.sim.truths import ShiftedClockCore
+
+    rng = np.random.default_rng(seed)
+    slope, lag_s = rng.uniform(0.1, 0.5), rng.uniform(0.0, 30.0)
+    rec, case = bench_record("thermo_rheological", 0.9, rate_hz=200.0, duration_s=600.0, seed=seed,
+                             families={"thermo_rheological": "arrhenius"})
+    truth = SensorChain([ShiftedClockCore(e.core, lambda temp: slope * (temp - 24.0))
+                         if isinstance(e, ShiftedClockCore) else e for e in case.truth.elements], forward_only=True)
+    core_lag_s = lag_s if lag_s >= 2.0 else 0.0
+    core_c = _behind(rec.t_s, rec.temperature_c, core_lag_s) if core_lag_s else rec.temperature_c
+    volts = truth.forward(rec.t_s, rec.force_n, aux={"temperature_c": core_c})
+    diag, saved = _named_alone(rec, volts, rng, "thermo_rheological", ThermoRheologicalElement)
+    assert diag.variants["thermo_rheological"].startswith("slowing"), diag.variants
+    assert saved.shift_per_c == pytest.approx(-slope, rel=0.25)
+    assert diag.newtons["saved"]["rmse_n"] < 0.25 * diag.newtons["base"]["rmse_n"]
+    assert _warm_needle_rmse_fraction(diag.chain, truth, 200.0, seed, core_lag_s=core_lag_s) <= 0.01
 
 
 def test_creep_whose_clock_bends_toward_a_vogel_temperature_is_named_with_a_wlf_clock_and_compensates():

@@ -258,12 +258,26 @@ CLOCK_LAGS_S, CLOCK_C2S_C = (5, 15, 45), (25, 80)
 CLOCK_LAG_BOUNDS_S = (2.0, 120.0)
 
 
+#: The prefix of the variants whose clock slows as it warms (``slowing``, ``slowing_lag15``...): a fill that gels as
+#: it warms (a thermogelling poloxamer, methylcellulose). Their parameter is the slope's size; the element's
+#: ``shift_per_c`` is its negative.
+SLOWING = "slowing"
+
+
+def clock_sign(variant: str) -> float:
+    """The sign of a thermo-rheological variant's shift: +1 for a clock that runs faster when warm, -1 for one that
+    slows (:data:`SLOWING`)."""
+    return -1.0 if variant.startswith(SLOWING) else 1.0
+
+
 def clock_of(variant: str) -> tuple[float, float]:
-    """(core's temperature lag [s], WLF C2 [degC]) of a thermo-rheological variant: 0 for none."""
+    """(core's temperature lag [s], WLF C2 [degC]) of a thermo-rheological variant, of either sign: 0 for none."""
+    if variant.startswith(SLOWING):
+        variant = variant[len(SLOWING):].lstrip("_")
     return float(variant[3:]) if variant[:3] == "lag" else 0.0, float(variant[3:]) if variant[:3] == "wlf" else 0.0
 
 
-def clock_lag_variant(lag_s: float, digits: int = 3) -> str:
+def clock_lag_variant(lag_s: float, digits: int = 3, slowing: bool = False) -> str:
     """The thermo-rheological variant of a core's temperature lag.
 
     Parameters
@@ -274,18 +288,20 @@ def clock_lag_variant(lag_s: float, digits: int = 3) -> str:
         Significant digits the name keeps: 3 for an answer (``lag15``, ``lag23.3``), 12 while the polish refines the
         lag through the name (the lag back to 1e-12, far finer than the least squares' steps of about 1e-8, so it
         sees every step it takes).
+    slowing : bool
+        Whether the clock slows as it warms (:data:`SLOWING`).
 
     Returns
     -------
     str
-        The variant, read back by :func:`clock_of`.
+        The variant, read back by :func:`clock_of` and :func:`clock_sign`.
     """
-    return f"lag{lag_s:.{digits}g}"
+    return f"{SLOWING + '_' if slowing else ''}lag{lag_s:.{digits}g}"
 
 
 def _shift_grid(variant: str, sig: Signals) -> list[Optional[float]]:
-    """ln of the viscosities' shift factor per degree searched [1/degC]: 0.005-1 (polymers well below their glass
-    transition: 0.02-0.3; WLF's universal constants give 0.78 at it)."""
+    """The size of ln of the viscosities' shift factor per degree searched [1/degC]: 0.005-1 (polymers well below
+    their glass transition: 0.02-0.3; WLF's universal constants give 0.78 at it), its sign the variant's."""
     return log_grid(0.005, 1.0, 12)
 
 
@@ -296,7 +312,8 @@ def _core_clock(sig: Signals, variant: str, param: Optional[float]) -> list[Col]
 
 def _shift_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     # the core here is a stand-in: build_chain puts the fitted core on the reduced time
-    return [("core", ThermoRheologicalElement(ViscoelasticElement(sig.reference_core), float(parameter(param)),
+    return [("core", ThermoRheologicalElement(ViscoelasticElement(sig.reference_core),
+                                              clock_sign(variant) * float(parameter(param)),
                                               float(np.clip(sig.temp_ref, -100.0, 300.0)), *clock_of(variant)))]
 
 
@@ -721,9 +738,11 @@ EFFECTS: dict[str, Effect] = {
         also_holds={"lag_lead": ("direct",)}, columns=_span_thermal_columns,
         to_elements=_span_thermal_elements, needs_temperature=True),
     "thermo_rheological": Effect(
-        "thermo_rheological", "creep that speeds up when warm (thermo_rheological)", ("temperature_change", "hold_under_load"),
+        "thermo_rheological", "creep whose speed follows temperature (thermo_rheological)",
+        ("temperature_change", "hold_under_load"),
         ("temperature", "load_history"), ("thermo_rheological",), grid=_shift_grid, columns=_core_clock,
-        variants=("", *(clock_lag_variant(s) for s in CLOCK_LAGS_S), *(f"wlf{c}" for c in CLOCK_C2S_C)),
+        variants=("", *(clock_lag_variant(s) for s in CLOCK_LAGS_S), *(f"wlf{c}" for c in CLOCK_C2S_C),
+                  SLOWING, *(clock_lag_variant(s, slowing=True) for s in CLOCK_LAGS_S)),
         to_elements=_shift_elements, needs_temperature=True),
     "offset_drift": Effect(
         "offset_drift", "a slow drift over time (offset_drift)", ("late_in_record",), ("time",),

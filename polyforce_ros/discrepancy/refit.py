@@ -20,7 +20,7 @@ from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, T
                      design_columns, refresh_ref, stack)
 from .columns import parameter
 from .effects import (CLOCK_LAG_BOUNDS_S, EFFECTS as REGISTRY, KNEE_FRACTIONS, PLAY_RIDGE, SPREAD_RATIO, clock_lag_variant,
-                      clock_of)
+                      clock_of, clock_sign)
 from .friction import BAND_LAG_BOUNDS_S, band_lag_s, band_lag_variant
 from .signals import FloatArray, Signals
 
@@ -58,7 +58,8 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
             if kind == "core":
                 taus[i] = float(math.exp(th))
             elif kind == "clock lag":
-                terms[i] = replace(terms[i], variant=clock_lag_variant(math.exp(th), digits))
+                terms[i] = replace(terms[i], variant=clock_lag_variant(math.exp(th), digits,
+                                                                       slowing=clock_sign(terms[i].variant) < 0))
             elif kind == "band lag":
                 terms[i] = replace(terms[i], variant=band_lag_variant(math.exp(th), digits))
             else:

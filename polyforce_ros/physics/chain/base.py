@@ -254,7 +254,7 @@ PARAMETER_BOUNDS = {
     "inverse_share": (0.0, 1.0, "", "a share of the friction the inverse adds back"),
     "band_log_slope_per_c": (-0.5, 0.5, "1/degC", "a band e times wider per 2 degC is beyond any grease or fit"),
     # time-temperature superposition: ln of the viscosities' shift factor per degree (polymers: 0.02-0.3 /degC)
-    "shift_per_c": (0.0, 2.0, "1/degC", "a viscosity 7x smaller per degree is beyond any polymer"),
+    "shift_per_c": (-2.0, 2.0, "1/degC", "a viscosity 7x smaller per degree is beyond any polymer"),
     "temperature_lag_s": (1e-3, 1e5, "s", "a core a day behind its thermometer follows the weather, not the sensor"),
     # the WLF constant C2 relative to the reference: ln a_T = b dT C2 / (C2 + dT), the clock stopping C2 below it
     "wlf_c2_c": (1.0, 1e4, "degC", "a clock that stops within a degree of the reference is a glass; beyond 10 000 degC "

@@ -260,7 +260,8 @@ class _ReducedTimeStream:
 
 class ThermoRheologicalElement(ViscoelasticElement):
     """A viscoelastic core whose viscosities all follow temperature (time-temperature superposition):
-    ``eta(T) = eta(T_ref) exp(-shift_per_c (T - reference_c))``, so creep runs faster when warm. The core runs on
+    ``eta(T) = eta(T_ref) exp(-shift_per_c (T - reference_c))``, so creep runs faster when warm (a fill that gels as
+    it warms, a thermogelling poloxamer or methylcellulose, has a negative shift: it creeps slower). The core runs on
     the reduced time of :func:`reduced_time_s`; its elastic parts do not change. It reads ``temperature_c``: T is the
     thermometer's, or with ``temperature_lag_s`` the core's own, which follows the thermometer through a first-order
     lag (a core with thermal mass away from its thermometer), settled at the first temperature.
@@ -269,8 +270,9 @@ class ThermoRheologicalElement(ViscoelasticElement):
     ----------------------------
     core : mapping
         The core at ``reference_c`` (any viscoelastic model type).
-    shift_per_c : float >= 0
-        b [1/degC]: ln of the shift factor per degree (an Arrhenius law linearised near the reference).
+    shift_per_c : float in [-2, 2]
+        b [1/degC]: ln of the shift factor per degree (an Arrhenius law linearised near the reference); negative for a
+        clock that slows when warm.
     reference_c : float
         T_ref [degC].
     temperature_lag_s : float >= 0, optional
@@ -278,7 +280,7 @@ class ThermoRheologicalElement(ViscoelasticElement):
         none.
     wlf_c2_c : float >= 0, optional
         The WLF constant C2 [degC] of :func:`log_shift`: the shift bends, the clock stopping C2 below the reference;
-        0 (the default, not written) for the straight law ``b dT``.
+        0 (the default, not written) for the straight law ``b dT`` (the only law of a negative shift).
     """
 
     KEYS = ("core", "shift_per_c", "reference_c")
@@ -296,6 +298,8 @@ class ThermoRheologicalElement(ViscoelasticElement):
         reference_c = check_number("thermo_rheological", "reference_c", reference_c, positive=False)
         lag_s = check_number("thermo_rheological", "temperature_lag_s", temperature_lag_s, positive=False)
         c2 = check_number("thermo_rheological", "wlf_c2_c", wlf_c2_c, positive=False)
+        if c2 > 0.0 and shift_per_c < 0.0:  # the WLF bend is a glass transition's: its clock stops in the cold
+            raise ModelError("thermo_rheological: a clock that slows when warm (shift_per_c < 0) has no wlf_c2_c")
         self._freeze(model=core.model, kind="thermo_rheological", shift_per_c=shift_per_c, reference_c=reference_c,
                      temperature_lag_s=lag_s, wlf_c2_c=c2)
 

@@ -11,7 +11,8 @@ from ..physics.chain import Element
 from ..physics.expconv import exp_convolve, exp_convolve_columns
 from .signals import FloatArray, Signals
 
-__all__ = ["Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "lag_columns", "parameter", "log_grid"]
+__all__ = ["Col", "Slot", "GridFn", "ColumnsFn", "ElementsFn", "TEMPERATURE_LAG_BOUNDS_S", "lag_columns", "parameter",
+           "log_grid"]
 
 #: Column: (name, samples, lower bound, upper bound, "sensor" | "additive", ridge group or None).
 Col = tuple[str, FloatArray, float, float, str, Optional[str]]
@@ -24,6 +25,10 @@ GridFn = Callable[[str, Signals], Sequence[Optional[float]]]
 ColumnsFn = Callable[[Signals, str, Optional[float]], list[Col]]
 #: (coefficient by column name, variant, parameter, signals) -> the chain elements of the fitted effect.
 ElementsFn = Callable[[Mapping[str, float], str, Optional[float], Signals], list[Slot]]
+
+#: The bounds of a part's temperature lag behind the thermometer's as the polish refines it [s] (a clock's core, a
+#: friction band's guide): from a thin part warming with its air to one inside a thick housing.
+TEMPERATURE_LAG_BOUNDS_S = (2.0, 120.0)
 
 
 def lag_columns(t: npt.ArrayLike, x: npt.ArrayLike, tau_s: float) -> FloatArray:

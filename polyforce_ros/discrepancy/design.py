@@ -24,7 +24,7 @@ from ..physics.chain import (BridgeHysteresisElement, Element, KneeKelvinElement
 from ..physics.fitting import LOG_BOUNDS, TAU_GRID_S, TAU_LOG_BOUNDS, block_jackknife_standard_errors, information_criteria
 from ..physics.viscoelastic import MODEL_TYPES, KelvinVoigt, ViscoelasticModel, simulate_deformation
 from .columns import Col, lag_columns, parameter
-from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, clock_of, clock_sign, knee_beside, lag_stages, volume_beside
+from .effects import EFFECTS as REGISTRY, PLAY_RIDGE, clock_of, clock_shift_per_c, knee_beside, lag_stages, volume_beside
 from .signals import BoolArray, FloatArray, IntArray, Signals
 
 __all__ = ["BASES", "BLOCKS_PER_FOLD", "CORE_SHAPE", "TAU_GRID", "TAU_BOUNDS", "Term", "Structure", "Design", "design",
@@ -172,7 +172,7 @@ def _gap_columns(sig: Signals) -> list[tuple[str, FloatArray, float]]:
 def design_columns(sig: Signals, st: Structure, extra: Sequence[Col] = ()) -> Design:
     """:func:`design` with the columns of A as a list of arrays (not stacked: the polish needs a few rows)."""
     shift = st.term("thermo_rheological")
-    b = None if shift is None else clock_sign(shift.variant) * parameter(shift.param)
+    b = None if shift is None else clock_shift_per_c(shift.variant, shift.param)
     lag_s, c2 = (0.0, 0.0) if shift is None else clock_of(shift.variant)
     cols = list(_cached(sig, ("core", st.core, st.taus, b, lag_s, c2),
                         lambda: _core_columns(sig, st.core, st.taus, b, lag_s, c2)))

@@ -57,7 +57,8 @@ from .signals import FloatArray, Signals
 
 __all__ = ["SPREAD_RATIO", "Effect", "EFFECTS", "NAMES", "PLAY_FRACTIONS", "PLAY_RIDGE",
            "SPLINE_INTERVALS", "KNEE_FRACTIONS", "KNEE_FLOOR_SHARE", "knees_n", "knee_beside", "volume_beside",
-           "lag_stages", "CLOCK_LAGS_S", "CLOCK_LAG_BOUNDS_S", "clock_of", "clock_lag_variant", "variant_group", "hints"]
+           "lag_stages", "CLOCK_LAGS_S", "clock_of", "clock_sign", "clock_shift_per_c", "clock_lag_variant", "variant_group",
+           "hints"]
 
 #: Play-operator half-widths of the hysteresis fit, as fractions of the input span (a regularised
 #: non-negative weight distribution over them is fitted). 22 log-spaced, ~27 % apart: with radii up to 2x
@@ -252,10 +253,8 @@ def _hyst_elements(coef: Mapping[str, float], variant: str, param: Optional[floa
 
 
 #: Clocks beside the plain one: the core's temperature lags [s] (``lag5``...: where the polish starts, it refines the
-#: lag within :data:`CLOCK_LAG_BOUNDS_S`), a bent shift's WLF C2 [degC] (``wlf25``...).
+#: lag within :data:`.columns.TEMPERATURE_LAG_BOUNDS_S`), a bent shift's WLF C2 [degC] (``wlf25``...).
 CLOCK_LAGS_S, CLOCK_C2S_C = (5, 15, 45), (25, 80)
-#: The core's temperature lag's bounds in the polish [s]: from a thin part warming with its air to a thick housing.
-CLOCK_LAG_BOUNDS_S = (2.0, 120.0)
 
 
 #: The prefix of the variants whose clock slows as it warms (``slowing``, ``slowing_lag15``...): a fill that gels as
@@ -268,6 +267,11 @@ def clock_sign(variant: str) -> float:
     """The sign of a thermo-rheological variant's shift: +1 for a clock that runs faster when warm, -1 for one that
     slows (:data:`SLOWING`)."""
     return -1.0 if variant.startswith(SLOWING) else 1.0
+
+
+def clock_shift_per_c(variant: str, param: Optional[float]) -> float:
+    """The shift [1/degC] of a thermo-rheological term: its parameter (the slope's size) with its variant's sign."""
+    return clock_sign(variant) * parameter(param)
 
 
 def clock_of(variant: str) -> tuple[float, float]:
@@ -312,8 +316,7 @@ def _core_clock(sig: Signals, variant: str, param: Optional[float]) -> list[Col]
 
 def _shift_elements(coef: Mapping[str, float], variant: str, param: Optional[float], sig: Signals) -> list[Slot]:
     # the core here is a stand-in: build_chain puts the fitted core on the reduced time
-    return [("core", ThermoRheologicalElement(ViscoelasticElement(sig.reference_core),
-                                              clock_sign(variant) * float(parameter(param)),
+    return [("core", ThermoRheologicalElement(ViscoelasticElement(sig.reference_core), clock_shift_per_c(variant, param),
                                               float(np.clip(sig.temp_ref, -100.0, 300.0)), *clock_of(variant)))]
 
 

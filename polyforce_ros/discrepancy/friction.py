@@ -5,7 +5,7 @@ The core sees ``F - c stop_r(F)``, ``stop_r(F) = F - play_r(F)``: c is the coupl
 the stop's design column is the reference core's output for it. In the ``thermal`` variants the band follows the
 mechanism's temperature, ``r(T) = r exp(s (T - T_ref))`` (grease that stiffens in the cold, a bushing that grows
 into its bore), directly or through a first-order lag (starting from :data:`LAGGED_START_S`, refined by the polish
-within :data:`BAND_LAG_BOUNDS_S`). The band moves the contact only while it slides: after the last slide at time
+within :data:`.columns.TEMPERATURE_LAG_BOUNDS_S`). The band moves the contact only while it slides: after the last slide at time
 t*, in direction sigma, the play holds ``F(t*) - sigma r(T(t*))``, so the stop ``F(t) - F(t*) + sigma r(T(t*))``
 changes with the band by ``sigma (r(T(t*)) - r)``, and to first order in s the band adds the column
 ``-core(sigma r (T(t*) - T_ref))`` with the coefficient ``c s``. The saved element runs the exact moving band
@@ -24,9 +24,9 @@ from ..physics.viscoelastic import simulate_deformation_columns
 from .columns import Col, Slot, log_grid, parameter
 from .signals import FloatArray, IntArray, Signals, noise_std
 
-__all__ = ["FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "LAGGED_START_S", "BAND_LAGS_S", "BAND_LAG_BOUNDS_S",
-           "BAND_SLOPE_BOUNDS_PER_C", "VARIANTS", "band_lag_variant", "band_lag_s", "is_band", "grid_variant",
-           "force_noise_n", "at_noise_limit", "last_slides", "grid", "columns", "elements"]
+__all__ = ["FRICTION_FRACTIONS", "FRICTION_NOISE_SIGMAS", "LAGGED_START_S", "BAND_LAGS_S", "BAND_SLOPE_BOUNDS_PER_C",
+           "VARIANTS", "band_lag_variant", "band_lag_s", "is_band", "grid_variant", "force_noise_n", "at_noise_limit",
+           "last_slides", "grid", "columns", "elements"]
 
 #: Stiction half-widths searched for a friction, as fractions of the force span; the polish refines the radius
 #: within them (:func:`.refit.param_log_bounds`).
@@ -42,8 +42,6 @@ LAGGED_START_S = 15.0
 #: The band's temperature lag of each thermal variant on the grid [s]: the thermometer's own temperature, or
 #: :data:`LAGGED_START_S`. Each variant is named by its lag (:func:`band_lag_variant`).
 BAND_LAGS_S = {"thermal": 0.0, f"thermal_lag{LAGGED_START_S:g}": LAGGED_START_S}
-#: The lagged band's lag's bounds in the polish [s]: from a guide warming with the air to one inside a thick housing.
-BAND_LAG_BOUNDS_S = (2.0, 120.0)
 #: The band's log-slope's bounds [1/degC] (the model file's): the bounds of its column's weight, and of the slope saved.
 BAND_SLOPE_BOUNDS_PER_C = PARAMETER_BOUNDS["band_log_slope_per_c"][:2]
 

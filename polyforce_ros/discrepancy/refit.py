@@ -18,17 +18,17 @@ from scipy import optimize
 from ..physics.fitting import multistart_least_squares
 from .design import (CORE_SHAPE, TAU_BOUNDS, TAU_GRID, Fit, Fitter, Structure, Term, bounded_solve, core_model,
                      design_columns, refresh_ref, stack)
-from .columns import parameter
-from .effects import (CLOCK_LAG_BOUNDS_S, EFFECTS as REGISTRY, KNEE_FRACTIONS, PLAY_RIDGE, SPREAD_RATIO, clock_lag_variant,
-                      clock_of, clock_sign)
-from .friction import BAND_LAG_BOUNDS_S, band_lag_s, band_lag_variant
+from .columns import TEMPERATURE_LAG_BOUNDS_S, parameter
+from .effects import EFFECTS as REGISTRY, KNEE_FRACTIONS, PLAY_RIDGE, SPREAD_RATIO, clock_lag_variant, clock_of, clock_sign
+from .friction import band_lag_s, band_lag_variant
 from .signals import FloatArray, Signals
 
 __all__ = ["polish", "is_core_time", "param_log_bounds", "settle", "refine", "without", "base_structure", "candidates_for"]
 
 #: The bounds of a clock's and of a friction band's temperature lag in the polish [ln s].
-CLOCK_LAG_LOG_BOUNDS = (math.log(CLOCK_LAG_BOUNDS_S[0]), math.log(CLOCK_LAG_BOUNDS_S[1]))
-BAND_LAG_LOG_BOUNDS = (math.log(BAND_LAG_BOUNDS_S[0]), math.log(BAND_LAG_BOUNDS_S[1]))
+TEMPERATURE_LAG_LOG_BOUNDS = (math.log(TEMPERATURE_LAG_BOUNDS_S[0]), math.log(TEMPERATURE_LAG_BOUNDS_S[1]))
+#: The effects whose variant names a temperature lag the polish refines, in the order their lags are polished.
+LAGGED_EFFECTS = ("thermo_rheological", "friction")
 
 
 def polish(fitter: Fitter, st: Structure) -> Structure:
@@ -41,15 +41,14 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
     own_tau = {k: int(np.argmin([abs(math.log(tau / parameter(t.param))) for tau in st.taus]))
                for k, t in enumerate(st.terms) if is_core_time(t) and st.taus}
     idx += [("term", k) for k, t in enumerate(st.terms) if t.param is not None and not is_core_time(t)]
-    # a clock's temperature lag is named by its variant (lag15) and refined beside the clock's parameter: the core's
-    # temperature trails the thermometer's by however long its part takes to warm, not by a grid value
-    idx += [("clock lag", k) for k, t in enumerate(st.terms) if _clock_lag_s(t) > 0.0]
-    # so is a friction band's: a guide's temperature trails the thermometer's as its housing lets it
-    idx += [("band lag", k) for k, t in enumerate(st.terms) if _band_lag_s(t) > 0.0]
+    # a clock's temperature lag is named by its variant (lag15) and refined beside the clock's parameter, and so is a
+    # friction band's (thermal_lag15): the core's or the guide's temperature trails the thermometer's by however long
+    # its part takes to warm, not by a grid value
+    idx += [("temperature lag", k) for effect in LAGGED_EFFECTS for k, t in enumerate(st.terms)
+            if t.effect == effect and _temperature_lag_s(t) > 0.0]
     if not idx:
         return st
-    x0 = np.log([st.taus[i] if kind == "core" else _clock_lag_s(st.terms[i]) if kind == "clock lag"
-                 else _band_lag_s(st.terms[i]) if kind == "band lag"
+    x0 = np.log([st.taus[i] if kind == "core" else _temperature_lag_s(st.terms[i]) if kind == "temperature lag"
                  else parameter(st.terms[i].param) for kind, i in idx])
 
     def make(theta: FloatArray, digits: int = 12) -> Structure:
@@ -57,11 +56,8 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
         for (kind, i), th in zip(idx, theta):
             if kind == "core":
                 taus[i] = float(math.exp(th))
-            elif kind == "clock lag":
-                terms[i] = replace(terms[i], variant=clock_lag_variant(math.exp(th), digits,
-                                                                       slowing=clock_sign(terms[i].variant) < 0))
-            elif kind == "band lag":
-                terms[i] = replace(terms[i], variant=band_lag_variant(math.exp(th), digits))
+            elif kind == "temperature lag":
+                terms[i] = _with_temperature_lag(terms[i], math.exp(th), digits)
             else:
                 terms[i] = replace(terms[i], param=float(math.exp(th)))
         for k, i in own_tau.items():
@@ -90,16 +86,19 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
     # a retardation time longer than the record cannot be told from flow within it (its creep is still a
     # straight line at the end): bounded by the record, so that a missing dashpot is not fitted as a slow Kelvin
     longest = min(TAU_BOUNDS[1], math.log(max(fitter.sig.duration_s, 1.0)))
-    bounds = [(TAU_BOUNDS[0], longest) if kind == "core" else CLOCK_LAG_LOG_BOUNDS if kind == "clock lag"
-              else BAND_LAG_LOG_BOUNDS if kind == "band lag" else param_log_bounds(st.terms[i], sig) for kind, i in idx]
+    bounds = [(TAU_BOUNDS[0], longest) if kind == "core" else TEMPERATURE_LAG_LOG_BOUNDS if kind == "temperature lag"
+              else param_log_bounds(st.terms[i], sig) for kind, i in idx]
     lower, upper = np.array(bounds).T
     x0 = np.clip(x0, lower, upper)
     starts = [x0]
     for j, (kind, i) in enumerate(idx):
-        eff = REGISTRY[st.terms[i].effect] if kind == "term" else None
-        if eff is not None and eff.grid_variant(st.terms[i].variant) in eff.extends:
+        if kind != "term":
+            continue
+        eff = REGISTRY[st.terms[i].effect]
+        grid_variant = eff.grid_variant(st.terms[i].variant)
+        if grid_variant in eff.extends:
             # a variant that extends a smaller one has that variant's optima too: start from each grid value
-            for g in eff.grid(eff.grid_variant(st.terms[i].variant), sig):
+            for g in eff.grid(grid_variant, sig):
                 if g is not None:
                     x = x0.copy()
                     x[j] = np.clip(math.log(g), lower[j], upper[j])
@@ -108,14 +107,18 @@ def polish(fitter: Fitter, st: Structure) -> Structure:
     return make(sol.x, digits=3)
 
 
-def _clock_lag_s(term: Term) -> float:
-    """The core's temperature lag [s] a thermo-rheological term's variant names (0: none)."""
-    return clock_of(term.variant)[0] if term.effect == "thermo_rheological" else 0.0
-
-
-def _band_lag_s(term: Term) -> float:
-    """The band's temperature lag [s] a friction term's variant names (0: none)."""
+def _temperature_lag_s(term: Term) -> float:
+    """The temperature lag [s] a term's variant names: a thermo-rheological core's or a friction band's (0: none)."""
+    if term.effect == "thermo_rheological":
+        return clock_of(term.variant)[0]
     return band_lag_s(term.variant) if term.effect == "friction" else 0.0
+
+
+def _with_temperature_lag(term: Term, lag_s: float, digits: int) -> Term:
+    """``term`` whose variant names the temperature lag ``lag_s`` [s] (a clock keeps its sign), to ``digits``."""
+    if term.effect == "friction":
+        return replace(term, variant=band_lag_variant(lag_s, digits))
+    return replace(term, variant=clock_lag_variant(lag_s, digits, slowing=clock_sign(term.variant) < 0))
 
 
 def is_core_time(term: Term) -> bool:
